@@ -1,0 +1,125 @@
+//! Readers and writers between files and the wildlod mesh model.
+//!
+//! [`read`] picks the format from the file extension and returns a
+//! [`Document`]: the format-neutral [`Scene`] plus what the format carries
+//! beyond it (glTF extensions, animation curves, samplers…), kept so that
+//! [`write`] can put it back unchanged. [`write`] picks the output format
+//! from the output extension, whatever the input was, and writes through
+//! temporary files renamed into place: a failed write leaves nothing behind
+//! and never a half-written file.
+
+mod atomic;
+mod error;
+mod format;
+mod gltf;
+mod obj;
+mod ply;
+mod stl;
+
+use std::path::{Path, PathBuf};
+
+pub use atomic::OutputFiles;
+pub use error::{Error, ErrorKind};
+pub use format::Format;
+use wildlod_mesh::Scene;
+
+/// Files larger than this are refused before reading: every format we read
+/// stores a mesh in far less, and a bogus path to a disk image should fail
+/// fast instead of exhausting memory.
+pub const MAX_FILE_BYTES: u64 = 4 << 30;
+
+/// A file's content: the [`Scene`] and what only its format knows.
+#[derive(Clone, Debug, Default)]
+pub struct Document {
+    /// The format-neutral content. Edit this; writers take it from here.
+    pub scene: Scene,
+    /// The file this was read from, if any. [`write`] refuses to overwrite
+    /// it unless [`WriteOptions::allow_overwrite_input`] is set.
+    pub source: Option<PathBuf>,
+    /// The format it was read from.
+    pub format: Option<Format>,
+    /// Non-fatal problems met while reading (a missing MTL file…).
+    pub warnings: Vec<String>,
+    /// glTF-only content kept for writing back unchanged.
+    pub(crate) gltf: Option<gltf::Passthrough>,
+}
+
+impl Document {
+    /// A document holding a scene built in memory.
+    pub fn from_scene(scene: Scene) -> Self {
+        Document {
+            scene,
+            ..Document::default()
+        }
+    }
+}
+
+/// Options of [`write`].
+#[derive(Clone, Debug, Default)]
+pub struct WriteOptions {
+    /// Allow the output to replace the document's source file (and files it
+    /// references). Off by default: wildlod never overwrites an input unless
+    /// told to.
+    pub allow_overwrite_input: bool,
+}
+
+/// Reads a mesh file; the format follows the extension (`.gltf`, `.glb`,
+/// `.obj`, `.ply`, `.stl`, case-insensitive).
+///
+/// Every error names the file and, where it can, the element (line,
+/// accessor, face). The returned scene passes [`Scene::validate`].
+pub fn read(path: impl AsRef<Path>) -> Result<Document, Error> {
+    let path = path.as_ref();
+    let at = |kind| Error::new(path, kind);
+    let format = Format::from_path(path).map_err(at)?;
+    let meta = std::fs::metadata(path).map_err(|e| at(ErrorKind::Io(e)))?;
+    if meta.len() > MAX_FILE_BYTES {
+        return Err(at(ErrorKind::TooLarge { bytes: meta.len() }));
+    }
+    let data = std::fs::read(path).map_err(|e| at(ErrorKind::Io(e)))?;
+    if data.is_empty() {
+        return Err(at(ErrorKind::EmptyFile));
+    }
+    let mut doc = Document {
+        source: Some(path.to_path_buf()),
+        format: Some(format),
+        ..Document::default()
+    };
+    match format {
+        Format::Gltf | Format::Glb => {
+            let (scene, pass) = gltf::read(path, &data, &mut doc.warnings).map_err(at)?;
+            doc.scene = scene;
+            doc.gltf = Some(pass);
+        }
+        Format::Obj => doc.scene = obj::read(path, &data, &mut doc.warnings).map_err(at)?,
+        Format::Ply => doc.scene = ply::read(&data).map_err(at)?,
+        Format::Stl => doc.scene = stl::read(path, &data).map_err(at)?,
+    }
+    doc.scene
+        .validate()
+        .map_err(|e| at(ErrorKind::Invalid(e)))?;
+    Ok(doc)
+}
+
+/// Writes a document; the format follows the output extension.
+///
+/// Refuses an invalid scene, and refuses to replace the document's source
+/// unless allowed. Sidecar files (`.bin`, `.mtl`, images) are written next
+/// to the output; all files appear together or not at all.
+pub fn write(doc: &Document, path: impl AsRef<Path>, options: &WriteOptions) -> Result<(), Error> {
+    let path = path.as_ref();
+    let at = |kind| Error::new(path, kind);
+    let format = Format::from_path(path).map_err(at)?;
+    doc.scene
+        .validate()
+        .map_err(|e| at(ErrorKind::Invalid(e)))?;
+    let mut files = OutputFiles::new(doc.source.as_deref(), options.allow_overwrite_input);
+    match format {
+        Format::Gltf | Format::Glb => gltf::write(doc, path, format, &mut files),
+        Format::Obj => obj::write(doc, path, &mut files),
+        Format::Ply => ply::write(&doc.scene, path, &mut files),
+        Format::Stl => stl::write(&doc.scene, path, &mut files),
+    }
+    .map_err(at)?;
+    files.commit().map_err(at)
+}

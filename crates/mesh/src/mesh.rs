@@ -1,0 +1,213 @@
+//! The [`Mesh`]: one stored mesh of a file (a glTF mesh with all its
+//! primitives, an OBJ file's faces, a PLY or STL body).
+
+use crate::attribute::{Attribute, Semantic, Skinning};
+use crate::faces::Faces;
+
+/// A group of faces that share a material and a source grouping: a glTF
+/// primitive, or a run of OBJ faces under one `o`/`g`/`usemtl`.
+///
+/// Writers emit one primitive (glTF) or one group (OBJ) per part; the
+/// simplifier keeps every surviving face in its part.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Part {
+    /// Object or group name (OBJ `o`/`g`), empty when the source had none.
+    pub name: String,
+    /// Material index into [`crate::Scene::materials`].
+    pub material: Option<u32>,
+}
+
+/// One mesh: positions, polygon faces, per-corner attribute streams,
+/// optional skin influences, and the part of every face.
+///
+/// Positions are the file's vertices as stored: a glTF vertex split at a UV
+/// seam appears twice with the same position, an STL soup has three
+/// positions per triangle. Algorithms that need connectivity weld equal
+/// positions first ([`crate::weld`]).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Mesh {
+    /// Name of the mesh (glTF mesh name, OBJ file stem…).
+    pub name: String,
+    /// Vertex positions.
+    pub positions: Vec<[f32; 3]>,
+    /// Polygon faces indexing `positions`.
+    pub faces: Faces,
+    /// Part of every face, indexing `parts`.
+    pub face_parts: Vec<u32>,
+    /// The parts (at least one when there are faces).
+    pub parts: Vec<Part>,
+    /// Per-corner attribute streams.
+    pub attributes: Vec<Attribute>,
+    /// Per-corner skin influences, when the mesh is skinned.
+    pub skinning: Option<Skinning>,
+}
+
+impl Mesh {
+    /// A mesh of polygons with one part and no attribute.
+    pub fn from_polygons(positions: Vec<[f32; 3]>, faces: Faces) -> Self {
+        let n = faces.len();
+        Mesh {
+            name: String::new(),
+            positions,
+            faces,
+            face_parts: vec![0; n],
+            parts: vec![Part::default()],
+            attributes: Vec::new(),
+            skinning: None,
+        }
+    }
+
+    /// A mesh of triangles (three indices each) with one part.
+    pub fn from_triangles(positions: Vec<[f32; 3]>, indices: &[u32]) -> Self {
+        Self::from_polygons(positions, Faces::from_triangles(indices))
+    }
+
+    /// Number of faces.
+    pub fn face_count(&self) -> usize {
+        self.faces.len()
+    }
+
+    /// Triangle count of the triangulated mesh (a quad counts 2).
+    pub fn triangle_count(&self) -> usize {
+        self.faces.triangulated_count()
+    }
+
+    /// The stream with the given semantic, if any.
+    pub fn attribute(&self, semantic: &Semantic) -> Option<&Attribute> {
+        self.attributes.iter().find(|a| &a.semantic == semantic)
+    }
+
+    /// Axis-aligned bounds of the positions used by faces, or `None` when
+    /// no face exists. Non-finite positions are skipped.
+    pub fn bounds(&self) -> Option<([f32; 3], [f32; 3])> {
+        let mut lo = [f32::INFINITY; 3];
+        let mut hi = [f32::NEG_INFINITY; 3];
+        let mut any = false;
+        for &v in &self.faces.indices {
+            let Some(p) = self.positions.get(v as usize) else {
+                continue;
+            };
+            if !p.iter().all(|c| c.is_finite()) {
+                continue;
+            }
+            any = true;
+            for k in 0..3 {
+                lo[k] = lo[k].min(p[k]);
+                hi[k] = hi[k].max(p[k]);
+            }
+        }
+        any.then_some((lo, hi))
+    }
+
+    /// Length of the bounding-box diagonal (0 for an empty mesh).
+    pub fn diagonal(&self) -> f64 {
+        match self.bounds() {
+            Some((lo, hi)) => (0..3)
+                .map(|k| (hi[k] as f64 - lo[k] as f64).powi(2))
+                .sum::<f64>()
+                .sqrt(),
+            None => 0.0,
+        }
+    }
+
+    /// Removes positions and attribute values no corner uses, keeping the
+    /// order of the rest. Returns the old-to-new position map (`u32::MAX`
+    /// for dropped positions).
+    pub fn compact(&mut self) -> Vec<u32> {
+        let map = compact_pool(&mut self.faces.indices, self.positions.len());
+        self.positions = gather(&self.positions, &map, 1);
+        for a in &mut self.attributes {
+            let n = a.value_count();
+            let amap = compact_pool(&mut a.indices, n);
+            a.values = gather(&a.values, &amap, a.components as usize);
+        }
+        if let Some(s) = &mut self.skinning {
+            let n = s.entry_count();
+            let smap = compact_pool(&mut s.indices, n);
+            let k = s.influences as usize;
+            s.joints = gather(&s.joints, &smap, k);
+            s.weights = gather(&s.weights, &smap, k);
+        }
+        map
+    }
+}
+
+/// Renumbers the used entries of a pool of `n` items in order of first
+/// index; rewrites `indices` and returns the old-to-new map.
+fn compact_pool(indices: &mut [u32], n: usize) -> Vec<u32> {
+    let mut used = vec![false; n];
+    for &i in indices.iter() {
+        if let Some(u) = used.get_mut(i as usize) {
+            *u = true;
+        }
+    }
+    let mut map = vec![u32::MAX; n];
+    let mut next = 0u32;
+    for (i, u) in used.iter().enumerate() {
+        if *u {
+            map[i] = next;
+            next += 1;
+        }
+    }
+    for i in indices.iter_mut() {
+        if let Some(&m) = map.get(*i as usize) {
+            *i = m;
+        }
+    }
+    map
+}
+
+/// Keeps the items (of `stride` elements each) whose map entry is not
+/// `u32::MAX`, in order.
+fn gather<T: Copy>(data: &[T], map: &[u32], stride: usize) -> Vec<T> {
+    let mut out = Vec::with_capacity(data.len());
+    for (i, &m) in map.iter().enumerate() {
+        if m != u32::MAX {
+            out.extend_from_slice(&data[i * stride..(i + 1) * stride]);
+        }
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::attribute::{ComponentFormat, ABSENT};
+
+    #[test]
+    fn compact_drops_unused_positions_and_values_in_order() {
+        // 0 and 3 are unused; UV value 1 is unused.
+        let mut m = Mesh::from_triangles(
+            vec![
+                [9.0; 3],
+                [1.0, 0.0, 0.0],
+                [0.0, 1.0, 0.0],
+                [7.0; 3],
+                [0.0, 0.0, 1.0],
+            ],
+            &[1, 2, 4],
+        );
+        m.attributes.push(Attribute {
+            semantic: Semantic::TexCoord(0),
+            components: 2,
+            values: vec![0.0, 0.0, 5.0, 5.0, 1.0, 1.0],
+            indices: vec![0, 2, ABSENT],
+            format: ComponentFormat::F32,
+        });
+        let map = m.compact();
+        assert_eq!(map, vec![u32::MAX, 0, 1, u32::MAX, 2]);
+        assert_eq!(m.faces.indices, vec![0, 1, 2]);
+        assert_eq!(
+            m.positions,
+            vec![[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]
+        );
+        assert_eq!(m.attributes[0].values, vec![0.0, 0.0, 1.0, 1.0]);
+        assert_eq!(m.attributes[0].indices, vec![0, 1, ABSENT]);
+    }
+
+    #[test]
+    fn diagonal_of_unit_cube_corner_triangle() {
+        let m = Mesh::from_triangles(vec![[0.0; 3], [1.0, 0.0, 0.0], [1.0, 1.0, 1.0]], &[0, 1, 2]);
+        assert!((m.diagonal() - 3f64.sqrt()).abs() < 1e-12);
+    }
+}
