@@ -12,6 +12,7 @@ use crate::error::ErrorKind;
 #[derive(Debug)]
 pub struct OutputFiles {
     files: Vec<(PathBuf, Vec<u8>)>,
+    warnings: Vec<String>,
     protected: Vec<PathBuf>,
     allow_overwrite: bool,
 }
@@ -22,6 +23,7 @@ impl OutputFiles {
     pub fn new(source: Option<&Path>, allow_overwrite: bool) -> Self {
         let mut o = OutputFiles {
             files: Vec::new(),
+            warnings: Vec::new(),
             protected: Vec::new(),
             allow_overwrite,
         };
@@ -54,14 +56,21 @@ impl OutputFiles {
         Ok(())
     }
 
+    /// Notes something the output format cannot hold; returned by
+    /// [`crate::write`] after a successful commit.
+    pub fn warn(&mut self, message: impl Into<String>) {
+        self.warnings.push(message.into());
+    }
+
     /// The files collected so far.
     pub fn files(&self) -> &[(PathBuf, Vec<u8>)] {
         &self.files
     }
 
     /// Writes every file to a temporary sibling, then renames them all into
-    /// place. On error nothing is renamed and the temporaries are removed.
-    pub fn commit(self) -> Result<(), ErrorKind> {
+    /// place, and returns the warnings. On error nothing is renamed and the
+    /// temporaries are removed.
+    pub fn commit(self) -> Result<Vec<String>, ErrorKind> {
         let mut staged = Vec::with_capacity(self.files.len());
         for (path, bytes) in &self.files {
             let dir = match path.parent() {
@@ -81,7 +90,7 @@ impl OutputFiles {
         for (tmp, path) in staged.into_iter().rev() {
             tmp.persist(path).map_err(|e| ErrorKind::Io(e.error))?;
         }
-        Ok(())
+        Ok(self.warnings)
     }
 }
 

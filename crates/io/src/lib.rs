@@ -105,8 +105,13 @@ pub fn read(path: impl AsRef<Path>) -> Result<Document, Error> {
 ///
 /// Refuses an invalid scene, and refuses to replace the document's source
 /// unless allowed. Sidecar files (`.bin`, `.mtl`, images) are written next
-/// to the output; all files appear together or not at all.
-pub fn write(doc: &Document, path: impl AsRef<Path>, options: &WriteOptions) -> Result<(), Error> {
+/// to the output; all files appear together or not at all. Returns warnings
+/// about content the output format cannot hold (per-corner colors in OBJ…).
+pub fn write(
+    doc: &Document,
+    path: impl AsRef<Path>,
+    options: &WriteOptions,
+) -> Result<Vec<String>, Error> {
     let path = path.as_ref();
     let at = |kind| Error::new(path, kind);
     let format = Format::from_path(path).map_err(at)?;

@@ -20,14 +20,18 @@
 mod attribute;
 pub mod disjoint_sets;
 mod faces;
+mod image;
 mod mesh;
 mod scene;
+pub mod shapes;
 pub mod stats;
+pub mod transform;
 mod validate;
 pub mod weld;
 
 pub use attribute::{Attribute, ComponentFormat, MorphChannel, Semantic, Skinning, ABSENT};
 pub use faces::{FaceIter, Faces};
+pub use image::Image;
 pub use mesh::{Mesh, Part};
 pub use scene::{
     AlphaMode, Animation, ImageSource, Material, Node, Scene, Skin, Texture, TextureRef, IDENTITY,
