@@ -1,0 +1,68 @@
+//! Every glTF/GLB file of the corpus: read, validated, counted as the
+//! corpus README says.
+
+use std::path::Path;
+
+use wildlod_testkit::{corpus, mesh_files, short};
+
+/// (file, triangles per instance, skin joints, animations) from the corpus README.
+const EXPECTED: &[(&str, usize, Option<usize>, usize)] = &[
+    ("large/dragon_vrip.glb", 871_414, None, 0),
+    ("skinned/CesiumMan.glb", 4_672, Some(19), 1),
+    ("skinned/Fox/Fox.gltf", 576, Some(24), 3),
+    ("skinned/RiggedFigure.glb", 256, Some(19), 1),
+    ("skinned/RiggedSimple.glb", 188, Some(2), 1),
+    ("skinned/SimpleSkin.gltf", 8, Some(2), 1),
+    ("textured/Avocado/Avocado.gltf", 682, None, 0),
+    ("textured/CesiumMilkTruck.glb", 3_624, None, 1),
+    ("textured/MultiUVTest.glb", 12, None, 0),
+    ("textured/sofa_03/sofa_03_1k.gltf", 8_004, None, 0),
+    ("textured/tea_set_01/tea_set_01_1k.gltf", 40_296, None, 0),
+];
+
+fn is_gltf(p: &Path) -> bool {
+    matches!(p.extension().and_then(|e| e.to_str()), Some("gltf" | "glb"))
+}
+
+#[test]
+fn every_corpus_gltf_reads_with_the_readme_triangle_joint_and_animation_counts() {
+    let Some(c) =
+        corpus("every_corpus_gltf_reads_with_the_readme_triangle_joint_and_animation_counts")
+    else {
+        return;
+    };
+    let files: Vec<_> = mesh_files(&c, "")
+        .into_iter()
+        .filter(|p| is_gltf(p))
+        .collect();
+    assert_eq!(
+        files.len(),
+        EXPECTED.len(),
+        "corpus glTF files changed: {files:?}"
+    );
+    for f in files {
+        let name = short(&c, &f);
+        let (_, tris, joints, anims) = EXPECTED
+            .iter()
+            .find(|e| e.0 == name)
+            .unwrap_or_else(|| panic!("{name} is not in the expected table"));
+        let doc = wildlod_io::read(&f).unwrap_or_else(|e| panic!("{e}"));
+        doc.scene.validate().unwrap();
+        let counts = doc.scene.instance_counts();
+        let total: usize = doc
+            .scene
+            .meshes
+            .iter()
+            .zip(&counts)
+            .map(|(m, n)| m.triangle_count() * n)
+            .sum();
+        assert_eq!(total, *tris, "{name}: triangles per instance");
+        assert_eq!(
+            doc.scene.skins.first().map(|s| s.joints.len()),
+            *joints,
+            "{name}: joints"
+        );
+        assert_eq!(doc.scene.animations.len(), *anims, "{name}: animations");
+        eprintln!("{name}: ok, warnings {:?}", doc.warnings);
+    }
+}
