@@ -83,11 +83,9 @@ pub fn topology(mesh: &Mesh) -> TopologyStats {
     // `used` and `sets` are indexed by welded id.
     let mut roots = HashSet::new();
     let mut welded = 0;
-    for v in 0..nv {
-        if used[v] {
-            roots.insert(sets.find(v as u32));
-            welded += 1;
-        }
+    for (v, _) in used.iter().enumerate().filter(|(_, &u)| u) {
+        roots.insert(sets.find(v as u32));
+        welded += 1;
     }
     TopologyStats {
         welded_vertices: welded,
@@ -107,13 +105,13 @@ fn uv_islands(mesh: &Mesh, weld: &[u32]) -> Option<usize> {
     let mut first: HashMap<(u32, [u32; 3]), u32, std::hash::BuildHasherDefault<PositionHasher>> =
         HashMap::default();
     let mut has_uv = vec![false; nf];
-    for f in 0..nf {
+    for (f, has) in has_uv.iter_mut().enumerate() {
         for c in mesh.faces.corner_range(f) {
             let i = uv.indices[c];
             if i == ABSENT || i as usize >= uv.value_count() {
                 continue;
             }
-            has_uv[f] = true;
+            *has = true;
             let val = uv.value(i);
             let key = position_key(&[val[0], *val.get(1).unwrap_or(&0.0), 0.0]);
             let v = weld[mesh.faces.indices[c] as usize];
@@ -122,10 +120,8 @@ fn uv_islands(mesh: &Mesh, weld: &[u32]) -> Option<usize> {
         }
     }
     let mut roots = HashSet::new();
-    for f in 0..nf {
-        if has_uv[f] {
-            roots.insert(sets.find(f as u32));
-        }
+    for (f, _) in has_uv.iter().enumerate().filter(|(_, &h)| h) {
+        roots.insert(sets.find(f as u32));
     }
     Some(roots.len())
 }

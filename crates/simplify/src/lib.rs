@@ -1,1 +1,48 @@
-//! placeholder
+//! Mesh simplification for meshes in the wild.
+//!
+//! The core of wildlod, with no I/O:
+//!
+//! - vertex-pair collapse on a simplicial 2-complex with virtual edges and
+//!   an area-aware quadric (Liu, Zhang & Yuksel 2025, "W": §4.1, §4.2,
+//!   App. A–C), for non-manifold, many-component meshes and triangle soups;
+//! - polygon faces kept through collapses (Knodt 2024, "Q": output faces are
+//!   input faces with merged vertices).
+//!
+//! Entry points: [`simplify_polygons`] and [`simplify_triangles`] on plain
+//! arrays, [`simplify_mesh`] on a [`wildlod_mesh::Mesh`] with its attributes.
+//! Options are a plain struct with documented defaults ([`Options`]); every
+//! run returns a [`Report`] of what it reached and why it stopped.
+//!
+//! ```
+//! use wildlod_simplify::{simplify_mesh, Options, Target};
+//! let mesh = wildlod_mesh::shapes::torus(24, 12, 1.0, 0.3);
+//! let options = Options {
+//!     target: Target { ratio: Some(0.25), ..Target::default() },
+//!     ..Options::default()
+//! };
+//! let (lod, report) = simplify_mesh(&mesh, &options)?;
+//! assert!(report.output_triangles.abs_diff(report.target_triangles) <= 1);
+//! assert_eq!(lod.triangle_count(), report.output_triangles);
+//! # Ok::<(), wildlod_simplify::Error>(())
+//! ```
+
+mod complex;
+mod cost;
+mod error;
+mod guards;
+mod heap;
+mod history;
+mod mesh;
+mod options;
+mod quadric;
+mod report;
+mod simplify;
+mod virtual_edges;
+
+pub use error::Error;
+pub use history::{CollapseRecord, History, RingFace};
+pub use mesh::simplify_mesh;
+pub use options::{Guards, Metric, Options, Target};
+pub use quadric::{place, Placement, Quadric};
+pub use report::{Rejections, Report, StopReason};
+pub use simplify::{simplify_polygons, simplify_triangles, Simplified};

@@ -1,0 +1,686 @@
+//! The simplicial 2-complex of W §4.1 and App. C.1: vertices, edges
+//! (physical and virtual) and polygon faces, with star lists
+//! (vertex → faces, vertex → edges). No half-edges: nothing here assumes a
+//! manifold, one component, or consistent orientation.
+//!
+//! Faces keep their polygon arity (Knodt 2024 §3: output faces are input
+//! faces with merged vertices). Each face owns a fixed slot range sized by
+//! its input arity; a collapse that merges two of its corners shrinks it in
+//! place. Every slot remembers the input corner it came from, so per-corner
+//! attributes ride along.
+
+use glam::DVec3;
+
+/// Marks a dead face (`face_len == 0`) or an unused scratch entry.
+pub(crate) const NONE: u32 = u32::MAX;
+
+/// The complex being simplified.
+#[derive(Clone, Debug)]
+pub(crate) struct Complex {
+    /// Vertex positions (normalized coordinates).
+    pub pos: Vec<DVec3>,
+    /// Faces around each vertex (each face listed once per vertex).
+    pub vert_faces: Vec<Vec<u32>>,
+    /// Edges around each vertex.
+    pub vert_edges: Vec<Vec<u32>>,
+    /// Endpoints of each edge.
+    pub edges: Vec<[u32; 2]>,
+    /// False once an edge was collapsed or merged into another.
+    pub edge_alive: Vec<bool>,
+    /// Bumped whenever an edge changes; heap entries carry the value they saw.
+    pub edge_gen: Vec<u32>,
+    /// First slot of each face.
+    pub face_start: Vec<u32>,
+    /// Current arity of each face; 0 when the face is gone.
+    pub face_len: Vec<u32>,
+    /// Vertex of each slot.
+    pub slot_vertex: Vec<u32>,
+    /// Input corner of each slot.
+    pub slot_corner: Vec<u32>,
+    /// Triangles of the triangulated complex (Σ arity − 2 over live faces).
+    pub triangles: usize,
+    /// Scratch marks for set operations, compared against `stamp`.
+    vmark: Vec<u32>,
+    vmark_val: Vec<u32>,
+    fmark: Vec<u32>,
+    stamp: u32,
+}
+
+/// What a collapse changed, for the caller's bookkeeping.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct CollapseOutcome {
+    /// Triangles removed (triangulated count).
+    pub removed_triangles: usize,
+}
+
+/// Faces cleaned away while building: degenerate and duplicate ones.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub(crate) struct Cleaned {
+    pub degenerate: usize,
+    pub duplicate: usize,
+}
+
+impl Complex {
+    /// Builds the complex from welded positions and polygon faces
+    /// (`offsets`/`indices` over welded vertex ids; slot `c` of the input is
+    /// corner `c`). Removes degenerate faces (fewer than three distinct
+    /// vertices after dropping repeats) and exact duplicates (the same
+    /// vertex cycle with the same orientation; opposite copies are kept:
+    /// they are how wild meshes make a sheet double-sided).
+    pub fn new(pos: Vec<DVec3>, offsets: &[u32], indices: &[u32]) -> (Complex, Cleaned) {
+        let nv = pos.len();
+        let nf = offsets.len().saturating_sub(1);
+        let mut c = Complex {
+            vert_faces: vec![Vec::new(); nv],
+            vert_edges: vec![Vec::new(); nv],
+            edges: Vec::new(),
+            edge_alive: Vec::new(),
+            edge_gen: Vec::new(),
+            face_start: offsets[..nf].to_vec(),
+            face_len: (0..nf).map(|f| offsets[f + 1] - offsets[f]).collect(),
+            slot_vertex: indices.to_vec(),
+            slot_corner: (0..indices.len() as u32).collect(),
+            triangles: 0,
+            vmark: vec![0; nv],
+            vmark_val: vec![0; nv],
+            fmark: vec![0; nf],
+            stamp: 0,
+            pos,
+        };
+        let mut cleaned = Cleaned::default();
+        for f in 0..nf {
+            c.normalize_face(f as u32, None);
+            if c.face_len[f] == 0 {
+                cleaned.degenerate += 1;
+            }
+        }
+        // Exact duplicates: sort canonical keys, keep the lowest face id.
+        let mut keys: Vec<(Vec<u32>, u32)> = (0..nf as u32)
+            .filter(|&f| c.face_len[f as usize] > 0)
+            .map(|f| (c.canonical(f), f))
+            .collect();
+        keys.sort_unstable();
+        for w in keys.windows(2) {
+            if w[0].0 == w[1].0 {
+                c.face_len[w[1].1 as usize] = 0;
+                cleaned.duplicate += 1;
+            }
+        }
+        for f in 0..nf as u32 {
+            let len = c.face_len[f as usize] as usize;
+            if len == 0 {
+                continue;
+            }
+            c.triangles += len - 2;
+            let s = c.face_start[f as usize] as usize;
+            for k in 0..len {
+                let v = c.slot_vertex[s + k] as usize;
+                c.vert_faces[v].push(f);
+            }
+        }
+        // Physical edges: consecutive corners, deduplicated.
+        let mut ek: Vec<u64> = Vec::with_capacity(indices.len());
+        for f in 0..nf {
+            let len = c.face_len[f] as usize;
+            let s = c.face_start[f] as usize;
+            for k in 0..len {
+                let a = c.slot_vertex[s + k];
+                let b = c.slot_vertex[s + (k + 1) % len];
+                ek.push(((a.min(b) as u64) << 32) | a.max(b) as u64);
+            }
+        }
+        ek.sort_unstable();
+        ek.dedup();
+        c.edges.reserve(ek.len());
+        for k in ek {
+            let (a, b) = ((k >> 32) as u32, k as u32);
+            c.push_edge(a, b);
+        }
+        (c, cleaned)
+    }
+
+    fn push_edge(&mut self, a: u32, b: u32) -> u32 {
+        let e = self.edges.len() as u32;
+        self.edges.push([a, b]);
+        self.edge_alive.push(true);
+        self.edge_gen.push(0);
+        self.vert_edges[a as usize].push(e);
+        self.vert_edges[b as usize].push(e);
+        e
+    }
+
+    /// Adds an edge between `a` and `b` unless one exists; returns whether
+    /// it was added. Used for virtual edges.
+    pub fn add_edge(&mut self, a: u32, b: u32) -> bool {
+        if a == b || self.edge_between(a, b).is_some() {
+            return false;
+        }
+        self.push_edge(a, b);
+        true
+    }
+
+    /// The edge joining `a` and `b`, if any.
+    pub fn edge_between(&self, a: u32, b: u32) -> Option<u32> {
+        let (s, t) = if self.vert_edges[a as usize].len() <= self.vert_edges[b as usize].len() {
+            (a, b)
+        } else {
+            (b, a)
+        };
+        self.vert_edges[s as usize]
+            .iter()
+            .copied()
+            .find(|&e| self.other(e, s) == t)
+    }
+
+    /// The endpoint of `e` that is not `v`.
+    #[inline]
+    pub fn other(&self, e: u32, v: u32) -> u32 {
+        let [a, b] = self.edges[e as usize];
+        if a == v {
+            b
+        } else {
+            a
+        }
+    }
+
+    /// The current corners of face `f` (vertex ids).
+    #[inline]
+    pub fn face(&self, f: u32) -> &[u32] {
+        let s = self.face_start[f as usize] as usize;
+        &self.slot_vertex[s..s + self.face_len[f as usize] as usize]
+    }
+
+    /// The face's vertex cycle rotated to start at its smallest vertex:
+    /// equal for two faces with the same cycle and orientation.
+    fn canonical(&self, f: u32) -> Vec<u32> {
+        let face = self.face(f);
+        let k = (0..face.len()).min_by_key(|&k| face[k]).unwrap_or(0);
+        (0..face.len())
+            .map(|i| face[(k + i) % face.len()])
+            .collect()
+    }
+
+    fn next_stamp(&mut self) -> u32 {
+        self.stamp = self.stamp.wrapping_add(1);
+        if self.stamp == 0 {
+            self.vmark.fill(0);
+            self.fmark.fill(0);
+            self.stamp = 1;
+        }
+        self.stamp
+    }
+
+    /// Neighbors of `v` joined by an edge used by exactly one face: the
+    /// boundary edges around `v`. Appends to `out`.
+    pub fn boundary_neighbors(&self, v: u32, out: &mut Vec<u32>) {
+        let start = out.len();
+        for &f in &self.vert_faces[v as usize] {
+            let face = self.face(f);
+            let n = face.len();
+            for k in 0..n {
+                if face[k] == v {
+                    out.push(face[(k + n - 1) % n]);
+                    out.push(face[(k + 1) % n]);
+                }
+            }
+        }
+        let tail = &mut out[start..];
+        tail.sort_unstable();
+        // Keep the values that occur exactly once.
+        let mut w = start;
+        let mut i = start;
+        while i < out.len() {
+            let mut j = i + 1;
+            while j < out.len() && out[j] == out[i] {
+                j += 1;
+            }
+            if j - i == 1 && out[i] != v {
+                out[w] = out[i];
+                w += 1;
+            }
+            i = j;
+        }
+        out.truncate(w);
+    }
+
+    /// Number of live faces that use `a`–`b` as a side.
+    pub fn edge_face_count(&self, a: u32, b: u32) -> usize {
+        let (s, t) = if self.vert_faces[a as usize].len() <= self.vert_faces[b as usize].len() {
+            (a, b)
+        } else {
+            (b, a)
+        };
+        let mut count = 0;
+        for &f in &self.vert_faces[s as usize] {
+            let face = self.face(f);
+            let n = face.len();
+            for k in 0..n {
+                if face[k] == s && (face[(k + 1) % n] == t || face[(k + n - 1) % n] == t) {
+                    count += 1;
+                }
+            }
+        }
+        count
+    }
+
+    /// The faces around `i` or `j`, each once, in a deterministic order.
+    pub fn star_faces(&mut self, i: u32, j: u32, out: &mut Vec<u32>) {
+        let s = self.next_stamp();
+        out.clear();
+        for v in [i, j] {
+            for &f in &self.vert_faces[v as usize] {
+                if self.fmark[f as usize] != s {
+                    self.fmark[f as usize] = s;
+                    out.push(f);
+                }
+            }
+        }
+    }
+
+    /// Removes repeated vertices of face `f` in place. Consecutive repeats
+    /// collapse to one corner (the one at a vertex listed in `prefer`, if
+    /// given: the slot to keep among a run of equal vertices); a vertex
+    /// repeated apart splits the cycle into loops, of which the longest is
+    /// kept (a face cannot become two). Fewer than three corners left: the
+    /// face is gone (`face_len = 0`). Returns the vertices that left the
+    /// face (excluding repeats of kept ones) into `dropped`.
+    fn normalize_face(&mut self, f: u32, prefer: Option<&dyn Fn(u32) -> bool>) -> Vec<u32> {
+        let s = self.face_start[f as usize] as usize;
+        let n = self.face_len[f as usize] as usize;
+        let verts = &self.slot_vertex[s..s + n];
+        let mut has_repeat = false;
+        for a in 0..n {
+            for b in a + 1..n {
+                if verts[a] == verts[b] {
+                    has_repeat = true;
+                }
+            }
+        }
+        if !has_repeat {
+            return Vec::new();
+        }
+        let before: Vec<u32> = verts.to_vec();
+        // Collapse cyclic runs of equal vertices to one slot.
+        let mut slots: Vec<(u32, u32, bool)> = Vec::with_capacity(n); // (vertex, corner, preferred)
+        for k in 0..n {
+            let v = self.slot_vertex[s + k];
+            let pref = prefer.map(|p| p(self.slot_corner[s + k])).unwrap_or(false);
+            slots.push((v, self.slot_corner[s + k], pref));
+        }
+        let mut runs: Vec<(u32, u32, bool)> = Vec::with_capacity(n);
+        for &sl in &slots {
+            match runs.last_mut() {
+                Some(last) if last.0 == sl.0 => {
+                    if sl.2 && !last.2 {
+                        *last = sl;
+                    }
+                }
+                _ => runs.push(sl),
+            }
+        }
+        while runs.len() > 1 && runs[0].0 == runs[runs.len() - 1].0 {
+            let last = runs.pop().unwrap_or((NONE, NONE, false));
+            if last.2 && !runs[0].2 {
+                runs[0] = last;
+            }
+        }
+        // Split at vertices that still repeat: keep the longest loop.
+        let mut kept = runs.clone();
+        'split: loop {
+            for a in 0..kept.len() {
+                for b in a + 1..kept.len() {
+                    if kept[a].0 == kept[b].0 {
+                        let inner: Vec<_> = kept[a..b].to_vec();
+                        let mut outer: Vec<_> = kept[b..].to_vec();
+                        outer.extend_from_slice(&kept[..a]);
+                        kept = if inner.len() >= outer.len() {
+                            inner
+                        } else {
+                            outer
+                        };
+                        continue 'split;
+                    }
+                }
+            }
+            break;
+        }
+        let new_len = if kept.len() >= 3 { kept.len() } else { 0 };
+        for (k, sl) in kept.iter().take(new_len).enumerate() {
+            self.slot_vertex[s + k] = sl.0;
+            self.slot_corner[s + k] = sl.1;
+        }
+        self.face_len[f as usize] = new_len as u32;
+        let mut dropped: Vec<u32> = before
+            .into_iter()
+            .filter(|v| new_len == 0 || !kept.iter().any(|k| k.0 == *v))
+            .collect();
+        dropped.sort_unstable();
+        dropped.dedup();
+        dropped
+    }
+
+    /// Collapses edge `e = (i, j)` into `i`, moving it to `x` (W §4.1).
+    ///
+    /// `prefer_j` picks which corners survive where a face held both
+    /// endpoints (the ones that were at `j` when true): the caller keeps the
+    /// corners of the endpoint nearer to `x`, so their attributes fit best.
+    /// Degenerate faces, duplicate faces and duplicate edges that appear are
+    /// removed. `changed` receives every live edge around `i` afterwards.
+    pub fn collapse(
+        &mut self,
+        e: u32,
+        keep: u32,
+        x: DVec3,
+        prefer_removed: bool,
+        changed: &mut Vec<u32>,
+    ) -> CollapseOutcome {
+        let [a, b] = self.edges[e as usize];
+        let (i, j) = if keep == a { (a, b) } else { (b, a) };
+        let mut out = CollapseOutcome::default();
+        self.pos[i as usize] = x;
+
+        // Faces: move j's faces to i.
+        let j_faces = std::mem::take(&mut self.vert_faces[j as usize]);
+        let mut touched: Vec<u32> = Vec::with_capacity(j_faces.len());
+        // Corners that were at j, for the survivor choice.
+        let mut j_corners: Vec<u32> = Vec::new();
+        for &f in &j_faces {
+            let s = self.face_start[f as usize] as usize;
+            let n = self.face_len[f as usize] as usize;
+            let mut had_i = false;
+            for k in 0..n {
+                if self.slot_vertex[s + k] == j {
+                    self.slot_vertex[s + k] = i;
+                    j_corners.push(self.slot_corner[s + k]);
+                } else if self.slot_vertex[s + k] == i {
+                    had_i = true;
+                }
+            }
+            if !had_i {
+                self.vert_faces[i as usize].push(f);
+            }
+            touched.push(f);
+        }
+        j_corners.sort_unstable();
+        for &f in &touched {
+            let old = self.face_len[f as usize] as usize;
+            let prefer = |c: u32| j_corners.binary_search(&c).is_ok() == prefer_removed;
+            let dropped = self.normalize_face(f, Some(&prefer));
+            let new = self.face_len[f as usize] as usize;
+            if new == 0 {
+                out.removed_triangles += old - 2;
+                for v in dropped {
+                    if v != j {
+                        remove_item(&mut self.vert_faces[v as usize], f);
+                    }
+                }
+            } else {
+                out.removed_triangles += old - new;
+                for v in dropped {
+                    if v != i && v != j {
+                        remove_item(&mut self.vert_faces[v as usize], f);
+                    }
+                }
+            }
+        }
+
+        // Duplicate faces around i (same cycle, same orientation).
+        let mut keys: Vec<(Vec<u32>, u32)> = self.vert_faces[i as usize]
+            .iter()
+            .map(|&f| (self.canonical(f), f))
+            .collect();
+        keys.sort_unstable();
+        for w in 1..keys.len() {
+            if keys[w].0 == keys[w - 1].0 {
+                let f = keys[w].1;
+                let len = self.face_len[f as usize] as usize;
+                out.removed_triangles += len - 2;
+                for k in 0..len {
+                    let v = self.slot_vertex[self.face_start[f as usize] as usize + k];
+                    if v != i {
+                        remove_item(&mut self.vert_faces[v as usize], f);
+                    }
+                }
+                self.face_len[f as usize] = 0;
+            }
+        }
+        let face_len = &self.face_len;
+        self.vert_faces[i as usize].retain(|&f| face_len[f as usize] > 0);
+        self.triangles -= out.removed_triangles;
+
+        // Edges: re-point j's edges to i, merging duplicates.
+        let s = self.next_stamp();
+        for &ei in &self.vert_edges[i as usize] {
+            let k = self.other(ei, i);
+            self.vmark[k as usize] = s;
+            self.vmark_val[k as usize] = ei;
+        }
+        let j_edges = std::mem::take(&mut self.vert_edges[j as usize]);
+        for &ej in &j_edges {
+            if !self.edge_alive[ej as usize] {
+                continue;
+            }
+            let k = self.other(ej, j);
+            if k == i {
+                self.kill_edge(ej);
+                remove_item(&mut self.vert_edges[i as usize], ej);
+                continue;
+            }
+            if self.vmark[k as usize] == s {
+                // i already joins k: the j–k edge merges into it.
+                self.kill_edge(ej);
+                remove_item(&mut self.vert_edges[k as usize], ej);
+            } else {
+                let ends = &mut self.edges[ej as usize];
+                if ends[0] == j {
+                    ends[0] = i;
+                } else {
+                    ends[1] = i;
+                }
+                self.edge_gen[ej as usize] = self.edge_gen[ej as usize].wrapping_add(1);
+                self.vert_edges[i as usize].push(ej);
+                self.vmark[k as usize] = s;
+                self.vmark_val[k as usize] = ej;
+            }
+        }
+        changed.clear();
+        changed.extend_from_slice(&self.vert_edges[i as usize]);
+        out
+    }
+
+    fn kill_edge(&mut self, e: u32) {
+        self.edge_alive[e as usize] = false;
+        self.edge_gen[e as usize] = self.edge_gen[e as usize].wrapping_add(1);
+    }
+
+    /// Live faces, for output.
+    pub fn live_faces(&self) -> impl Iterator<Item = u32> + '_ {
+        (0..self.face_len.len() as u32).filter(|&f| self.face_len[f as usize] > 0)
+    }
+
+    /// Checks the star lists against the faces and edges (debug and tests).
+    #[cfg(test)]
+    pub fn check(&self) -> Result<(), String> {
+        let mut tris = 0;
+        for f in self.live_faces() {
+            let face = self.face(f);
+            if face.len() < 3 {
+                return Err(format!("face {f} has {} corners", face.len()));
+            }
+            tris += face.len() - 2;
+            for (k, &v) in face.iter().enumerate() {
+                if face[k + 1..].contains(&v) {
+                    return Err(format!("face {f} repeats vertex {v}"));
+                }
+                if !self.vert_faces[v as usize].contains(&f) {
+                    return Err(format!("vertex {v} misses face {f}"));
+                }
+                let w = face[(k + 1) % face.len()];
+                if self.edge_between(v, w).is_none() {
+                    return Err(format!("face {f} side {v}-{w} has no edge"));
+                }
+            }
+        }
+        if tris != self.triangles {
+            return Err(format!("triangle count {} != {}", self.triangles, tris));
+        }
+        for (v, fs) in self.vert_faces.iter().enumerate() {
+            for &f in fs {
+                if self.face_len[f as usize] == 0 || !self.face(f).contains(&(v as u32)) {
+                    return Err(format!("vertex {v} lists face {f} it is not in"));
+                }
+            }
+            let mut s = fs.clone();
+            s.sort_unstable();
+            s.dedup();
+            if s.len() != fs.len() {
+                return Err(format!("vertex {v} lists a face twice"));
+            }
+        }
+        for (v, es) in self.vert_edges.iter().enumerate() {
+            let mut others = Vec::new();
+            for &e in es {
+                if !self.edge_alive[e as usize] {
+                    return Err(format!("vertex {v} lists dead edge {e}"));
+                }
+                let [a, b] = self.edges[e as usize];
+                if a != v as u32 && b != v as u32 {
+                    return Err(format!("vertex {v} lists edge {e} = {a}-{b}"));
+                }
+                others.push(self.other(e, v as u32));
+            }
+            others.sort_unstable();
+            let n = others.len();
+            others.dedup();
+            if others.len() != n {
+                return Err(format!("vertex {v} has duplicate edges"));
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Removes one occurrence of `x` from `v` (order not kept).
+fn remove_item(v: &mut Vec<u32>, x: u32) {
+    if let Some(p) = v.iter().position(|&y| y == x) {
+        v.swap_remove(p);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn grid() -> Complex {
+        // 3×2 vertices, two quads:
+        // 3---4---5
+        // |   |   |
+        // 0---1---2
+        let pos = (0..6)
+            .map(|i| DVec3::new((i % 3) as f64, (i / 3) as f64, 0.0))
+            .collect();
+        Complex::new(pos, &[0, 4, 8], &[0, 1, 4, 3, 1, 2, 5, 4]).0
+    }
+
+    #[test]
+    fn builds_edges_and_stars_for_two_quads() {
+        let c = grid();
+        assert_eq!(c.edges.len(), 7);
+        assert_eq!(c.triangles, 4);
+        assert_eq!(c.vert_faces[1], vec![0, 1]);
+        assert_eq!(c.edge_face_count(1, 4), 2);
+        assert_eq!(c.edge_face_count(0, 1), 1);
+        let mut b = Vec::new();
+        c.boundary_neighbors(1, &mut b);
+        assert_eq!(b, vec![0, 2]);
+        c.check().unwrap();
+    }
+
+    #[test]
+    fn collapsing_a_quad_edge_turns_the_quad_into_a_triangle() {
+        let mut c = grid();
+        let e = c.edge_between(0, 1).unwrap();
+        let mut changed = Vec::new();
+        let out = c.collapse(e, 1, DVec3::new(1.0, 0.0, 0.0), false, &mut changed);
+        assert_eq!(out.removed_triangles, 1);
+        assert_eq!(c.face(0), &[1, 4, 3]);
+        assert_eq!(c.face(1), &[1, 2, 5, 4]);
+        assert_eq!(c.triangles, 3);
+        // The 0–3 edge now joins 1 and 3.
+        assert!(c.edge_between(1, 3).is_some());
+        c.check().unwrap();
+    }
+
+    #[test]
+    fn collapsing_the_shared_edge_leaves_two_triangles() {
+        let mut c = grid();
+        let e = c.edge_between(1, 4).unwrap();
+        let mut changed = Vec::new();
+        let out = c.collapse(e, 4, DVec3::new(1.0, 0.5, 0.0), false, &mut changed);
+        assert_eq!(out.removed_triangles, 2);
+        assert_eq!(c.face(0).len(), 3);
+        assert_eq!(c.face(1).len(), 3);
+        assert!(!c.vert_edges[1].iter().any(|&e| c.edge_alive[e as usize]));
+        c.check().unwrap();
+    }
+
+    #[test]
+    fn degenerate_and_duplicate_input_faces_are_cleaned_but_twins_kept() {
+        let pos = (0..4)
+            .map(|i| DVec3::new(i as f64, (i * i) as f64, 0.0))
+            .collect();
+        // f0 ok, f1 = f0 rotated (duplicate), f2 degenerate (0,0,1),
+        // f3 = f0 reversed (double-sided twin, kept).
+        let (c, cleaned) = Complex::new(
+            pos,
+            &[0, 3, 6, 9, 12],
+            &[0, 1, 2, 1, 2, 0, 0, 0, 1, 2, 1, 0],
+        );
+        assert_eq!(
+            cleaned,
+            Cleaned {
+                degenerate: 1,
+                duplicate: 1
+            }
+        );
+        assert_eq!(c.triangles, 2);
+        assert_eq!(c.live_faces().collect::<Vec<_>>(), vec![0, 3]);
+        c.check().unwrap();
+    }
+
+    #[test]
+    fn collapse_that_creates_a_duplicate_face_removes_it() {
+        // Two triangles (0,2,3) and (1,2,3) with the same orientation become
+        // the same face when 1 merges into 0.
+        let pos = vec![DVec3::ZERO, DVec3::X * 0.1, DVec3::Y, DVec3::Z];
+        let (mut c, _) = Complex::new(pos, &[0, 3, 6], &[0, 2, 3, 1, 2, 3]);
+        c.add_edge(0, 1);
+        let e = c.edge_between(0, 1).unwrap();
+        let mut changed = Vec::new();
+        let out = c.collapse(e, 0, DVec3::ZERO, false, &mut changed);
+        assert_eq!(out.removed_triangles, 1);
+        assert_eq!(c.triangles, 1);
+        c.check().unwrap();
+    }
+
+    #[test]
+    fn pentagon_pinched_at_a_diagonal_keeps_its_larger_loop() {
+        // Pentagon 0-1-2-3-4 with a virtual edge between 0 and 3: merging
+        // them splits the cycle into (0,1,2) and (0,4); the triangle stays.
+        let pos = (0..5)
+            .map(|k| {
+                let a = k as f64 * std::f64::consts::TAU / 5.0;
+                DVec3::new(a.cos(), a.sin(), 0.0)
+            })
+            .collect();
+        let (mut c, _) = Complex::new(pos, &[0, 5], &[0, 1, 2, 3, 4]);
+        c.add_edge(0, 3);
+        let e = c.edge_between(0, 3).unwrap();
+        let mut changed = Vec::new();
+        let out = c.collapse(e, 0, DVec3::ZERO, false, &mut changed);
+        assert_eq!(out.removed_triangles, 2);
+        assert_eq!(c.face(0), &[0, 1, 2]);
+        assert!(!c.vert_faces[4].contains(&0));
+        c.check().unwrap();
+    }
+}

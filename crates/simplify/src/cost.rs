@@ -1,0 +1,305 @@
+//! The error metric of W §4.2, as composable terms:
+//!
+//! - plane quadrics of the faces, area-weighted per vertex (W Eq. 9–11),
+//!   summed per edge with *memory* (W Eq. 13, App. A.2);
+//! - a probabilistic (isotropic) regularization term (Trettner & Kobbelt
+//!   2020) that keeps the solve well conditioned;
+//! - the Lindstrom–Turk area quadric over the boundary edges of the edge's
+//!   one-ring (W Eq. 15), recomputed on the current mesh: *memoryless*.
+//!
+//! Per-vertex importance weights scale a vertex's quadrics (W Fig. 20).
+//! Later terms (tangent quadrics, attributes) add to the same sums.
+
+use glam::DVec3;
+use rayon::prelude::*;
+
+use crate::complex::Complex;
+use crate::options::Metric;
+use crate::quadric::{place, Quadric};
+
+/// How far from an edge's midpoint, in edge lengths, the optimal point may
+/// land before the solve is distrusted. Generous: sharp corners can lie a
+/// couple of edge lengths beyond a bevel being collapsed.
+const REACH: f64 = 4.0;
+
+/// Newell normal (length = twice the area) and centroid of a polygon given
+/// by its corner positions: exact for planar polygons, a least-squares-like
+/// average for warped ones.
+pub(crate) fn newell(points: impl Iterator<Item = DVec3> + Clone) -> (DVec3, DVec3) {
+    let mut n = DVec3::ZERO;
+    let mut sum = DVec3::ZERO;
+    let mut count = 0.0;
+    let mut it = points.clone().peekable();
+    let first = it.peek().copied().unwrap_or(DVec3::ZERO);
+    let mut prev: Option<DVec3> = None;
+    for p in points {
+        if let Some(q) = prev {
+            n += q.cross(p);
+        }
+        sum += p;
+        count += 1.0;
+        prev = Some(p);
+    }
+    if let Some(q) = prev {
+        n += q.cross(first);
+    }
+    (n, if count > 0.0 { sum / count } else { sum })
+}
+
+/// Plane of face `f`: (unit normal, area, centroid), or `None` when it has no
+/// area.
+pub(crate) fn face_plane(c: &Complex, f: u32) -> Option<(DVec3, f64, DVec3)> {
+    let face = c.face(f);
+    let (n2, centroid) = newell(face.iter().map(|&v| c.pos[v as usize]));
+    let len = n2.length();
+    if !len.is_finite() || len <= 0.0 {
+        return None;
+    }
+    Some((n2 / len, 0.5 * len, centroid))
+}
+
+/// The initial quadric of every vertex: Σ over its faces of (area / arity) ·
+/// plane quadric (the barycentric share of W Eq. 9 extended to polygons),
+/// plus the regularization term, times the vertex's weight. Summed per
+/// vertex in face order, so the result does not depend on thread count.
+pub(crate) fn vertex_quadrics(c: &Complex, metric: &Metric, weights: &[f64]) -> Vec<Quadric> {
+    let planes: Vec<Option<(DVec3, f64, DVec3)>> = (0..c.face_len.len() as u32)
+        .into_par_iter()
+        .map(|f| {
+            if c.face_len[f as usize] == 0 {
+                None
+            } else {
+                face_plane(c, f)
+            }
+        })
+        .collect();
+    (0..c.pos.len())
+        .into_par_iter()
+        .map(|v| {
+            let mut q = Quadric::ZERO;
+            let mut area = 0.0;
+            for &f in &c.vert_faces[v] {
+                if let Some((n, a, p)) = planes[f as usize] {
+                    let share = a / c.face_len[f as usize] as f64;
+                    q += Quadric::plane(n, p, share);
+                    area += share;
+                }
+            }
+            if metric.regularization > 0.0 && area > 0.0 {
+                q += Quadric::point(c.pos[v], metric.regularization * area);
+            }
+            match weights.get(v) {
+                Some(&w) if w != 1.0 => q.scaled(w),
+                _ => q,
+            }
+        })
+        .collect()
+}
+
+/// The result of evaluating a collapse.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct Evaluation {
+    /// Queue priority: the total quadric error at the new position.
+    pub cost: f64,
+    /// Where the new vertex goes.
+    pub position: DVec3,
+    /// Root-mean-square distance to the accumulated planes at the new
+    /// position (relative to the unit diagonal): the error users see.
+    pub distance: f64,
+}
+
+/// Evaluation settings derived from the options.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct CostModel {
+    pub metric: Metric,
+    pub lock_borders: bool,
+}
+
+/// Reusable buffers of one evaluating thread.
+#[derive(Default)]
+pub(crate) struct Scratch {
+    pub a: Vec<u32>,
+    pub b: Vec<u32>,
+}
+
+impl CostModel {
+    /// Evaluates collapsing edge `e`: the summed quadric with memory, plus
+    /// the memoryless boundary-area term, minimized (W Eq. 14) with the
+    /// documented fallback. `None` when the collapse is not allowed (both
+    /// endpoints locked) or its error is not finite.
+    pub fn evaluate(
+        &self,
+        c: &Complex,
+        q: &[Quadric],
+        e: u32,
+        s: &mut Scratch,
+    ) -> Option<Evaluation> {
+        let [i, j] = c.edges[e as usize];
+        let (pi, pj) = (c.pos[i as usize], c.pos[j as usize]);
+        let memory = q[i as usize] + q[j as usize];
+        let mut total = memory;
+        let need_boundary = self.metric.boundary_area || self.lock_borders;
+        let (mut bi, mut bj) = (false, false);
+        if need_boundary {
+            s.a.clear();
+            c.boundary_neighbors(i, &mut s.a);
+            s.b.clear();
+            c.boundary_neighbors(j, &mut s.b);
+            bi = !s.a.is_empty();
+            bj = !s.b.is_empty();
+        }
+        if self.metric.boundary_area && (bi || bj) {
+            let w = self.metric.boundary_area_weight;
+            let mut area = Quadric::ZERO;
+            for &k in &s.a {
+                area += Quadric::boundary_area(pi, c.pos[k as usize]);
+            }
+            for &k in &s.b {
+                // The edge (i, j) itself was counted from i's side.
+                if k != i {
+                    area += Quadric::boundary_area(pj, c.pos[k as usize]);
+                }
+            }
+            total += area.scaled(w);
+        }
+        let (position, cost) = if self.lock_borders && (bi || bj) {
+            if bi && bj {
+                return None;
+            }
+            let p = if bi { pi } else { pj };
+            (p, total.eval(p).max(0.0))
+        } else {
+            let pl = place(&total, pi, pj, REACH);
+            (pl.position, pl.error)
+        };
+        if !cost.is_finite() {
+            return None;
+        }
+        let distance =
+            (memory.eval(position).max(0.0) / memory.weight.max(f64::MIN_POSITIVE)).sqrt();
+        Some(Evaluation {
+            cost,
+            position,
+            distance,
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn newell_normal_of_unit_square_has_area_two() {
+        let sq = [DVec3::ZERO, DVec3::X, DVec3::new(1.0, 1.0, 0.0), DVec3::Y];
+        let (n, c) = newell(sq.iter().copied());
+        assert_eq!(n, DVec3::new(0.0, 0.0, 2.0));
+        assert_eq!(c, DVec3::new(0.5, 0.5, 0.0));
+    }
+
+    /// Two triangles folded along the x axis (a "hinge"):
+    /// ```text
+    ///   2 (0,1,0)
+    ///   |\
+    ///   0--1   (0,0,0)–(1,0,0)
+    ///   |/
+    ///   3 (0,0,1)  -- in the xz plane
+    /// ```
+    fn hinge() -> Complex {
+        let pos = vec![DVec3::ZERO, DVec3::X, DVec3::Y, DVec3::Z];
+        Complex::new(pos, &[0, 3, 6], &[0, 1, 2, 1, 0, 3]).0
+    }
+
+    #[test]
+    fn vertex_quadric_is_area_share_of_face_planes() {
+        let c = hinge();
+        let m = Metric {
+            regularization: 0.0,
+            ..Metric::default()
+        };
+        let q = vertex_quadrics(&c, &m, &[]);
+        // Vertex 2 is only in face 0 (plane z = 0, area 1/2): share 1/6.
+        // At (0,0,3): 1/6 · 9 = 1.5.
+        assert!((q[2].eval(DVec3::new(0.0, 0.0, 3.0)) - 1.5).abs() < 1e-12);
+        // Vertex 0 is in both: at (0, 2, 3): 1/6 · 9 + 1/6 · 4.
+        assert!((q[0].eval(DVec3::new(0.0, 2.0, 3.0)) - 13.0 / 6.0).abs() < 1e-12);
+        assert!((q[0].weight - 1.0 / 3.0).abs() < 1e-15);
+        // Weights scale the quadric.
+        let qw = vertex_quadrics(&c, &m, &[2.0, 1.0, 1.0, 1.0]);
+        assert!((qw[0].eval(DVec3::new(0.0, 2.0, 3.0)) - 13.0 / 3.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn boundary_area_term_is_absent_without_boundary_edges() {
+        // A closed tetrahedron: the metric is the plain quadric sum.
+        let pos = vec![DVec3::ZERO, DVec3::X, DVec3::Y, DVec3::Z];
+        let (c, _) = Complex::new(
+            pos,
+            &[0, 3, 6, 9, 12],
+            &[0, 2, 1, 0, 1, 3, 0, 3, 2, 1, 2, 3],
+        );
+        let metric = Metric::default();
+        let q = vertex_quadrics(&c, &metric, &[]);
+        let with = CostModel {
+            metric,
+            lock_borders: false,
+        };
+        let without = CostModel {
+            metric: Metric {
+                boundary_area: false,
+                ..metric
+            },
+            lock_borders: false,
+        };
+        let mut s = Scratch::default();
+        for e in 0..c.edges.len() as u32 {
+            assert_eq!(
+                with.evaluate(&c, &q, e, &mut s),
+                without.evaluate(&c, &q, e, &mut s)
+            );
+        }
+    }
+
+    #[test]
+    fn boundary_area_term_penalizes_moving_a_border_vertex_off_its_line() {
+        // Hinge edge (0, 2) is a boundary edge; so are 1-2, 0-3, 1-3.
+        let c = hinge();
+        let metric = Metric {
+            regularization: 0.0,
+            ..Metric::default()
+        };
+        let q = vertex_quadrics(&c, &metric, &[]);
+        let m = CostModel {
+            metric,
+            lock_borders: false,
+        };
+        let mut s = Scratch::default();
+        let e = c.edge_between(0, 2).unwrap();
+        let ev = m.evaluate(&c, &q, e, &mut s).unwrap();
+        let plain = CostModel {
+            metric: Metric {
+                boundary_area: false,
+                ..metric
+            },
+            lock_borders: false,
+        }
+        .evaluate(&c, &q, e, &mut s)
+        .unwrap();
+        assert!(ev.cost > plain.cost, "{ev:?} vs {plain:?}");
+    }
+
+    #[test]
+    fn locked_borders_refuse_border_to_border_collapses() {
+        let c = hinge();
+        let q = vertex_quadrics(&c, &Metric::default(), &[]);
+        let m = CostModel {
+            metric: Metric::default(),
+            lock_borders: true,
+        };
+        let mut s = Scratch::default();
+        // Every vertex of the hinge is on the border.
+        for e in 0..c.edges.len() as u32 {
+            assert_eq!(m.evaluate(&c, &q, e, &mut s), None);
+        }
+    }
+}

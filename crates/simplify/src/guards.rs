@@ -1,0 +1,290 @@
+//! Guards: tests a collapse must pass before it is made. Each is optional
+//! (see [`crate::options::Guards`]); none assumes a manifold.
+
+use glam::DVec3;
+
+use crate::complex::Complex;
+use crate::cost::newell;
+
+/// Whether collapsing `i`–`j` to `x` turns any surviving face of their star
+/// by more than the angle whose cosine is `min_cos`. Faces without area
+/// before or after are not judged (their normal means nothing).
+pub(crate) fn flips_a_face(
+    c: &Complex,
+    star: &[u32],
+    i: u32,
+    j: u32,
+    x: DVec3,
+    min_cos: f64,
+) -> bool {
+    for &f in star {
+        let face = c.face(f);
+        let old = newell(face.iter().map(|&v| c.pos[v as usize])).0;
+        let moved = |v: u32| {
+            if v == i || v == j {
+                x
+            } else {
+                c.pos[v as usize]
+            }
+        };
+        let new = newell(face.iter().map(|&v| moved(v))).0;
+        let (lo, ln) = (old.length_squared(), new.length_squared());
+        // Areas below ~1e-15 of the unit-diagonal mesh are numerical dust.
+        if lo <= 1e-30 || ln <= 1e-30 {
+            continue;
+        }
+        if old.dot(new) < min_cos * (lo * ln).sqrt() {
+            return true;
+        }
+    }
+    false
+}
+
+/// The link condition for polygon complexes (Dey et al. 1999; W App. B),
+/// with the boundary rule: true when collapsing `i`–`j` keeps the topology.
+///
+/// - every common neighbor `k` of `i` and `j` closes a triangle (i, j, k);
+/// - no side shared by the faces of `i` and of `j` except through faces
+///   holding both (for triangles: the tetrahedron case);
+/// - if both are on the boundary, `i`–`j` is a boundary edge;
+/// - the edge is used by at most two faces, and the collapse does not delete
+///   an isolated triangle (a whole component).
+pub(crate) fn keeps_topology(c: &Complex, i: u32, j: u32, scratch: &mut Vec<u32>) -> bool {
+    let faces_on_edge = c.edge_face_count(i, j);
+    if faces_on_edge > 2 {
+        return false;
+    }
+    // Common neighbors through edges.
+    let ni: Vec<u32> = c.vert_edges[i as usize]
+        .iter()
+        .map(|&e| c.other(e, i))
+        .collect();
+    for &e in &c.vert_edges[j as usize] {
+        let k = c.other(e, j);
+        if k == i || !ni.contains(&k) {
+            continue;
+        }
+        let closes = c.vert_faces[i as usize].iter().any(|&f| {
+            let face = c.face(f);
+            face.len() == 3 && face.contains(&j) && face.contains(&k)
+        });
+        if !closes {
+            return false;
+        }
+    }
+    // Sides of faces of i (not holding j) and of j (not holding i).
+    let sides = |v: u32, other: u32| -> Vec<(u32, u32)> {
+        let mut out = Vec::new();
+        for &f in &c.vert_faces[v as usize] {
+            let face = c.face(f);
+            if face.contains(&other) {
+                continue;
+            }
+            let n = face.len();
+            for k in 0..n {
+                let (a, b) = (face[k], face[(k + 1) % n]);
+                if a != v && b != v {
+                    out.push((a.min(b), a.max(b)));
+                }
+            }
+        }
+        out.sort_unstable();
+        out
+    };
+    let si = sides(i, j);
+    let sj = sides(j, i);
+    if sj.iter().any(|s| si.binary_search(s).is_ok()) {
+        return false;
+    }
+    scratch.clear();
+    c.boundary_neighbors(i, scratch);
+    let bi = !scratch.is_empty();
+    let edge_is_boundary = scratch.contains(&j);
+    scratch.clear();
+    c.boundary_neighbors(j, scratch);
+    let bj = !scratch.is_empty();
+    if bi && bj && !edge_is_boundary {
+        return false;
+    }
+    // An isolated triangle on the edge would vanish with its component.
+    for &f in &c.vert_faces[i as usize] {
+        let face = c.face(f);
+        if face.len() == 3 && face.contains(&j) {
+            let isolated = (0..3).all(|k| c.edge_face_count(face[k], face[(k + 1) % 3]) == 1);
+            if isolated {
+                return false;
+            }
+        }
+    }
+    true
+}
+
+/// Exactly how many triangles collapsing `i`–`j` removes, without making
+/// it: faces that lose corners or vanish, and duplicates that appear.
+pub(crate) fn removed_triangles(c: &Complex, star: &[u32], i: u32, j: u32) -> usize {
+    let mut removed = 0;
+    let mut keys: Vec<Vec<u32>> = Vec::with_capacity(star.len());
+    for &f in star {
+        let face = c.face(f);
+        let old = face.len();
+        let merged: Vec<u32> = face.iter().map(|&v| if v == j { i } else { v }).collect();
+        let kept = surviving_cycle(&merged);
+        if kept.len() < 3 {
+            removed += old - 2;
+            continue;
+        }
+        removed += old - kept.len();
+        if kept.contains(&i) {
+            let k = (0..kept.len()).min_by_key(|&k| kept[k]).unwrap_or(0);
+            keys.push(
+                (0..kept.len())
+                    .map(|t| kept[(k + t) % kept.len()])
+                    .collect(),
+            );
+        }
+    }
+    keys.sort_unstable();
+    for w in 1..keys.len() {
+        if keys[w] == keys[w - 1] {
+            removed += keys[w].len() - 2;
+        }
+    }
+    removed
+}
+
+/// The cycle a face keeps after merging vertices: consecutive repeats
+/// dropped, then the longest loop between repeats (as
+/// `Complex::normalize_face` does).
+fn surviving_cycle(v: &[u32]) -> Vec<u32> {
+    let mut runs: Vec<u32> = Vec::with_capacity(v.len());
+    for &x in v {
+        if runs.last() != Some(&x) {
+            runs.push(x);
+        }
+    }
+    while runs.len() > 1 && runs[0] == runs[runs.len() - 1] {
+        runs.pop();
+    }
+    'split: loop {
+        for a in 0..runs.len() {
+            for b in a + 1..runs.len() {
+                if runs[a] == runs[b] {
+                    let inner = runs[a..b].to_vec();
+                    let mut outer = runs[b..].to_vec();
+                    outer.extend_from_slice(&runs[..a]);
+                    runs = if inner.len() >= outer.len() {
+                        inner
+                    } else {
+                        outer
+                    };
+                    continue 'split;
+                }
+            }
+        }
+        break;
+    }
+    runs
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn tetra() -> Complex {
+        let pos = vec![DVec3::ZERO, DVec3::X, DVec3::Y, DVec3::Z];
+        Complex::new(
+            pos,
+            &[0, 3, 6, 9, 12],
+            &[0, 2, 1, 0, 1, 3, 0, 3, 2, 1, 2, 3],
+        )
+        .0
+    }
+
+    #[test]
+    fn tetrahedron_edges_fail_the_link_condition() {
+        let c = tetra();
+        let mut s = Vec::new();
+        for e in 0..c.edges.len() {
+            let [i, j] = c.edges[e];
+            assert!(!keeps_topology(&c, i, j, &mut s), "edge {i}-{j}");
+        }
+    }
+
+    #[test]
+    fn octahedron_edges_pass_the_link_condition() {
+        let pos = vec![
+            DVec3::X,
+            -DVec3::X,
+            DVec3::Y,
+            -DVec3::Y,
+            DVec3::Z,
+            -DVec3::Z,
+        ];
+        let tris = [
+            [0, 2, 4],
+            [2, 1, 4],
+            [1, 3, 4],
+            [3, 0, 4],
+            [2, 0, 5],
+            [1, 2, 5],
+            [3, 1, 5],
+            [0, 3, 5],
+        ];
+        let idx: Vec<u32> = tris.iter().flatten().copied().collect();
+        let off: Vec<u32> = (0..=8).map(|k| 3 * k).collect();
+        let (c, _) = Complex::new(pos, &off, &idx);
+        let mut s = Vec::new();
+        for e in 0..c.edges.len() {
+            let [i, j] = c.edges[e];
+            assert!(keeps_topology(&c, i, j, &mut s));
+        }
+    }
+
+    #[test]
+    fn pinching_two_border_vertices_across_the_interior_is_refused() {
+        // A strip of two triangles 0-1-2, 1-3-2: all vertices on the border;
+        // the inner edge 1-2 is not a border edge.
+        let pos = vec![DVec3::ZERO, DVec3::X, DVec3::Y, DVec3::new(1.0, 1.0, 0.0)];
+        let (c, _) = Complex::new(pos, &[0, 3, 6], &[0, 1, 2, 1, 3, 2]);
+        let mut s = Vec::new();
+        assert!(!keeps_topology(&c, 1, 2, &mut s));
+        assert!(keeps_topology(&c, 0, 1, &mut s));
+    }
+
+    #[test]
+    fn flip_test_catches_a_vertex_pushed_through_its_fan() {
+        // Fan around vertex 0 at the origin, all faces facing +z.
+        let pos = vec![DVec3::ZERO, DVec3::X, DVec3::Y, -DVec3::X, -DVec3::Y];
+        let (c, _) = Complex::new(
+            pos,
+            &[0, 3, 6, 9, 12],
+            &[0, 1, 2, 0, 2, 3, 0, 3, 4, 0, 4, 1],
+        );
+        let star: Vec<u32> = c.vert_faces[0].clone();
+        // Collapsing 0 onto 1 at 1: faces 0-2-3 and 0-3-4 stay convex-ish.
+        assert!(!flips_a_face(&c, &star, 0, 1, DVec3::X, 0.0));
+        // Moving 0 past vertex 3 on the far side flips face (0, 2, 3):
+        // (-3,0), (0,1), (-1,0) winds clockwise.
+        assert!(flips_a_face(
+            &c,
+            &star,
+            0,
+            1,
+            DVec3::new(-3.0, 0.0, 0.0),
+            0.0
+        ));
+    }
+
+    #[test]
+    fn removed_triangle_prediction_counts_dead_faces_and_duplicates() {
+        let c = tetra();
+        let mut star = Vec::new();
+        let mut c2 = c.clone();
+        c2.star_faces(0, 1, &mut star);
+        // Two faces on the edge die; the other two become (0,3,2)/(0,2,3):
+        // opposite orientations, kept as twins.
+        assert_eq!(removed_triangles(&c2, &star, 0, 1), 2);
+        assert_eq!(surviving_cycle(&[0, 1, 2, 0, 4]), vec![0, 1, 2]);
+        assert_eq!(surviving_cycle(&[5, 5, 6, 7, 5]), vec![5, 6, 7]);
+    }
+}

@@ -1,0 +1,171 @@
+//! Options of the simplifier: a plain struct with documented defaults.
+
+/// When to stop simplifying. Every set criterion applies; the simplifier
+/// stops at the first one met.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Target {
+    /// Keep this fraction of the input's triangles (counted on the
+    /// triangulated mesh: a quad is 2, an n-gon n − 2). `0.1` keeps 10%.
+    pub ratio: Option<f64>,
+    /// Keep at most this many triangles (triangulated count).
+    pub triangles: Option<usize>,
+    /// Never make a collapse whose error exceeds this distance, relative to
+    /// the bounding-box diagonal (W §6 lists error-based stopping as future
+    /// work; we build it). Simplification goes on while collapses under the
+    /// limit remain.
+    pub error: Option<f64>,
+}
+
+impl Target {
+    /// The triangle count to reach from `input` triangles: the larger of the
+    /// ratio and count targets (so the first met stops the run); 0 when
+    /// neither is set (an error-only target).
+    pub fn triangles_for(&self, input: usize) -> usize {
+        let by_ratio = self
+            .ratio
+            .map(|r| (input as f64 * r.clamp(0.0, 1.0)).round() as usize);
+        match (by_ratio, self.triangles) {
+            (Some(a), Some(b)) => a.max(b),
+            (Some(a), None) => a,
+            (None, Some(b)) => b,
+            (None, None) => 0,
+        }
+    }
+}
+
+/// How the error of a collapse is measured and accumulated (the cost terms,
+/// W §4.2). They compose: every enabled term adds a quadric.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Metric {
+    /// Add the Lindstrom–Turk area quadric over the boundary edges of the
+    /// edge's one-ring, recomputed on the current mesh (memoryless; W §4.2).
+    /// It keeps planar parts and open sheets from being eaten away. Has no
+    /// effect on closed manifolds, where the metric equals classic QEM.
+    /// Default: on.
+    pub boundary_area: bool,
+    /// Weight of the area term relative to the plane quadrics. Default 1
+    /// (W Eq. 15 as written).
+    pub boundary_area_weight: f64,
+    /// Isotropic regularization (probabilistic quadric, Trettner & Kobbelt
+    /// 2020): normal variance σ² relative to the unit-diagonal mesh, times
+    /// each vertex's area. Keeps the optimal-point solve well conditioned in
+    /// flat regions. Default 1e-4: small enough to leave the minimizer of any
+    /// curved neighbourhood in place (its effect is below 1e-4 of the plane
+    /// error), large enough to make A invertible in double precision.
+    pub regularization: f64,
+}
+
+impl Default for Metric {
+    fn default() -> Self {
+        Metric {
+            boundary_area: true,
+            boundary_area_weight: 1.0,
+            regularization: 1e-4,
+        }
+    }
+}
+
+/// Guards: collapses the user may forbid. Defaults chosen by measurement on
+/// the corpus (see `docs/evaluation.md`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Guards {
+    /// Reject a collapse that turns any surviving face's normal by more than
+    /// this angle (degrees). Default 90: a face that turns past 90° has
+    /// flipped over its neighbours. `None` disables the test.
+    pub max_normal_turn_degrees: Option<f64>,
+    /// Keep topology: the link condition (Dey et al. 1999; W App. B) and no
+    /// virtual edges. A manifold input stays a manifold of the same genus and
+    /// component count; the target may then be out of reach. Default off.
+    pub keep_topology: bool,
+    /// Never move or remove vertices on boundary edges. Default off.
+    pub lock_borders: bool,
+}
+
+impl Default for Guards {
+    fn default() -> Self {
+        Guards {
+            max_normal_turn_degrees: Some(90.0),
+            keep_topology: false,
+            lock_borders: false,
+        }
+    }
+}
+
+/// All options of [`crate::simplify`].
+#[derive(Clone, Debug, PartialEq)]
+pub struct Options {
+    /// When to stop.
+    pub target: Target,
+    /// The error metric.
+    pub metric: Metric,
+    /// Virtual edges (W §4.1.1): pairs of triangles of different connected
+    /// components closer than `2 r` get an edge between their closest vertex
+    /// pair. `r` is relative to the bounding-box diagonal; 0 disables them.
+    /// Default 0.0025 (so parts within 0.5% of the diagonal may merge),
+    /// chosen by measurement on the corpus: see `docs/evaluation.md`.
+    pub virtual_edge_radius: f64,
+    /// Guards against collapses the user does not want.
+    pub guards: Guards,
+    /// Per-vertex importance (≥ 0, one per input vertex): the quadrics of a
+    /// vertex are multiplied by its weight, so heavier vertices survive
+    /// longer (visibility-driven simplification, W Fig. 20). Empty: all 1.
+    pub vertex_weights: Vec<f32>,
+    /// Record every collapse (edge one-ring before, vertex one-ring after)
+    /// for successive mapping (W §4.3). Default off: it costs memory.
+    pub record_history: bool,
+}
+
+impl Default for Options {
+    fn default() -> Self {
+        Options {
+            target: Target {
+                ratio: Some(0.5),
+                ..Target::default()
+            },
+            metric: Metric::default(),
+            virtual_edge_radius: 0.0025,
+            guards: Guards::default(),
+            vertex_weights: Vec::new(),
+            record_history: false,
+        }
+    }
+}
+
+impl Options {
+    /// Classic quadric error simplification (Garland & Heckbert 1997) in the
+    /// same engine: physical edges only, no area term. The baseline the
+    /// papers compare with.
+    pub fn classic_qem() -> Self {
+        Options {
+            metric: Metric {
+                boundary_area: false,
+                ..Metric::default()
+            },
+            virtual_edge_radius: 0.0,
+            ..Options::default()
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn first_target_met_wins() {
+        let t = Target {
+            ratio: Some(0.1),
+            triangles: Some(500),
+            error: None,
+        };
+        assert_eq!(t.triangles_for(1000), 500);
+        assert_eq!(t.triangles_for(10_000), 1000);
+        assert_eq!(Target::default().triangles_for(10), 0);
+        // 0.1% of 6598 rounds to 7.
+        let t = Target {
+            ratio: Some(0.001),
+            ..Target::default()
+        };
+        assert_eq!(t.triangles_for(6598), 7);
+    }
+}

@@ -1,0 +1,333 @@
+//! Quadrics: plane quadrics (Garland & Heckbert 1997; W App. A.1), the
+//! Lindstrom–Turk area quadric (W App. A.3, Eq. 15–17), probabilistic
+//! regularization (Trettner & Kobbelt 2020) and the optimal-point solve
+//! (W Eq. 14).
+//!
+//! A quadric is the triplet (A, b, c) of W Eq. 4: `E(x) = xᵀAx + 2bᵀx + c`,
+//! with A symmetric and stored as its upper triangle. It also carries the
+//! total weight (area) it accumulated, so that an error can be reported as a
+//! distance: `sqrt(E / weight)`.
+
+use glam::DVec3;
+
+/// `E(x) = xᵀAx + 2bᵀx + c`, plus the accumulated weight.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Quadric {
+    /// Upper triangle of A: xx, xy, xz, yy, yz, zz.
+    pub a: [f64; 6],
+    /// The linear term b.
+    pub b: DVec3,
+    /// The constant c.
+    pub c: f64,
+    /// Sum of the weights (areas, lengths) of the terms added in.
+    pub weight: f64,
+}
+
+impl Quadric {
+    /// The zero quadric.
+    pub const ZERO: Quadric = Quadric {
+        a: [0.0; 6],
+        b: DVec3::ZERO,
+        c: 0.0,
+        weight: 0.0,
+    };
+
+    /// The plane quadric 𝒫(n, p) of W Eq. 5–6: squared distance to the plane
+    /// through `p` with unit normal `n`, times `weight`.
+    pub fn plane(n: DVec3, p: DVec3, weight: f64) -> Quadric {
+        let d = -n.dot(p);
+        Quadric {
+            a: [
+                n.x * n.x * weight,
+                n.x * n.y * weight,
+                n.x * n.z * weight,
+                n.y * n.y * weight,
+                n.y * n.z * weight,
+                n.z * n.z * weight,
+            ],
+            b: n * (d * weight),
+            c: d * d * weight,
+            weight,
+        }
+    }
+
+    /// `weight · |x − p|²`: a point quadric. Added with a tiny weight it is
+    /// the isotropic part of Trettner & Kobbelt's probabilistic plane quadric
+    /// (normal variance σ²: `E[(nᵀ(x−p))²] = (x−p)ᵀ(n̄n̄ᵀ + σ²I)(x−p)`), which
+    /// makes A positive definite without moving the minimum of a
+    /// well-conditioned quadric noticeably.
+    pub fn point(p: DVec3, weight: f64) -> Quadric {
+        Quadric {
+            a: [weight, 0.0, 0.0, weight, 0.0, weight],
+            b: -p * weight,
+            c: p.length_squared() * weight,
+            weight: 0.0,
+        }
+    }
+
+    /// The Lindstrom–Turk area quadric of one boundary edge `(a, b)`
+    /// (W Eq. 15–17): with `s = b − a` and `t = a × b`,
+    /// `Q = ([s]ₓᵀ[s]ₓ, −[s]ₓ t, tᵀt) / 2`, so that
+    /// `E(x) = |s × x + t|² / 2 = 2 · area(a, b, x)²`: it grows with the area
+    /// swept when the boundary edge's endpoint moves to `x`.
+    pub fn boundary_area(a: DVec3, b: DVec3) -> Quadric {
+        let s = b - a;
+        let t = a.cross(b);
+        // [s]ₓᵀ[s]ₓ = |s|² I − s sᵀ.
+        let ss = s.length_squared();
+        let h = 0.5;
+        Quadric {
+            a: [
+                (ss - s.x * s.x) * h,
+                -s.x * s.y * h,
+                -s.x * s.z * h,
+                (ss - s.y * s.y) * h,
+                -s.y * s.z * h,
+                (ss - s.z * s.z) * h,
+            ],
+            // −[s]ₓ t = −(s × t).
+            b: -s.cross(t) * h,
+            c: t.length_squared() * h,
+            weight: 0.0,
+        }
+    }
+
+    /// Scales every term (and the weight) by `k`.
+    pub fn scaled(&self, k: f64) -> Quadric {
+        Quadric {
+            a: self.a.map(|v| v * k),
+            b: self.b * k,
+            c: self.c * k,
+            weight: self.weight * k,
+        }
+    }
+
+    /// `E(x) = xᵀAx + 2bᵀx + c`.
+    #[inline]
+    pub fn eval(&self, x: DVec3) -> f64 {
+        let a = &self.a;
+        let ax = DVec3::new(
+            a[0] * x.x + a[1] * x.y + a[2] * x.z,
+            a[1] * x.x + a[3] * x.y + a[4] * x.z,
+            a[2] * x.x + a[4] * x.y + a[5] * x.z,
+        );
+        x.dot(ax) + 2.0 * self.b.dot(x) + self.c
+    }
+
+    /// The minimizer of E: the solution of `A x = −b` (W Eq. 14), or `None`
+    /// when A is singular or too ill-conditioned for the solution to mean
+    /// anything (a flat or linear neighborhood without regularization).
+    pub fn minimizer(&self) -> Option<DVec3> {
+        let [xx, xy, xz, yy, yz, zz] = self.a;
+        // Cofactors of the symmetric matrix.
+        let c00 = yy * zz - yz * yz;
+        let c01 = xz * yz - xy * zz;
+        let c02 = xy * yz - xz * yy;
+        let det = xx * c00 + xy * c01 + xz * c02;
+        // Scale-free conditioning test: compare det with the cube of the
+        // largest diagonal entry. 1e-12 keeps solutions whose relative error
+        // stays below ~1e-4 in f64.
+        let scale = xx.abs().max(yy.abs()).max(zz.abs());
+        if scale.is_nan() || scale <= 0.0 || det.abs() <= 1e-12 * scale * scale * scale {
+            return None;
+        }
+        let c11 = xx * zz - xz * xz;
+        let c12 = xy * xz - xx * yz;
+        let c22 = xx * yy - xy * xy;
+        let inv = 1.0 / det;
+        let b = -self.b;
+        let x = DVec3::new(
+            (c00 * b.x + c01 * b.y + c02 * b.z) * inv,
+            (c01 * b.x + c11 * b.y + c12 * b.z) * inv,
+            (c02 * b.x + c12 * b.y + c22 * b.z) * inv,
+        );
+        x.is_finite().then_some(x)
+    }
+}
+
+impl std::ops::Add for Quadric {
+    type Output = Quadric;
+    #[inline]
+    fn add(self, o: Quadric) -> Quadric {
+        let mut a = self.a;
+        for (x, y) in a.iter_mut().zip(o.a) {
+            *x += y;
+        }
+        Quadric {
+            a,
+            b: self.b + o.b,
+            c: self.c + o.c,
+            weight: self.weight + o.weight,
+        }
+    }
+}
+
+impl std::ops::AddAssign for Quadric {
+    #[inline]
+    fn add_assign(&mut self, o: Quadric) {
+        *self = *self + o;
+    }
+}
+
+/// Where the collapse of an edge puts the new vertex, and at what error.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Placement {
+    /// The new position.
+    pub position: DVec3,
+    /// `E(position)`.
+    pub error: f64,
+    /// True when the quadric's minimizer was used; false when the solve was
+    /// singular or unsafe and the best of the endpoints and the midpoint was
+    /// taken instead.
+    pub optimal: bool,
+}
+
+/// Places the vertex that replaces edge `(p, q)` under quadric `e`: the
+/// minimizer of `e` when it is well defined, not farther from the edge
+/// than `reach` times its length (a nearly singular solve can land far
+/// away; `reach` is large enough for virtual edges between separate parts),
+/// and no worse than the candidates below; otherwise the best of `p`, `q`
+/// and their midpoint (CGAL's and Garland–Heckbert's fallback).
+pub fn place(e: &Quadric, p: DVec3, q: DVec3, reach: f64) -> Placement {
+    let mid = 0.5 * (p + q);
+    let mut best = Placement {
+        position: p,
+        error: e.eval(p),
+        optimal: false,
+    };
+    for c in [q, mid] {
+        let err = e.eval(c);
+        if err < best.error {
+            best = Placement {
+                position: c,
+                error: err,
+                optimal: false,
+            };
+        }
+    }
+    if let Some(x) = e.minimizer() {
+        let len = (q - p).length();
+        let err = e.eval(x);
+        if x.distance(mid) <= reach * len.max(f64::MIN_POSITIVE)
+            && err.is_finite()
+            && err <= best.error
+        {
+            return Placement {
+                position: x,
+                error: err.max(0.0),
+                optimal: true,
+            };
+        }
+    }
+    best.error = best.error.max(0.0);
+    best
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn close(a: f64, b: f64) -> bool {
+        (a - b).abs() <= 1e-12 * (1.0 + a.abs().max(b.abs()))
+    }
+
+    #[test]
+    fn plane_quadric_is_weighted_squared_distance() {
+        // Plane z = 2 (normal +z through (5, -1, 2)), weight 3.
+        let q = Quadric::plane(DVec3::Z, DVec3::new(5.0, -1.0, 2.0), 3.0);
+        // Hand-computed: A = diag(0, 0, 3), b = (0, 0, -6), c = 12.
+        assert_eq!(q.a, [0.0, 0.0, 0.0, 0.0, 0.0, 3.0]);
+        assert_eq!(q.b, DVec3::new(0.0, 0.0, -6.0));
+        assert_eq!(q.c, 12.0);
+        // Point (7, 7, 5) is 3 above the plane: 3 · 3² = 27.
+        assert!(close(q.eval(DVec3::new(7.0, 7.0, 5.0)), 27.0));
+        assert_eq!(q.weight, 3.0);
+    }
+
+    #[test]
+    fn oblique_plane_quadric_matches_distance() {
+        let n = DVec3::new(1.0, 2.0, 2.0) / 3.0;
+        let q = Quadric::plane(n, DVec3::new(1.0, 0.0, 0.0), 1.0);
+        // x = (1,0,0) + 4n is at distance 4.
+        let x = DVec3::new(1.0, 0.0, 0.0) + 4.0 * n;
+        assert!(close(q.eval(x), 16.0));
+        // A point in the plane: (1,0,0) + (2,-1,0) (orthogonal to n).
+        assert!(q.eval(DVec3::new(3.0, -1.0, 0.0)).abs() < 1e-12);
+    }
+
+    #[test]
+    fn area_quadric_is_twice_squared_triangle_area() {
+        // Boundary edge from (0,0,0) to (2,0,0); x = (1, 3, 4): the triangle
+        // has base 2 and height 5, area 5, so E = 2 · 25 = 50.
+        let q = Quadric::boundary_area(DVec3::ZERO, DVec3::new(2.0, 0.0, 0.0));
+        assert!(close(q.eval(DVec3::new(1.0, 3.0, 4.0)), 50.0));
+        // Any x on the edge's line sweeps no area.
+        assert!(q.eval(DVec3::new(-7.0, 0.0, 0.0)).abs() < 1e-12);
+        // Edge not through the origin: a = (1,1,1), b = (1,1,4) (length 3),
+        // x = (1, 5, 1) at distance 4 from the line: area 6, E = 72.
+        let q = Quadric::boundary_area(DVec3::ONE, DVec3::new(1.0, 1.0, 4.0));
+        assert!(close(q.eval(DVec3::new(1.0, 5.0, 1.0)), 72.0));
+    }
+
+    #[test]
+    fn point_quadric_regularizes_and_pulls_to_point() {
+        let q = Quadric::point(DVec3::new(1.0, 2.0, 3.0), 0.5);
+        assert!(close(q.eval(DVec3::new(1.0, 2.0, 5.0)), 0.5 * 4.0));
+        assert_eq!(q.minimizer(), Some(DVec3::new(1.0, 2.0, 3.0)));
+        // Probabilistic form: plane z=0 plus σ² point term at the origin.
+        let pq = Quadric::plane(DVec3::Z, DVec3::ZERO, 1.0) + Quadric::point(DVec3::ZERO, 1e-4);
+        assert!(close(pq.eval(DVec3::new(1.0, 0.0, 2.0)), 4.0 + 1e-4 * 5.0));
+    }
+
+    #[test]
+    fn three_orthogonal_planes_meet_at_their_corner() {
+        let corner = DVec3::new(1.0, -2.0, 0.5);
+        let q = Quadric::plane(DVec3::X, corner, 1.0)
+            + Quadric::plane(DVec3::Y, corner, 2.0)
+            + Quadric::plane(DVec3::Z, corner, 0.25);
+        let x = q.minimizer().unwrap();
+        assert!(x.distance(corner) < 1e-12);
+        assert!(q.eval(x).abs() < 1e-12);
+    }
+
+    #[test]
+    fn single_plane_is_singular_and_placement_falls_back() {
+        let q = Quadric::plane(DVec3::Z, DVec3::ZERO, 1.0);
+        assert_eq!(q.minimizer(), None);
+        // Endpoint p lies in the plane, q one above: p is best.
+        let pl = place(
+            &q,
+            DVec3::new(0.0, 0.0, 0.0),
+            DVec3::new(1.0, 0.0, 1.0),
+            4.0,
+        );
+        assert!(!pl.optimal);
+        assert_eq!(pl.position, DVec3::ZERO);
+        assert_eq!(pl.error, 0.0);
+        // Endpoints at heights 1 and -1: the midpoint (height 0) wins.
+        let pl = place(
+            &q,
+            DVec3::new(0.0, 0.0, 1.0),
+            DVec3::new(2.0, 0.0, -1.0),
+            4.0,
+        );
+        assert_eq!(pl.position, DVec3::new(1.0, 0.0, 0.0));
+    }
+
+    #[test]
+    fn far_minimizer_is_rejected_for_the_edge_candidates() {
+        // Two nearly parallel planes meet far away from the short edge.
+        let n1 = DVec3::new(0.0, 1e-3, 1.0).normalize();
+        let q = Quadric::plane(DVec3::Z, DVec3::ZERO, 1.0)
+            + Quadric::plane(n1, DVec3::ZERO, 1.0)
+            + Quadric::plane(DVec3::X, DVec3::new(0.0, 0.0, 0.0), 1.0)
+            + Quadric::plane(DVec3::Z, DVec3::new(0.0, 0.0, 0.01), 1.0);
+        let x = q.minimizer().unwrap();
+        let p = DVec3::new(0.0, 0.0, 0.0);
+        let r = DVec3::new(0.0, 0.01, 0.0);
+        assert!(x.distance(p) > 1.0, "minimizer should be far: {x}");
+        let pl = place(&q, p, r, 4.0);
+        assert!(!pl.optimal);
+        assert!(pl.position.distance(p) < 0.02);
+    }
+}

@@ -1,0 +1,68 @@
+//! What a simplification run reached and why it stopped.
+
+/// Why the collapse loop ended.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum StopReason {
+    /// The triangle target was reached.
+    TargetReached,
+    /// Every remaining collapse exceeds the error limit.
+    ErrorLimit,
+    /// No collapsible edge is left: the guards rejected the rest, or each
+    /// remaining collapse would overshoot the target by more than one
+    /// triangle. [`Report::rejected`] says which.
+    NoCollapsibleEdges,
+    /// The input was already at or below the target.
+    NothingToDo,
+}
+
+impl std::fmt::Display for StopReason {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            StopReason::TargetReached => "target reached",
+            StopReason::ErrorLimit => "error limit reached",
+            StopReason::NoCollapsibleEdges => "no collapsible edge left",
+            StopReason::NothingToDo => "already at target",
+        })
+    }
+}
+
+/// Collapses the guards refused, by guard.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Rejections {
+    /// A surviving face would have turned past the normal limit.
+    pub normal_flip: usize,
+    /// The link condition failed (topology would change).
+    pub topology: usize,
+    /// A border vertex would have moved.
+    pub locked_border: usize,
+    /// The collapse would remove more triangles than left to the target.
+    pub overshoot: usize,
+    /// The collapse's error exceeded the error limit.
+    pub error_limit: usize,
+}
+
+/// The outcome of a simplification run.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Report {
+    /// Triangles of the triangulated input (a quad counts 2).
+    pub input_triangles: usize,
+    /// Triangles the run aimed for.
+    pub target_triangles: usize,
+    /// Triangles of the triangulated output.
+    pub output_triangles: usize,
+    /// Faces removed before simplifying because they were degenerate (fewer
+    /// than three distinct vertices) or duplicates of another face.
+    pub cleaned_faces: usize,
+    /// Collapses made.
+    pub collapses: usize,
+    /// Virtual edges added between separate components (W §4.1.1).
+    pub virtual_edges: usize,
+    /// Largest error of a collapse made, as a distance relative to the
+    /// bounding-box diagonal (root mean square distance to the planes the
+    /// collapsed vertex accumulated).
+    pub error: f64,
+    /// Why the run stopped.
+    pub stop: Option<StopReason>,
+    /// Collapses refused, by guard.
+    pub rejected: Rejections,
+}

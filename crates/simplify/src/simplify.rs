@@ -1,0 +1,518 @@
+//! The collapse loop (W §4, App. C.1), as a pipeline of small steps over
+//! flat arrays: prepare (weld, normalize, build the complex) → virtual edges
+//! → vertex quadrics → initial queue → loop { pop, guard, collapse, update }
+//! → assemble the output.
+
+use glam::DVec3;
+use rayon::prelude::*;
+use wildlod_mesh::weld::weld_positions;
+use wildlod_mesh::Faces;
+
+use crate::complex::Complex;
+use crate::cost::{vertex_quadrics, CostModel, Evaluation, Scratch};
+use crate::error::Error;
+use crate::guards::{flips_a_face, keeps_topology, removed_triangles};
+use crate::heap::{CollapseQueue, Entry};
+use crate::history::{History, HistoryRecorder};
+use crate::options::Options;
+use crate::quadric::Quadric;
+use crate::report::{Report, StopReason};
+use crate::virtual_edges::add_virtual_edges;
+
+/// Near the target, the exact number of triangles a collapse removes is
+/// computed before making it, so that the target is met to ±1 triangle.
+/// Further away the prediction is skipped: no collapse removes this many.
+const EXACT_COUNT_WINDOW: usize = 256;
+
+/// The simplified polygons and how they map to the input.
+#[derive(Clone, Debug, Default)]
+pub struct Simplified {
+    /// Output positions (input units).
+    pub positions: Vec<[f32; 3]>,
+    /// Output faces over `positions`; every face is an input face with
+    /// merged vertices.
+    pub faces: Faces,
+    /// For every output face, the input face it is.
+    pub face_origin: Vec<u32>,
+    /// For every output corner, the input corner it is (so per-corner
+    /// attributes can be carried over).
+    pub corner_origin: Vec<u32>,
+    /// For every input vertex, the output vertex it merged into
+    /// (`u32::MAX` when its faces all vanished).
+    pub vertex_map: Vec<u32>,
+    /// What was reached, and why it stopped.
+    pub report: Report,
+    /// The collapse history, when [`Options::record_history`] was set.
+    pub history: Option<History>,
+}
+
+/// Simplifies polygon faces over `positions` (W §4): vertex-pair collapse on
+/// the simplicial complex with virtual edges and the area-aware quadric.
+///
+/// Faces may be triangles, quads or n-gons, non-manifold, duplicated or
+/// degenerate, in any number of components. Equal positions are welded
+/// first. The result reaches the target within one triangle whenever the
+/// complex has enough collapsible edges; otherwise the report says why not.
+/// Deterministic: the same input and options give the same output on any
+/// number of threads.
+pub fn simplify_polygons(
+    positions: &[[f32; 3]],
+    faces: &Faces,
+    options: &Options,
+) -> Result<Simplified, Error> {
+    check_input(positions, faces, options)?;
+    let prepared = prepare(positions, faces, options);
+    let mut run = Run::new(prepared, options);
+    run.collapse_loop();
+    Ok(run.assemble())
+}
+
+/// Simplifies a triangle list (three indices per triangle); see
+/// [`simplify_polygons`].
+pub fn simplify_triangles(
+    positions: &[[f32; 3]],
+    indices: &[u32],
+    options: &Options,
+) -> Result<Simplified, Error> {
+    if indices.len() % 3 != 0 {
+        return Err(Error::IndexCount(indices.len()));
+    }
+    simplify_polygons(positions, &Faces::from_triangles(indices), options)
+}
+
+fn check_input(positions: &[[f32; 3]], faces: &Faces, options: &Options) -> Result<(), Error> {
+    let n = positions.len();
+    if faces.offsets.first() != Some(&0)
+        || faces.offsets.last().map(|&o| o as usize) != Some(faces.indices.len())
+        || faces.offsets.windows(2).any(|w| w[1] < w[0])
+    {
+        return Err(Error::MalformedFaces);
+    }
+    for f in 0..faces.len() {
+        let face = faces.face(f);
+        if face.len() < 3 {
+            return Err(Error::FaceTooSmall { face: f });
+        }
+        if let Some(&v) = face.iter().find(|&&v| v as usize >= n) {
+            return Err(Error::IndexOutOfRange {
+                face: f,
+                index: v,
+                vertices: n,
+            });
+        }
+    }
+    for f in faces.iter() {
+        for &v in f {
+            if !positions[v as usize].iter().all(|c| c.is_finite()) {
+                return Err(Error::NonFinitePosition { vertex: v as usize });
+            }
+        }
+    }
+    let o = options;
+    let bad = |name: &'static str, value: f64| Err(Error::BadOption { name, value });
+    if let Some(r) = o.target.ratio {
+        if !(0.0..=1.0).contains(&r) {
+            return bad("ratio", r);
+        }
+    }
+    if let Some(e) = o.target.error {
+        if !(e >= 0.0 && e.is_finite()) {
+            return bad("error", e);
+        }
+    }
+    if !(o.virtual_edge_radius >= 0.0 && o.virtual_edge_radius.is_finite()) {
+        return bad("virtual_edge_radius", o.virtual_edge_radius);
+    }
+    if !(o.metric.regularization >= 0.0 && o.metric.regularization.is_finite()) {
+        return bad("regularization", o.metric.regularization);
+    }
+    if !(o.metric.boundary_area_weight >= 0.0 && o.metric.boundary_area_weight.is_finite()) {
+        return bad("boundary_area_weight", o.metric.boundary_area_weight);
+    }
+    if !o.vertex_weights.is_empty() {
+        if o.vertex_weights.len() != n {
+            return Err(Error::WeightCount {
+                weights: o.vertex_weights.len(),
+                vertices: n,
+            });
+        }
+        if let Some((v, &w)) = o
+            .vertex_weights
+            .iter()
+            .enumerate()
+            .find(|(_, w)| !(w.is_finite() && **w >= 0.0))
+        {
+            return Err(Error::BadWeight {
+                vertex: v,
+                weight: w,
+            });
+        }
+    }
+    Ok(())
+}
+
+/// The input, welded, normalized to a unit-diagonal box centered at the
+/// origin, and built into a complex.
+pub(crate) struct Prepared {
+    pub complex: Complex,
+    pub cleaned: usize,
+    /// Input vertex → welded vertex.
+    pub weld: Vec<u32>,
+    pub center: DVec3,
+    pub scale: f64,
+    pub input_triangles: usize,
+    /// Per welded vertex importance (empty: all 1).
+    pub weights: Vec<f64>,
+    /// Input bits of each welded vertex's position.
+    pub input: Vec<[f32; 3]>,
+}
+
+pub(crate) fn prepare(positions: &[[f32; 3]], faces: &Faces, options: &Options) -> Prepared {
+    let (weld, nw) = weld_positions(positions);
+    let mut rep = vec![u32::MAX; nw];
+    for (v, &w) in weld.iter().enumerate() {
+        if rep[w as usize] == u32::MAX {
+            rep[w as usize] = v as u32;
+        }
+    }
+    // Normalize by the bounds of the vertices faces use.
+    let (mut lo, mut hi) = (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY));
+    for &v in &faces.indices {
+        let p = DVec3::from(positions[v as usize].map(f64::from));
+        lo = lo.min(p);
+        hi = hi.max(p);
+    }
+    let (center, diag) = if faces.indices.is_empty() {
+        (DVec3::ZERO, 1.0)
+    } else {
+        (0.5 * (lo + hi), (hi - lo).length())
+    };
+    let scale = if diag > 0.0 { diag } else { 1.0 };
+    let pos: Vec<DVec3> = rep
+        .iter()
+        .map(|&v| (DVec3::from(positions[v as usize].map(f64::from)) - center) / scale)
+        .collect();
+    let indices: Vec<u32> = faces.indices.iter().map(|&v| weld[v as usize]).collect();
+    let (complex, cleaned) = Complex::new(pos, &faces.offsets, &indices);
+    let mut weights = Vec::new();
+    if !options.vertex_weights.is_empty() {
+        // A welded vertex is as important as its most important copy.
+        weights = vec![0.0f64; nw];
+        for (v, &w) in weld.iter().enumerate() {
+            let x = &mut weights[w as usize];
+            *x = x.max(options.vertex_weights[v] as f64);
+        }
+    }
+    let input = rep.iter().map(|&v| positions[v as usize]).collect();
+    Prepared {
+        input,
+        complex,
+        cleaned: cleaned.degenerate + cleaned.duplicate,
+        weld,
+        center,
+        scale,
+        input_triangles: faces.triangulated_count(),
+        weights,
+    }
+}
+
+/// State of one simplification run.
+struct Run<'o> {
+    p: Prepared,
+    options: &'o Options,
+    model: CostModel,
+    quadrics: Vec<Quadric>,
+    queue: CollapseQueue,
+    /// Evaluation cached with each edge's current generation.
+    evals: Vec<Option<Evaluation>>,
+    /// Edges a guard refused; re-evaluated when their neighbourhood changes.
+    refused: Vec<bool>,
+    moved: Vec<bool>,
+    /// The vertex each vertex was merged into (itself while alive).
+    merged_into: Vec<u32>,
+    target: usize,
+    report: Report,
+    history: Option<HistoryRecorder>,
+    scratch: Scratch,
+    star: Vec<u32>,
+    changed: Vec<u32>,
+    nbrs: Vec<u32>,
+}
+
+impl<'o> Run<'o> {
+    fn new(mut p: Prepared, options: &'o Options) -> Self {
+        let virtual_edges = if options.virtual_edge_radius > 0.0 && !options.guards.keep_topology {
+            add_virtual_edges(&mut p.complex, 2.0 * options.virtual_edge_radius)
+        } else {
+            0
+        };
+        let quadrics = vertex_quadrics(&p.complex, &options.metric, &p.weights);
+        let model = CostModel {
+            metric: options.metric,
+            lock_borders: options.guards.lock_borders,
+        };
+        let c = &p.complex;
+        let evals: Vec<Option<Evaluation>> = (0..c.edges.len() as u32)
+            .into_par_iter()
+            .map_init(Scratch::default, |s, e| model.evaluate(c, &quadrics, e, s))
+            .collect();
+        let entries = evals
+            .iter()
+            .enumerate()
+            .filter_map(|(e, ev)| {
+                ev.map(|ev| Entry {
+                    cost: ev.cost,
+                    edge: e as u32,
+                    gen: 0,
+                })
+            })
+            .collect();
+        let target = options.target.triangles_for(p.input_triangles);
+        let report = Report {
+            input_triangles: p.input_triangles,
+            target_triangles: target,
+            cleaned_faces: p.cleaned,
+            virtual_edges,
+            ..Report::default()
+        };
+        let n_edges = c.edges.len();
+        let nv = c.pos.len();
+        Run {
+            history: options
+                .record_history
+                .then(|| HistoryRecorder::new(p.center, p.scale)),
+            p,
+            options,
+            model,
+            quadrics,
+            queue: CollapseQueue::from_entries(entries),
+            evals,
+            refused: vec![false; n_edges],
+            moved: vec![false; nv],
+            merged_into: (0..nv as u32).collect(),
+            target,
+            report,
+            scratch: Scratch::default(),
+            star: Vec::new(),
+            changed: Vec::new(),
+            nbrs: Vec::new(),
+        }
+    }
+
+    fn collapse_loop(&mut self) {
+        let min_cos = self
+            .options
+            .guards
+            .max_normal_turn_degrees
+            .map(|d| d.to_radians().cos());
+        let max_error = self.options.target.error;
+        if self.p.complex.triangles <= self.target && max_error.is_none() {
+            self.report.stop = Some(StopReason::NothingToDo);
+            return;
+        }
+        let mut error_limited = false;
+        loop {
+            if self.p.complex.triangles <= self.target {
+                self.report.stop = Some(StopReason::TargetReached);
+                break;
+            }
+            let c = &self.p.complex;
+            let Some(entry) = self.queue.pop_current(&c.edge_gen, &c.edge_alive) else {
+                self.report.stop = Some(if error_limited {
+                    StopReason::ErrorLimit
+                } else {
+                    StopReason::NoCollapsibleEdges
+                });
+                break;
+            };
+            let e = entry.edge;
+            let Some(ev) = self.evals[e as usize] else {
+                continue;
+            };
+            if let Some(limit) = max_error {
+                if ev.distance > limit {
+                    self.report.rejected.error_limit += 1;
+                    error_limited = true;
+                    continue;
+                }
+            }
+            let [a, b] = self.p.complex.edges[e as usize];
+            // Keep the endpoint with the larger star: fewer lists to move.
+            let (i, j) = {
+                let c = &self.p.complex;
+                let (fa, fb) = (
+                    c.vert_faces[a as usize].len(),
+                    c.vert_faces[b as usize].len(),
+                );
+                if fa > fb || (fa == fb && a < b) {
+                    (a, b)
+                } else {
+                    (b, a)
+                }
+            };
+            if !self.allowed(i, j, ev.position, min_cos) {
+                self.refused[e as usize] = true;
+                continue;
+            }
+            self.collapse(e, i, j, ev);
+        }
+        self.report.output_triangles = self.p.complex.triangles;
+    }
+
+    /// The guards, cheapest first.
+    fn allowed(&mut self, i: u32, j: u32, x: DVec3, min_cos: Option<f64>) -> bool {
+        let c = &mut self.p.complex;
+        c.star_faces(i, j, &mut self.star);
+        let c = &self.p.complex;
+        let left = c.triangles - self.target;
+        if left <= EXACT_COUNT_WINDOW {
+            let removed = removed_triangles(c, &self.star, i, j);
+            if removed > left + 1 {
+                self.report.rejected.overshoot += 1;
+                return false;
+            }
+        }
+        if self.options.guards.keep_topology && !keeps_topology(c, i, j, &mut self.nbrs) {
+            self.report.rejected.topology += 1;
+            return false;
+        }
+        if let Some(mc) = min_cos {
+            if flips_a_face(c, &self.star, i, j, x, mc) {
+                self.report.rejected.normal_flip += 1;
+                return false;
+            }
+        }
+        true
+    }
+
+    fn collapse(&mut self, e: u32, i: u32, j: u32, ev: Evaluation) {
+        let c = &mut self.p.complex;
+        let (pi, pj) = (c.pos[i as usize], c.pos[j as usize]);
+        if let Some(h) = &mut self.history {
+            h.before(c, &self.star, i, j);
+        }
+        let prefer_removed = pj.distance_squared(ev.position) < pi.distance_squared(ev.position);
+        c.collapse(e, i, ev.position, prefer_removed, &mut self.changed);
+        self.moved[i as usize] = true;
+        self.merged_into[j as usize] = i;
+        self.quadrics[i as usize] = self.quadrics[i as usize] + self.quadrics[j as usize];
+        if let Some(h) = &mut self.history {
+            h.after(c, i, j);
+        }
+        self.report.collapses += 1;
+        self.report.error = self.report.error.max(ev.distance);
+        self.update_around(i);
+    }
+
+    /// Re-evaluates the edges whose cost the collapse changed: those of the
+    /// new vertex; with the memoryless area term, also those of vertices
+    /// whose boundary edges moved; and refused edges one ring out, whose
+    /// guards may now pass.
+    fn update_around(&mut self, i: u32) {
+        let c = &self.p.complex;
+        let mut todo = std::mem::take(&mut self.changed);
+        if self.options.metric.boundary_area || self.options.guards.lock_borders {
+            self.nbrs.clear();
+            c.boundary_neighbors(i, &mut self.nbrs);
+            for &k in &self.nbrs {
+                todo.extend_from_slice(&c.vert_edges[k as usize]);
+            }
+        }
+        for &ei in &c.vert_edges[i as usize] {
+            let k = c.other(ei, i);
+            for &ek in &c.vert_edges[k as usize] {
+                if self.refused[ek as usize] {
+                    todo.push(ek);
+                }
+            }
+        }
+        todo.sort_unstable();
+        todo.dedup();
+        for &ed in &todo {
+            let c = &mut self.p.complex;
+            if !c.edge_alive[ed as usize] {
+                continue;
+            }
+            c.edge_gen[ed as usize] = c.edge_gen[ed as usize].wrapping_add(1);
+            let ev = self
+                .model
+                .evaluate(c, &self.quadrics, ed, &mut self.scratch);
+            self.evals[ed as usize] = ev;
+            self.refused[ed as usize] = false;
+            if let Some(ev) = ev {
+                self.queue.push(Entry {
+                    cost: ev.cost,
+                    edge: ed,
+                    gen: c.edge_gen[ed as usize],
+                });
+            }
+        }
+        todo.clear();
+        self.changed = todo;
+    }
+
+    fn assemble(self) -> Simplified {
+        let c = &self.p.complex;
+        let nv = c.pos.len();
+        let mut out_id = vec![u32::MAX; nv];
+        let mut used = vec![false; nv];
+        for f in c.live_faces() {
+            for &v in c.face(f) {
+                used[v as usize] = true;
+            }
+        }
+        let mut positions = Vec::new();
+        for v in 0..nv {
+            if !used[v] {
+                continue;
+            }
+            out_id[v] = positions.len() as u32;
+            positions.push(if self.moved[v] {
+                let p = c.pos[v] * self.p.scale + self.p.center;
+                [p.x as f32, p.y as f32, p.z as f32]
+            } else {
+                // Untouched vertices keep their input bits exactly.
+                self.p.input[v]
+            });
+        }
+        let mut faces = Faces::with_capacity(c.face_len.len(), c.slot_vertex.len());
+        let mut face_origin = Vec::new();
+        let mut corner_origin = Vec::new();
+        let mut buf = Vec::new();
+        for f in c.live_faces() {
+            buf.clear();
+            buf.extend(c.face(f).iter().map(|&v| out_id[v as usize]));
+            faces.push(&buf);
+            face_origin.push(f);
+            let s = c.face_start[f as usize] as usize;
+            corner_origin.extend_from_slice(&c.slot_corner[s..s + buf.len()]);
+        }
+        // Where each welded vertex went: follow the collapse forest, which
+        // only points from removed to kept vertices, so it has no cycle.
+        let mut root = self.merged_into.clone();
+        for v in 0..nv {
+            let mut r = v as u32;
+            while root[r as usize] != r {
+                r = root[r as usize];
+            }
+            root[v] = r;
+        }
+        let vertex_map = self
+            .p
+            .weld
+            .iter()
+            .map(|&w| out_id[root[w as usize] as usize])
+            .collect();
+        let mut report = self.report;
+        report.output_triangles = c.triangles;
+        Simplified {
+            positions,
+            faces,
+            face_origin,
+            corner_origin,
+            vertex_map,
+            report,
+            history: self.history.map(HistoryRecorder::finish),
+        }
+    }
+}
