@@ -3,6 +3,7 @@
 //! metric and the classic-QEM setting of the engine give the same result on
 //! closed manifolds, and both equal an independent, brute-force
 //! implementation of Garland–Heckbert 1997 written here.
+#![allow(clippy::unwrap_used)] // test helpers, not library code
 
 mod common;
 

@@ -1,4 +1,5 @@
 //! W §4.1.1 and §4.2 on wild inputs built in code.
+#![allow(clippy::unwrap_used)] // test helpers, not library code
 
 mod common;
 
