@@ -220,11 +220,8 @@ fn read_ascii(data: &[u8]) -> Result<Mesh, ErrorKind> {
                 material: None,
             });
         }
-        loop {
-            let Some((tok, ln)) = cur.next() else {
-                // A missing `endsolid` at the very end loses nothing.
-                break;
-            };
+        // A missing `endsolid` at the very end loses nothing.
+        while let Some((tok, ln)) = cur.next() {
             if tok.eq_ignore_ascii_case(b"endsolid") {
                 cur.rest_of_line();
                 break;

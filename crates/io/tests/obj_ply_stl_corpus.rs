@@ -6,7 +6,7 @@ use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
 use wildlod_io::{read, write, Document, WriteOptions};
-use wildlod_mesh::{ImageSource, Mesh, Scene};
+use wildlod_mesh::{ImageSource, Mesh};
 use wildlod_testkit::{corpus, mesh_files, short};
 
 /// Face counts by arity (tri, quad, n-gon) for every file of the README
@@ -29,8 +29,11 @@ fn readme_counts(root: &Path) -> HashMap<PathBuf, (usize, usize, usize)> {
         let mut counts = (0, 0, 0);
         for term in cols[2].split('+') {
             let mut words = term.split_whitespace();
-            let n: usize = words.next().unwrap().replace(',', "").parse().unwrap();
-            match words.next().unwrap() {
+            let n: usize = words
+                .next()
+                .and_then(|n| n.replace(',', "").parse().ok())
+                .expect("a face count");
+            match words.next().expect("a face kind") {
                 "tri" | "tris" => counts.0 = n,
                 "quad" => counts.1 = n,
                 "n-gon" => counts.2 = n,
@@ -51,7 +54,7 @@ fn obj_and_stl(root: &Path) -> Vec<PathBuf> {
 
 fn ext(p: &Path) -> String {
     p.extension()
-        .unwrap()
+        .expect("mesh files have extensions")
         .to_string_lossy()
         .to_ascii_lowercase()
 }
@@ -79,4 +82,226 @@ fn every_corpus_obj_and_stl_reads_with_the_readme_face_counts() {
             .unwrap_or_else(|| panic!("{name} is not in the README table"));
         assert_eq!(counts, *expected, "{name}: faces by arity");
     }
+}
+
+/// Asserts that two meshes hold the same data: positions bit for bit,
+/// faces, parts, and every stream's value at every corner.
+fn assert_same_mesh(a: &Mesh, b: &Mesh, what: &str) {
+    assert_eq!(a.positions.len(), b.positions.len(), "{what}: vertex count");
+    let bits = |p: &[f32; 3]| p.map(f32::to_bits);
+    assert!(
+        a.positions
+            .iter()
+            .map(bits)
+            .eq(b.positions.iter().map(bits)),
+        "{what}: positions differ"
+    );
+    assert_eq!(a.faces, b.faces, "{what}: faces");
+    assert_eq!(a.face_parts, b.face_parts, "{what}: face parts");
+    assert_eq!(a.parts, b.parts, "{what}: parts");
+    assert_same_corner_values(a, b, what);
+}
+
+/// Every stream of `a` exists in `b` with bit-equal values per corner.
+fn assert_same_corner_values(a: &Mesh, b: &Mesh, what: &str) {
+    assert_eq!(a.attributes.len(), b.attributes.len(), "{what}: streams");
+    for sa in &a.attributes {
+        let sb = b
+            .attribute(&sa.semantic)
+            .unwrap_or_else(|| panic!("{what}: {:?} lost", sa.semantic));
+        for c in 0..a.faces.corner_count() {
+            let va = sa
+                .corner_value(c)
+                .map(|v| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>());
+            let vb = sb
+                .corner_value(c)
+                .map(|v| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>());
+            assert_eq!(va, vb, "{what}: {:?} at corner {c}", sa.semantic);
+        }
+    }
+}
+
+fn round_trip(doc: &Document, dir: &Path, file: &str) -> (Document, Vec<String>) {
+    let out = dir.join(file);
+    let warnings = write(doc, &out, &WriteOptions::default()).unwrap_or_else(|e| panic!("{e}"));
+    let back = read(&out).unwrap_or_else(|e| panic!("{e}"));
+    (back, warnings)
+}
+
+#[test]
+fn every_corpus_obj_round_trips_through_obj_bit_exactly() {
+    let Some(root) = corpus("every_corpus_obj_round_trips_through_obj_bit_exactly") else {
+        return;
+    };
+    for f in obj_and_stl(&root).into_iter().filter(|p| ext(p) == "obj") {
+        let name = short(&root, &f);
+        let doc = read(&f).unwrap();
+        let dir = tempfile::tempdir().unwrap();
+        let (back, warnings) = round_trip(&doc, dir.path(), "out.obj");
+        assert!(warnings.is_empty(), "{name}: {warnings:?}");
+        assert_same_mesh(&doc.scene.meshes[0], &back.scene.meshes[0], &name);
+        assert_eq!(
+            doc.scene.materials, back.scene.materials,
+            "{name}: materials"
+        );
+        assert_eq!(doc.scene.textures, back.scene.textures, "{name}: textures");
+        // The arities the README states survive too.
+        assert_eq!(
+            doc.scene.meshes[0].faces.arity_counts(),
+            back.scene.meshes[0].faces.arity_counts()
+        );
+    }
+}
+
+#[test]
+fn every_corpus_stl_round_trips_through_binary_stl() {
+    let Some(root) = corpus("every_corpus_stl_round_trips_through_binary_stl") else {
+        return;
+    };
+    for f in obj_and_stl(&root).into_iter().filter(|p| ext(p) == "stl") {
+        let name = short(&root, &f);
+        let doc = read(&f).unwrap();
+        let dir = tempfile::tempdir().unwrap();
+        let (back, warnings) = round_trip(&doc, dir.path(), "out.stl");
+        let (a, b) = (&doc.scene.meshes[0], &back.scene.meshes[0]);
+        assert_eq!(a.positions, b.positions, "{name}: positions");
+        assert_eq!(a.faces, b.faces, "{name}: faces");
+        // Binary STL has one unnamed solid; several solids are merged and
+        // the writer says so.
+        assert_eq!(b.parts.len(), 1, "{name}");
+        assert_eq!(b.parts[0].name, "", "{name}");
+        assert_eq!(
+            a.parts.len() > 1,
+            warnings.iter().any(|w| w.contains("one solid")),
+            "{name}: {warnings:?}"
+        );
+        assert!(b.materials_free(), "{name}");
+        // Written binary, the file size says so exactly.
+        let len = std::fs::metadata(dir.path().join("out.stl")).unwrap().len();
+        assert_eq!(len, 84 + 50 * a.faces.len() as u64, "{name}");
+    }
+}
+
+trait MaterialsFree {
+    fn materials_free(&self) -> bool;
+}
+
+impl MaterialsFree for Mesh {
+    fn materials_free(&self) -> bool {
+        self.parts.iter().all(|p| p.material.is_none()) && self.attributes.is_empty()
+    }
+}
+
+#[test]
+fn every_corpus_obj_converts_to_ply_with_the_same_corners() {
+    let Some(root) = corpus("every_corpus_obj_converts_to_ply_with_the_same_corners") else {
+        return;
+    };
+    for f in obj_and_stl(&root).into_iter().filter(|p| ext(p) == "obj") {
+        let name = short(&root, &f);
+        let doc = read(&f).unwrap();
+        let dir = tempfile::tempdir().unwrap();
+        let (ply, _) = round_trip(&doc, dir.path(), "out.ply");
+        let (a, b) = (&doc.scene.meshes[0], &ply.scene.meshes[0]);
+        assert_eq!(a.faces.offsets, b.faces.offsets, "{name}: arities");
+        for c in 0..a.faces.corner_count() {
+            let pa = a.positions[a.faces.indices[c] as usize].map(f32::to_bits);
+            let pb = b.positions[b.faces.indices[c] as usize].map(f32::to_bits);
+            assert_eq!(pa, pb, "{name}: position at corner {c}");
+        }
+        for sa in &a.attributes {
+            let sb = b.attribute(&sa.semantic).unwrap();
+            for c in 0..a.faces.corner_count() {
+                if let Some(va) = sa.corner_value(c) {
+                    assert_eq!(
+                        Some(va),
+                        sb.corner_value(c),
+                        "{name}: {:?} at {c}",
+                        sa.semantic
+                    );
+                }
+            }
+        }
+        if a.attributes.is_empty() {
+            assert_eq!(a.positions, b.positions, "{name}: positions as stored");
+        }
+        // PLY → PLY changes nothing at all.
+        let (again, warnings) = round_trip(&ply, dir.path(), "again.ply");
+        assert!(warnings.is_empty(), "{name}: {warnings:?}");
+        assert_same_mesh(b, &again.scene.meshes[0], &name);
+    }
+}
+
+#[test]
+fn spider_windows_texture_paths_resolve_to_existing_images() {
+    let Some(root) = corpus("spider_windows_texture_paths_resolve_to_existing_images") else {
+        return;
+    };
+    let doc = read(root.join("wild/spider/spider.obj")).unwrap();
+    // The MTL defines 5 materials; faces use 4 (Brusttex is never used).
+    let names: Vec<&str> = doc
+        .scene
+        .materials
+        .iter()
+        .map(|m| m.name.as_str())
+        .collect();
+    assert_eq!(names, ["HLeibTex", "Skin", "BeinTex", "Augentex"]);
+    assert_eq!(doc.scene.textures.len(), 4);
+    for t in &doc.scene.textures {
+        let ImageSource::Path(p) = &t.source else {
+            panic!("{t:?}")
+        };
+        assert!(p.is_absolute() && p.is_file(), "{}", p.display());
+        assert!(!p.to_string_lossy().contains('\\'));
+    }
+    let skin = doc
+        .scene
+        .materials
+        .iter()
+        .find(|m| m.name == "Skin")
+        .unwrap();
+    let tex = &doc.scene.textures[skin.base_color_texture.unwrap().texture as usize];
+    assert_eq!(
+        tex.source,
+        ImageSource::Path(root.join("wild/spider/wal67ar_small.jpg"))
+    );
+    assert!(
+        doc.warnings.iter().all(|w| !w.contains("not on disk")),
+        "{:?}",
+        doc.warnings
+    );
+}
+
+#[test]
+fn missing_material_library_is_a_warning_not_an_error() {
+    let Some(root) = corpus("missing_material_library_is_a_warning_not_an_error") else {
+        return;
+    };
+    for f in [
+        "quad/quadknot.obj",
+        "wild/nonmanifold_edge.obj",
+        "wild/nonmanifold_vertex.obj",
+    ] {
+        let doc = read(root.join(f)).unwrap();
+        assert!(
+            doc.warnings
+                .iter()
+                .any(|w| w.contains("material library") && w.contains("cannot be read")),
+            "{f}: {:?}",
+            doc.warnings
+        );
+    }
+}
+
+#[test]
+fn textured_obj_written_elsewhere_keeps_absolute_texture_paths() {
+    let Some(root) = corpus("textured_obj_written_elsewhere_keeps_absolute_texture_paths") else {
+        return;
+    };
+    let doc = read(root.join("textured/bob/bob_tri.obj")).unwrap();
+    let dir = tempfile::tempdir().unwrap();
+    write(&doc, dir.path().join("bob.obj"), &WriteOptions::default()).unwrap();
+    let mtl = std::fs::read_to_string(dir.path().join("bob.mtl")).unwrap();
+    let png = root.join("textured/bob/bob_diffuse.png");
+    assert!(mtl.contains(&format!("map_Kd {}", png.display())), "{mtl}");
 }
