@@ -21,6 +21,15 @@ fn main() {
         .iter()
         .map(|t| Aabb::from_triangle(pos[t[0] as usize], pos[t[1] as usize], pos[t[2] as usize]))
         .collect();
+    for _ in 0..2 {
+        let t = Instant::now();
+        let bvh = Bvh::build(&boxes);
+        println!(
+            "warm-up build {:.1} ms ({})",
+            t.elapsed().as_secs_f64() * 1e3,
+            bvh.len()
+        );
+    }
     let t = Instant::now();
     let bvh = Bvh::build(&boxes);
     println!(

@@ -6,6 +6,16 @@ use crate::aabb::Aabb;
 use crate::bvh::Bvh;
 use crate::closest::{closest_point_on_triangle, point_triangle_distance2};
 
+/// Box of a triangle, empty unless all corners are finite: a NaN corner
+/// must not leave a partial box that makes the triangle look reachable.
+fn corner_box(c: &[DVec3; 3]) -> Aabb {
+    if c.iter().all(|p| p.is_finite()) {
+        Aabb::from_triangle(c[0], c[1], c[2])
+    } else {
+        Aabb::EMPTY
+    }
+}
+
 /// The closest point of a [`TriangleSet`] to a query point.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Hit {
@@ -35,33 +45,25 @@ pub struct TriangleSet {
 impl TriangleSet {
     /// A set from shared positions and index triples.
     pub fn new(positions: &[DVec3], triangles: &[[u32; 3]]) -> Self {
-        let nan = DVec3::NAN;
-        let corners = triangles
-            .iter()
-            .map(|t| t.map(|v| positions.get(v as usize).copied().unwrap_or(nan)))
-            .collect();
-        Self::from_corners(corners)
+        let corners =
+            |t: &[u32; 3]| t.map(|v| positions.get(v as usize).copied().unwrap_or(DVec3::NAN));
+        let boxes: Vec<Aabb> = triangles.iter().map(|t| corner_box(&corners(t))).collect();
+        Self::assemble(Bvh::build(&boxes), |t| corners(&triangles[t as usize]))
     }
 
     /// A set from the three corners of every triangle.
-    pub fn from_corners(corners: Vec<[DVec3; 3]>) -> Self {
-        let boxes: Vec<Aabb> = corners
-            .iter()
-            .map(|c| {
-                if c.iter().all(|p| p.is_finite()) {
-                    Aabb::from_triangle(c[0], c[1], c[2])
-                } else {
-                    Aabb::EMPTY
-                }
-            })
-            .collect();
-        let bvh = Bvh::build(&boxes);
+    pub fn from_corners(corners: &[[DVec3; 3]]) -> Self {
+        let boxes: Vec<Aabb> = corners.iter().map(corner_box).collect();
+        Self::assemble(Bvh::build(&boxes), |t| corners[t as usize])
+    }
+
+    fn assemble(bvh: Bvh, corners: impl Fn(u32) -> [DVec3; 3]) -> Self {
         let order = bvh.slot_order();
-        let mut slot_of = vec![0u32; corners.len()];
+        let mut slot_of = vec![0u32; order.len()];
         for (k, &t) in order.iter().enumerate() {
             slot_of[t as usize] = k as u32;
         }
-        let slot_corners = order.iter().map(|&t| corners[t as usize]).collect();
+        let slot_corners = order.iter().map(|&t| corners(t)).collect();
         TriangleSet {
             bvh,
             slot_corners,
@@ -188,7 +190,7 @@ mod tests {
             }
             soup.push(t);
         }
-        let s = TriangleSet::from_corners(soup.clone());
+        let s = TriangleSet::from_corners(&soup);
         for _ in 0..2000 {
             let p = DVec3::new(
                 rng.range(-4.0, 4.0),

@@ -46,6 +46,22 @@ impl Node {
 ///
 /// Empty boxes (see [`Aabb::empty`]) are allowed: such primitives are never
 /// reported, whatever the margin.
+///
+/// ```
+/// use glam::DVec3;
+/// use wildlod_geometry::{Aabb, Bvh};
+///
+/// let points = [DVec3::ZERO, DVec3::X, DVec3::new(5.0, 0.0, 0.0)];
+/// let bvh = Bvh::build(&points.map(Aabb::from_point));
+/// // Nearest point to (4, 0, 0) under the caller's exact distance.
+/// let q = DVec3::new(4.0, 0.0, 0.0);
+/// let near = bvh.nearest(q, f64::INFINITY, |i| points[i as usize].distance_squared(q));
+/// assert_eq!(near, Some((2, 1.0)));
+/// // Pairs of points at most 1.5 apart.
+/// let mut pairs = Vec::new();
+/// bvh.self_pairs_within(1.5, |i, j| pairs.push((i, j)));
+/// assert_eq!(pairs, [(0, 1)]);
+/// ```
 #[derive(Clone, Debug, Default)]
 pub struct Bvh {
     nodes: Vec<Node>,

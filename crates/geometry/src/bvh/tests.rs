@@ -281,3 +281,74 @@ fn negative_or_nan_margins_and_empty_trees_report_nothing() {
         .nearest(DVec3::ZERO, f64::INFINITY, |_| f64::NAN)
         .is_none());
 }
+
+/// Every primitive sits in exactly one leaf slot, and every node's box
+/// contains its children's (or its primitives') boxes.
+fn assert_well_formed(t: &Bvh, boxes: &[Aabb]) {
+    let mut seen = vec![false; boxes.len()];
+    for &p in t.slot_order() {
+        assert!(!seen[p as usize], "primitive {p} twice");
+        seen[p as usize] = true;
+    }
+    assert!(seen.iter().all(|&s| s));
+    let contains = |outer: &Aabb, inner: &Aabb| {
+        inner.is_empty() || (outer.min.cmple(inner.min).all() && outer.max.cmpge(inner.max).all())
+    };
+    let mut reached = 0;
+    let mut stack = vec![0u32];
+    while let Some(n) = stack.pop() {
+        reached += 1;
+        let node = &t.nodes[n as usize];
+        if node.is_leaf() {
+            for k in node.slots() {
+                assert_eq!(t.boxes[k], boxes[t.prims[k] as usize]);
+                assert!(contains(&node.bounds, &t.boxes[k]));
+            }
+        } else {
+            for c in [node.start, node.start + 1] {
+                assert!(c > n, "children come after their parent");
+                assert!(contains(&node.bounds, &t.nodes[c as usize].bounds));
+                stack.push(c);
+            }
+        }
+    }
+    assert_eq!(reached, t.node_count(), "every node is reachable once");
+}
+
+#[test]
+fn large_build_is_well_formed_and_independent_of_thread_count() {
+    let mut rng = Rng::new(12);
+    let boxes = random_boxes(&mut rng, 150_000, 1.0, 0.003);
+    let build = |threads: usize| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .expect("a thread pool")
+            .install(|| Bvh::build(&boxes))
+    };
+    let (one, two) = (build(1), build(2));
+    assert_eq!(one.nodes, two.nodes);
+    assert_eq!(one.prims, two.prims);
+    assert_well_formed(&one, &boxes);
+    for _ in 0..200 {
+        let p = DVec3::new(
+            rng.range(-1.2, 1.2),
+            rng.range(-1.2, 1.2),
+            rng.range(-1.2, 1.2),
+        );
+        let got = one.nearest(p, f64::INFINITY, |i| {
+            boxes[i as usize].distance2_to_point(p)
+        });
+        assert_eq!(got, brute_nearest(&boxes, p, f64::INFINITY));
+    }
+}
+
+#[test]
+fn small_sets_are_well_formed() {
+    for (_, boxes) in test_sets() {
+        let t = Bvh::build(&boxes);
+        if !boxes.is_empty() {
+            assert_well_formed(&t, &boxes);
+        }
+    }
+}
