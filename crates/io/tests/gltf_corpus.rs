@@ -66,3 +66,51 @@ fn every_corpus_gltf_reads_with_the_readme_triangle_joint_and_animation_counts()
         eprintln!("{name}: ok, warnings {:?}", doc.warnings);
     }
 }
+
+mod gltf_support;
+
+use gltf_support::{assert_same_scene, check_written};
+use wildlod_io::WriteOptions;
+
+/// Reads a corpus file, writes it as `.glb` and as `.gltf` into a fresh
+/// directory, checks each output, reads it back and compares.
+fn round_trip(test: &str, rel: &str) {
+    let Some(c) = corpus(test) else {
+        return;
+    };
+    let src = c.join(rel);
+    let doc = wildlod_io::read(&src).unwrap_or_else(|e| panic!("{e}"));
+    for ext in ["glb", "gltf"] {
+        let dir = tempfile::tempdir().unwrap();
+        let out = dir.path().join(format!("out.{ext}"));
+        let warnings = wildlod_io::write(&doc, &out, &WriteOptions::default())
+            .unwrap_or_else(|e| panic!("{rel} → .{ext}: {e}"));
+        assert!(warnings.is_empty(), "{rel} → .{ext}: {warnings:?}");
+        check_written(&out);
+        let back = wildlod_io::read(&out).unwrap_or_else(|e| panic!("{rel} → .{ext} → read: {e}"));
+        assert_same_scene(&format!("{rel} via .{ext}"), &doc.scene, &back.scene);
+    }
+}
+
+macro_rules! round_trips {
+    ($($test:ident => $rel:expr,)*) => {$(
+        #[test]
+        fn $test() {
+            round_trip(stringify!($test), $rel);
+        }
+    )*};
+}
+
+round_trips! {
+    dragon_round_trips_through_glb_and_gltf => "large/dragon_vrip.glb",
+    cesium_man_round_trips_through_glb_and_gltf => "skinned/CesiumMan.glb",
+    fox_round_trips_through_glb_and_gltf => "skinned/Fox/Fox.gltf",
+    rigged_figure_round_trips_through_glb_and_gltf => "skinned/RiggedFigure.glb",
+    rigged_simple_round_trips_through_glb_and_gltf => "skinned/RiggedSimple.glb",
+    simple_skin_round_trips_through_glb_and_gltf => "skinned/SimpleSkin.gltf",
+    avocado_round_trips_through_glb_and_gltf => "textured/Avocado/Avocado.gltf",
+    milk_truck_round_trips_through_glb_and_gltf => "textured/CesiumMilkTruck.glb",
+    multi_uv_round_trips_through_glb_and_gltf => "textured/MultiUVTest.glb",
+    sofa_round_trips_through_glb_and_gltf => "textured/sofa_03/sofa_03_1k.gltf",
+    tea_set_round_trips_through_glb_and_gltf => "textured/tea_set_01/tea_set_01_1k.gltf",
+}

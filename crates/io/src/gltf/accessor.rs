@@ -258,6 +258,12 @@ impl Data<'_> {
         self.decode(index, |c, b, _| c.int(b).map(|v| v as u32))
     }
 
+    /// Checks that accessor `index` lies inside its buffer views, without
+    /// keeping its values (a vector of `()` allocates nothing).
+    pub(crate) fn check(&self, index: usize) -> Result<(), ErrorKind> {
+        self.decode(index, |_, _, _| Some(())).map(|_| ())
+    }
+
     /// Component type, accessor type and `normalized` flag of an accessor.
     fn kind(&self, index: usize) -> Result<(Component, Type, bool), ErrorKind> {
         let acc = self

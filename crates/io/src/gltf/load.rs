@@ -40,8 +40,6 @@ pub(crate) struct Loaded {
     pub buffers: Vec<Vec<u8>>,
     /// External files the document references (buffers), absolute.
     pub external: Vec<PathBuf>,
-    /// Whether the asset came from a GLB container.
-    pub is_glb: bool,
 }
 
 /// Reads the document, its buffers and the files they live in.
@@ -92,10 +90,7 @@ pub(crate) fn load(
         )));
     }
     check_extensions(&json, warnings)?;
-    let root: Root = serde_json::from_value(sanitize(&json, warnings)).map_err(|e| {
-        ErrorKind::malformed("glTF JSON", format!("not a valid glTF 2.0 document: {e}"))
-    })?;
-    validate(&root, warnings)?;
+    let root = typed(&json, "glTF", warnings)?;
     let dir = path.parent().unwrap_or(Path::new("")).to_path_buf();
     let mut buffers = Vec::with_capacity(root.buffers.len());
     let mut external = Vec::new();
@@ -168,7 +163,6 @@ pub(crate) fn load(
         root,
         buffers,
         external,
-        is_glb,
     })
 }
 
@@ -200,6 +194,23 @@ pub(crate) fn absolute(p: &Path) -> PathBuf {
             .map(|d| d.join(p))
             .unwrap_or_else(|_| p.to_path_buf())
     }
+}
+
+/// The typed, validated form of a glTF JSON document. `label` names the
+/// document in errors ("glTF" for input, "written glTF" for output).
+pub(crate) fn typed(
+    json: &Value,
+    label: &str,
+    warnings: &mut Vec<String>,
+) -> Result<Root, ErrorKind> {
+    let root: Root = serde_json::from_value(sanitize(json, warnings)).map_err(|e| {
+        ErrorKind::malformed(
+            format!("{label} JSON"),
+            format!("not a valid glTF 2.0 document: {e}"),
+        )
+    })?;
+    validate(&root, label, warnings)?;
+    Ok(root)
 }
 
 /// Required extensions: compression is refused with a clear message;
@@ -318,7 +329,7 @@ pub(crate) fn is_standard_semantic(k: &str) -> bool {
 /// Runs `gltf-json` validation, collecting every problem with its JSON
 /// path. Missing POSITION bounds (required, but only a hint to renderers)
 /// are a warning; the writer recomputes them.
-fn validate(root: &Root, warnings: &mut Vec<String>) -> Result<(), ErrorKind> {
+fn validate(root: &Root, label: &str, warnings: &mut Vec<String>) -> Result<(), ErrorKind> {
     // gltf-json's primitive check indexes `accessors` with the POSITION
     // index before checking it: check it here so that it cannot panic.
     for (mi, mesh) in root.meshes.iter().enumerate() {
@@ -357,7 +368,7 @@ fn validate(root: &Root, warnings: &mut Vec<String>) -> Result<(), ErrorKind> {
     if total > MAX_LISTED {
         msg.push_str(&format!("; and {} more", total - MAX_LISTED));
     }
-    Err(ErrorKind::malformed("glTF validation", msg))
+    Err(ErrorKind::malformed(format!("{label} validation"), msg))
 }
 
 fn semantic_name(s: &gltf_json::validation::Checked<gltf_json::mesh::Semantic>) -> String {

@@ -6,10 +6,14 @@
 //! back unchanged, rebuilding only the meshes and the binary data they use.
 
 mod accessor;
+mod bin;
+mod encode;
 mod glb;
+mod images;
 mod load;
 mod passthrough;
 mod read;
+mod scene_json;
 mod uri;
 mod write;
 

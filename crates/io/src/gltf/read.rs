@@ -42,6 +42,14 @@ pub(crate) fn read(
         buffers: &loaded.buffers,
         max_unbacked: budget,
     };
+    // Everything the writer may copy verbatim must lie inside its buffer,
+    // not only what this reader decodes.
+    for v in 0..loaded.root.buffer_views.len() {
+        d.view(v)?;
+    }
+    for a in 0..loaded.root.accessors.len() {
+        d.check(a)?;
+    }
     let mut scene = Scene::default();
     let mut sources = Vec::new();
     let mut budget_left = Budget {

@@ -62,11 +62,6 @@ pub(crate) fn decode_base64(payload: &str) -> Result<Vec<u8>, String> {
     result.map_err(|e| format!("the data URI is not valid base64 ({e})"))
 }
 
-/// A `data:` URI holding `bytes`.
-pub(crate) fn data_uri(mime: &str, bytes: &[u8]) -> String {
-    format!("data:{mime};base64,{}", BASE64.encode(bytes))
-}
-
 /// RFC 3986 scheme followed by `:`, at least two characters long so that a
 /// Windows drive letter (`C:\…`) is not mistaken for one.
 fn has_scheme(uri: &str) -> bool {
@@ -199,7 +194,10 @@ mod tests {
 
     #[test]
     fn data_uri_round_trips_and_non_base64_is_recognized() {
-        let uri = data_uri("application/octet-stream", &[0, 1, 2, 250]);
+        let uri = format!(
+            "data:application/octet-stream;base64,{}",
+            BASE64.encode([0, 1, 2, 250])
+        );
         let UriKind::Data { mime, base64 } = classify(&uri) else {
             panic!("not a data URI");
         };
