@@ -7,9 +7,11 @@
 //! written as stored, unused ones included.
 
 use std::collections::{BTreeSet, HashMap};
+use std::hash::BuildHasherDefault;
 use std::path::Path;
 
 use wildlod_mesh::transform::transformed;
+use wildlod_mesh::weld::PositionHasher;
 use wildlod_mesh::{Attribute, ComponentFormat, Mesh, Scene, Semantic, ABSENT};
 
 use crate::{ErrorKind, OutputFiles};
@@ -64,7 +66,10 @@ fn vertex_map(mesh: &Mesh) -> VertexMap {
             corners: mesh.faces.indices.clone(),
         };
     }
-    let mut ids: HashMap<[u32; 4], u32> = HashMap::with_capacity(n);
+    // Keyed by position index and attribute *values*: corners that repeat
+    // a value under another index still share a vertex.
+    let mut ids: HashMap<[u32; 10], u32, BuildHasherDefault<PositionHasher>> =
+        HashMap::with_capacity_and_hasher(n, Default::default());
     let mut vertices = Vec::with_capacity(n);
     let corners = (0..mesh.faces.indices.len())
         .map(|c| {
@@ -74,7 +79,18 @@ fn vertex_map(mesh: &Mesh) -> VertexMap {
                     *slot = a.indices.get(c).copied().unwrap_or(ABSENT);
                 }
             }
-            *ids.entry(k).or_insert_with(|| {
+            let mut key = [ABSENT; 10];
+            key[0] = k[0];
+            let mut at = 1;
+            for (i, len) in [(UV, 2), (NORMAL, 3), (COLOR, 4)] {
+                if let (Some(a), true) = (s[i], k[i] != ABSENT) {
+                    for (j, v) in a.value(k[i]).iter().take(len).enumerate() {
+                        key[at + j] = v.to_bits();
+                    }
+                }
+                at += len;
+            }
+            *ids.entry(key).or_insert_with(|| {
                 vertices.push(k);
                 (vertices.len() - 1) as u32
             })
