@@ -81,7 +81,7 @@ fn round_trip(test: &str, rel: &str) {
     let src = c.join(rel);
     let doc = wildlod_io::read(&src).unwrap_or_else(|e| panic!("{e}"));
     for ext in ["glb", "gltf"] {
-        let dir = tempfile::tempdir().unwrap();
+        let dir = tempfile::tempdir().expect("temp dir");
         let out = dir.path().join(format!("out.{ext}"));
         let warnings = wildlod_io::write(&doc, &out, &WriteOptions::default())
             .unwrap_or_else(|e| panic!("{rel} → .{ext}: {e}"));

@@ -10,15 +10,17 @@ use wildlod_mesh::{ImageSource, Mesh, Scene, ABSENT};
 
 /// The JSON and binary chunk of a written `.gltf` (with its `.bin`) or `.glb`.
 pub fn written_parts(path: &Path) -> (Value, Vec<u8>) {
-    let bytes = std::fs::read(path).unwrap();
+    let bytes = std::fs::read(path).expect("written file is readable");
     if bytes.starts_with(b"glTF") {
-        let u32_at = |i: usize| u32::from_le_bytes(bytes[i..i + 4].try_into().unwrap()) as usize;
+        let u32_at =
+            |i: usize| u32::from_le_bytes(bytes[i..i + 4].try_into().expect("four bytes")) as usize;
         assert_eq!(u32_at(4), 2, "GLB version");
         assert_eq!(u32_at(8), bytes.len(), "GLB length");
         let json_len = u32_at(12);
         assert_eq!(json_len % 4, 0, "JSON chunk padded");
         assert_eq!(&bytes[16..20], b"JSON");
-        let json: Value = serde_json::from_slice(&bytes[20..20 + json_len]).unwrap();
+        let json: Value =
+            serde_json::from_slice(&bytes[20..20 + json_len]).expect("written JSON parses");
         let mut bin = Vec::new();
         if 20 + json_len < bytes.len() {
             let at = 20 + json_len;
@@ -30,9 +32,10 @@ pub fn written_parts(path: &Path) -> (Value, Vec<u8>) {
         }
         (json, bin)
     } else {
-        let json: Value = serde_json::from_slice(&bytes).unwrap();
+        let json: Value = serde_json::from_slice(&bytes).expect("written JSON parses");
         let bin = match json.pointer("/buffers/0/uri").and_then(Value::as_str) {
-            Some(u) => std::fs::read(path.parent().unwrap().join(u)).unwrap(),
+            Some(u) => std::fs::read(path.parent().expect("a file has a directory").join(u))
+                .expect("written file is readable"),
             None => Vec::new(),
         };
         (json, bin)
@@ -64,7 +67,7 @@ fn type_shape(t: &str) -> (usize, usize) {
 /// accessor is aligned and inside its parent (vertex attributes on 4-byte
 /// boundaries with 4-byte strides).
 pub fn check_written(path: &Path) -> Value {
-    let bytes = std::fs::read(path).unwrap();
+    let bytes = std::fs::read(path).expect("written file is readable");
     if let Err(e) = gltf::Gltf::from_slice(&bytes) {
         panic!("{}: gltf crate validation failed: {e:?}", path.display());
     }
@@ -75,7 +78,9 @@ pub fn check_written(path: &Path) -> Value {
         return json;
     }
     assert_eq!(buffers.len(), 1, "one buffer");
-    let byte_length = buffers[0]["byteLength"].as_u64().unwrap() as usize;
+    let byte_length = buffers[0]["byteLength"]
+        .as_u64()
+        .expect("field required by glTF") as usize;
     if bytes.starts_with(b"glTF") {
         assert!(
             byte_length <= bin.len() && bin.len() - byte_length < 4,
@@ -87,24 +92,28 @@ pub fn check_written(path: &Path) -> Value {
     let views = json["bufferViews"].as_array().cloned().unwrap_or_default();
     for (i, v) in views.iter().enumerate() {
         let off = v["byteOffset"].as_u64().unwrap_or(0) as usize;
-        let len = v["byteLength"].as_u64().unwrap() as usize;
+        let len = v["byteLength"].as_u64().expect("field required by glTF") as usize;
         assert!(off + len <= byte_length, "bufferView {i} inside the buffer");
         if let Some(s) = v["byteStride"].as_u64() {
             assert!(
-                s >= 4 && s <= 252 && s % 4 == 0,
+                (4..=252).contains(&s) && s % 4 == 0,
                 "bufferView {i} stride {s}"
             );
         }
     }
     let mut vertex_accessors = std::collections::BTreeSet::new();
     for m in json["meshes"].as_array().into_iter().flatten() {
-        for p in m["primitives"].as_array().unwrap() {
-            for a in p["attributes"].as_object().unwrap().values() {
-                vertex_accessors.insert(a.as_u64().unwrap() as usize);
+        for p in m["primitives"].as_array().expect("field required by glTF") {
+            for a in p["attributes"]
+                .as_object()
+                .expect("field required by glTF")
+                .values()
+            {
+                vertex_accessors.insert(a.as_u64().expect("field required by glTF") as usize);
             }
             for t in p["targets"].as_array().into_iter().flatten() {
-                for a in t.as_object().unwrap().values() {
-                    vertex_accessors.insert(a.as_u64().unwrap() as usize);
+                for a in t.as_object().expect("field required by glTF").values() {
+                    vertex_accessors.insert(a.as_u64().expect("field required by glTF") as usize);
                 }
             }
         }
@@ -119,8 +128,8 @@ pub fn check_written(path: &Path) -> Value {
             continue;
         };
         let view = &views[v as usize];
-        let size = component_size(a["componentType"].as_u64().unwrap());
-        let (cols, rows) = type_shape(a["type"].as_str().unwrap());
+        let size = component_size(a["componentType"].as_u64().expect("field required by glTF"));
+        let (cols, rows) = type_shape(a["type"].as_str().expect("field required by glTF"));
         let col = if cols > 1 {
             (rows * size).div_ceil(4) * 4
         } else {
@@ -133,7 +142,7 @@ pub fn check_written(path: &Path) -> Value {
             .unwrap_or(elem);
         let voff = view["byteOffset"].as_u64().unwrap_or(0) as usize;
         let aoff = a["byteOffset"].as_u64().unwrap_or(0) as usize;
-        let count = a["count"].as_u64().unwrap() as usize;
+        let count = a["count"].as_u64().expect("field required by glTF") as usize;
         assert_eq!(
             (voff + aoff) % size,
             0,
@@ -142,7 +151,7 @@ pub fn check_written(path: &Path) -> Value {
         if count > 0 {
             let end = aoff + (count - 1) * stride + elem;
             assert!(
-                end <= view["byteLength"].as_u64().unwrap() as usize,
+                end <= view["byteLength"].as_u64().expect("field required by glTF") as usize,
                 "accessor {i} inside bufferView {v}"
             );
         }
