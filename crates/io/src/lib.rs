@@ -12,6 +12,7 @@ mod atomic;
 mod error;
 mod format;
 mod gltf;
+mod image;
 mod obj;
 mod ply;
 mod stl;
@@ -21,6 +22,7 @@ use std::path::{Path, PathBuf};
 pub use atomic::OutputFiles;
 pub use error::{Error, ErrorKind};
 pub use format::Format;
+pub use image::decode_image;
 use wildlod_mesh::Scene;
 
 /// Files larger than this are refused before reading: every format we read

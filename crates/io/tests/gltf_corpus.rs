@@ -114,3 +114,30 @@ round_trips! {
     sofa_round_trips_through_glb_and_gltf => "textured/sofa_03/sofa_03_1k.gltf",
     tea_set_round_trips_through_glb_and_gltf => "textured/tea_set_01/tea_set_01_1k.gltf",
 }
+
+#[test]
+fn corpus_textures_decode_to_rgba_in_unit_range() {
+    let Some(c) = corpus("corpus_textures_decode_to_rgba_in_unit_range") else {
+        return;
+    };
+    // Embedded PNG (bufferView), external PNG, external JPEG.
+    for (rel, textures) in [
+        ("textured/MultiUVTest.glb", 2),
+        ("skinned/Fox/Fox.gltf", 1),
+        ("textured/sofa_03/sofa_03_1k.gltf", 6),
+    ] {
+        let doc = wildlod_io::read(c.join(rel)).unwrap_or_else(|e| panic!("{e}"));
+        assert_eq!(doc.scene.textures.len(), textures, "{rel}");
+        let t = &doc.scene.textures[0];
+        let img = wildlod_io::decode_image(&t.source).unwrap_or_else(|e| panic!("{e}"));
+        assert!(img.width > 0 && img.height > 0, "{rel}");
+        assert_eq!(img.pixels.len(), (img.width * img.height) as usize);
+        assert!(img
+            .pixels
+            .iter()
+            .flatten()
+            .all(|&v| (0.0..=1.0).contains(&v)));
+        // A texture is not one flat color.
+        assert!(img.pixels.iter().any(|p| p != &img.pixels[0]), "{rel}");
+    }
+}
