@@ -109,6 +109,18 @@ impl TriangleSet {
         self.closest_within(p, f64::INFINITY)
     }
 
+    /// Squared distance from `p` to the set, or `None` as for
+    /// [`TriangleSet::closest`]; skips computing the point itself.
+    #[inline]
+    pub fn distance2(&self, p: DVec3) -> Option<f64> {
+        self.bvh
+            .nearest_by_slot(p, f64::INFINITY, |k| {
+                let c = &self.slot_corners[k];
+                point_triangle_distance2(p, c[0], c[1], c[2])
+            })
+            .map(|(_, d2)| d2)
+    }
+
     /// The closest point of the set to `p` if its squared distance is at
     /// most `max_dist2`. Among triangles at the same distance (a point on a
     /// shared edge) the lowest index wins.
@@ -208,6 +220,7 @@ mod tests {
                 );
             assert_eq!(h.distance2, bd);
             assert_eq!(h.triangle, bt);
+            assert_eq!(s.distance2(p), Some(bd));
         }
     }
 }

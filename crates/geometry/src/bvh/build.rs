@@ -75,7 +75,7 @@ impl Bvh {
     /// pool for large inputs. The tree is the same whatever the thread
     /// count.
     ///
-    /// Splits are chosen by the surface area heuristic over [`BINS`]
+    /// Splits are chosen by the surface area heuristic over 16
     /// centroid bins along the longest axis of the centroids' box. When all
     /// centroids coincide (many identical boxes) or are NaN (empty boxes),
     /// the range is halved by index instead, so depth stays logarithmic and

@@ -1,0 +1,468 @@
+//! [`EvalMesh`]: a scene flattened to world-space triangles for measuring,
+//! with what the texture metric needs (UVs, base color images) and the face
+//! counts the quad ratio needs.
+
+use glam::DVec3;
+use serde::Serialize;
+use wildlod_geometry::Aabb;
+use wildlod_mesh::disjoint_sets::DisjointSets;
+use wildlod_mesh::shapes::triangulate;
+use wildlod_mesh::transform::transformed;
+use wildlod_mesh::weld::weld_positions;
+use wildlod_mesh::{Image, Mesh, Scene, Semantic};
+
+/// Face counts as the file has them (before triangulation).
+///
+/// Serialized with these keys; `triangulated` is the triangle count of the
+/// fan-triangulated faces (a quad counts 2, an n-gon n − 2), the count that
+/// simplification targets and the quad ratio refer to.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
+pub struct FaceCounts {
+    /// Faces of any arity.
+    pub faces: usize,
+    /// Faces with three corners.
+    pub triangles: usize,
+    /// Faces with four corners.
+    pub quads: usize,
+    /// Faces with five or more corners.
+    pub ngons: usize,
+    /// Triangles after fan triangulation.
+    pub triangulated: usize,
+    /// Connected components, after welding equal positions (faces sharing
+    /// a position are connected).
+    pub components: usize,
+    /// Mesh instances these counts add up (1 for a single mesh).
+    pub instances: usize,
+}
+
+impl FaceCounts {
+    fn add(&mut self, o: &FaceCounts) {
+        self.faces += o.faces;
+        self.triangles += o.triangles;
+        self.quads += o.quads;
+        self.ngons += o.ngons;
+        self.triangulated += o.triangulated;
+        self.components += o.components;
+        self.instances += o.instances;
+    }
+}
+
+/// The counts of one mesh instance of a scene.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+pub struct InstanceCounts {
+    /// Index of the instanced mesh in [`Scene::meshes`].
+    pub mesh: u32,
+    /// Its face counts (`instances` is 1).
+    pub counts: FaceCounts,
+}
+
+/// Where the color of a triangle comes from: an optional base color image
+/// times the material's base color factor.
+#[derive(Clone, Copy, Debug)]
+struct ColorSource<'a> {
+    image: Option<&'a Image>,
+    factor: [f32; 4],
+}
+
+/// Color source of triangles without a material: glTF's default material,
+/// white.
+const DEFAULT_SOURCE: u32 = 0;
+
+/// A world-space triangle set for measuring.
+///
+/// Every instance of the scene is moved by its world matrix and
+/// fan-triangulated. Triangles that refer to a missing position or have a
+/// non-finite corner are left out (they have no surface to measure); face
+/// counts still count them, as the file has them. Skinned meshes are
+/// measured as stored (bind pose).
+///
+/// For the texture metric every triangle corner keeps the UV of the set its
+/// material's base color texture uses, and every triangle the image (times
+/// the base color factor) to look colors up in. Images are borrowed from
+/// the caller, who decodes them.
+#[derive(Clone, Debug, Default)]
+pub struct EvalMesh<'a> {
+    positions: Vec<DVec3>,
+    triangles: Vec<[u32; 3]>,
+    /// UV of every triangle corner (three per triangle); `[0, 0]` where the
+    /// corner has none.
+    uvs: Vec<[f32; 2]>,
+    /// Color source of every triangle.
+    sources: Vec<u32>,
+    colors: Vec<ColorSource<'a>>,
+    /// Welded vertices used by triangles, one position index each: the
+    /// vertex sample points.
+    vertices: Vec<u32>,
+    counts: FaceCounts,
+    instances: Vec<InstanceCounts>,
+}
+
+/// What is computed once per stored mesh, however often it is instanced.
+struct MeshInfo {
+    counts: FaceCounts,
+    /// One position index per welded vertex used by a face.
+    vertices: Vec<u32>,
+}
+
+fn analyze(mesh: &Mesh) -> MeshInfo {
+    let (t, q, n) = mesh.faces.arity_counts();
+    let (weld, _) = weld_positions(&mesh.positions);
+    let np = mesh.positions.len();
+    let mut sets = DisjointSets::new(np);
+    let mut used = vec![false; np];
+    for face in mesh.faces.iter() {
+        let ids: Vec<u32> = face
+            .iter()
+            .filter(|&&v| (v as usize) < np)
+            .map(|&v| weld[v as usize])
+            .collect();
+        for (k, &a) in ids.iter().enumerate() {
+            used[a as usize] = true;
+            sets.union(a, ids[(k + 1) % ids.len()]);
+        }
+    }
+    // `weld` maps a position to the first position with its value, so a
+    // used welded id is itself a position index.
+    let vertices: Vec<u32> = (0..np as u32).filter(|&v| used[v as usize]).collect();
+    let mut roots: Vec<u32> = vertices.iter().map(|&v| sets.find(v)).collect();
+    roots.sort_unstable();
+    roots.dedup();
+    MeshInfo {
+        counts: FaceCounts {
+            faces: mesh.faces.len(),
+            triangles: t,
+            quads: q,
+            ngons: n,
+            triangulated: mesh.faces.triangulated_count(),
+            components: roots.len(),
+            instances: 1,
+        },
+        vertices,
+    }
+}
+
+impl<'a> EvalMesh<'a> {
+    /// Flattens every mesh instance of `scene` (see [`Scene::instances`]).
+    /// `images` holds the decoded image of every texture, indexed like
+    /// `scene.textures`; `None` (or a missing entry) for a texture the
+    /// caller could not decode, whose triangles then count as untextured.
+    pub fn from_scene(scene: &Scene, images: &'a [Option<Image>]) -> EvalMesh<'a> {
+        let mut out = EvalMesh {
+            colors: vec![ColorSource {
+                image: None,
+                factor: [1.0; 4],
+            }],
+            ..EvalMesh::default()
+        };
+        // Color source and UV set of every material.
+        let mut material_source = Vec::with_capacity(scene.materials.len());
+        for m in &scene.materials {
+            let tex = m.base_color_texture;
+            let image = tex.and_then(|t| images.get(t.texture as usize)?.as_ref());
+            out.colors.push(ColorSource {
+                image,
+                factor: m.base_color,
+            });
+            let uv_set = image.and(tex).map(|t| t.tex_coord);
+            material_source.push((out.colors.len() as u32 - 1, uv_set));
+        }
+        let mut infos: Vec<Option<MeshInfo>> = Vec::new();
+        infos.resize_with(scene.meshes.len(), || None);
+        for (mi, matrix) in scene.instances() {
+            let mesh = &scene.meshes[mi as usize];
+            let info = infos[mi as usize].get_or_insert_with(|| analyze(mesh));
+            out.counts.add(&info.counts);
+            out.instances.push(InstanceCounts {
+                mesh: mi,
+                counts: info.counts,
+            });
+            let moved = triangulate(&transformed(mesh, &matrix));
+            out.push_triangulated(&moved, &info.vertices, &material_source);
+        }
+        out
+    }
+
+    /// A single mesh with identity transform, no material and no texture.
+    pub fn from_mesh(mesh: &Mesh) -> EvalMesh<'static> {
+        let mut out = EvalMesh {
+            colors: vec![ColorSource {
+                image: None,
+                factor: [1.0; 4],
+            }],
+            ..EvalMesh::default()
+        };
+        let info = analyze(mesh);
+        out.counts = info.counts;
+        out.instances.push(InstanceCounts {
+            mesh: 0,
+            counts: info.counts,
+        });
+        out.push_triangulated(&triangulate(mesh), &info.vertices, &[]);
+        out
+    }
+
+    /// Appends a triangulated, world-space mesh. `vertices` are its vertex
+    /// sample positions; `material_source` maps a material to its color
+    /// source and UV set.
+    fn push_triangulated(
+        &mut self,
+        tri: &Mesh,
+        vertices: &[u32],
+        material_source: &[(u32, Option<u32>)],
+    ) {
+        let base = self.positions.len() as u32;
+        let np = tri.positions.len();
+        self.positions
+            .extend(tri.positions.iter().map(|p| DVec3::from(p.map(f64::from))));
+        let finite = |v: u32| (v as usize) < np && self.positions[(base + v) as usize].is_finite();
+        self.vertices
+            .extend(vertices.iter().filter(|&&v| finite(v)).map(|&v| base + v));
+        // The UV stream of every part, when its material is textured.
+        let part_source: Vec<(u32, Option<&wildlod_mesh::Attribute>)> = tri
+            .parts
+            .iter()
+            .map(|part| {
+                let Some(&(source, set)) =
+                    part.material.and_then(|m| material_source.get(m as usize))
+                else {
+                    return (DEFAULT_SOURCE, None);
+                };
+                let uv = set.and_then(|s| tri.attribute(&Semantic::TexCoord(s)));
+                (source, uv)
+            })
+            .collect();
+        let mut tris = Vec::with_capacity(tri.faces.len());
+        for f in 0..tri.faces.len() {
+            let face = tri.faces.face(f);
+            if face.len() != 3 || !face.iter().all(|&v| finite(v)) {
+                continue;
+            }
+            let part = tri.face_parts.get(f).copied().unwrap_or(0) as usize;
+            let (source, uv) = part_source
+                .get(part)
+                .copied()
+                .unwrap_or((DEFAULT_SOURCE, None));
+            for c in tri.faces.corner_range(f) {
+                let value = uv.and_then(|a| {
+                    let i = *a.indices.get(c)?;
+                    if a.components < 2 || i as usize >= a.value_count() {
+                        return None;
+                    }
+                    let v = a.value(i);
+                    Some([v[0], v[1]])
+                });
+                self.uvs.push(value.unwrap_or([0.0; 2]));
+            }
+            tris.push([face[0] + base, face[1] + base, face[2] + base]);
+            self.sources.push(source);
+        }
+        self.triangles.extend(tris);
+    }
+
+    /// World-space positions (all positions of all instances, including any
+    /// that no kept triangle uses).
+    pub fn positions(&self) -> &[DVec3] {
+        &self.positions
+    }
+
+    /// Triangles kept for measuring, indexing [`EvalMesh::positions`].
+    pub fn triangles(&self) -> &[[u32; 3]] {
+        &self.triangles
+    }
+
+    /// Position indices of the vertex sample points: one per welded vertex
+    /// of every instance.
+    pub fn vertex_samples(&self) -> &[u32] {
+        &self.vertices
+    }
+
+    /// Face counts of all instances together.
+    pub fn counts(&self) -> FaceCounts {
+        self.counts
+    }
+
+    /// Face counts of every instance, in [`Scene::instances`] order.
+    pub fn instances(&self) -> &[InstanceCounts] {
+        &self.instances
+    }
+
+    /// Bounds of the kept triangles.
+    pub fn bounds(&self) -> Aabb {
+        Aabb::from_points(
+            self.triangles
+                .iter()
+                .flatten()
+                .map(|&v| self.positions[v as usize]),
+        )
+    }
+
+    /// Corners of triangle `t`.
+    #[inline]
+    pub fn triangle(&self, t: usize) -> [DVec3; 3] {
+        self.triangles[t].map(|v| self.positions[v as usize])
+    }
+
+    /// Area of triangle `t`.
+    #[inline]
+    pub fn triangle_area(&self, t: usize) -> f64 {
+        let [a, b, c] = self.triangle(t);
+        0.5 * (b - a).cross(c - a).length()
+    }
+
+    /// Total surface area.
+    pub fn area(&self) -> f64 {
+        (0..self.triangles.len())
+            .map(|t| self.triangle_area(t))
+            .sum()
+    }
+
+    /// True when some triangle takes its color from a base color image.
+    pub fn has_texture(&self) -> bool {
+        self.sources
+            .iter()
+            .any(|&s| self.colors[s as usize].image.is_some())
+    }
+
+    /// Color (RGB in [0, 1]) at barycentrics `bary` of triangle `t`: the
+    /// base color image looked up bilinearly at the interpolated UV, times
+    /// the base color factor, clamped. Triangles without an image have the
+    /// factor's color.
+    pub fn color_at(&self, t: usize, bary: [f64; 3]) -> [f32; 3] {
+        let src = &self.colors[self.sources[t] as usize];
+        let texel = match src.image {
+            Some(img) => {
+                let uv = &self.uvs[3 * t..3 * t + 3];
+                let mut at = [0.0f64; 2];
+                for (corner, &w) in uv.iter().zip(&bary) {
+                    at[0] += w * f64::from(corner[0]);
+                    at[1] += w * f64::from(corner[1]);
+                }
+                img.sample_bilinear([at[0] as f32, at[1] as f32])
+            }
+            None => [1.0; 4],
+        };
+        std::array::from_fn(|k| (texel[k] * src.factor[k]).clamp(0.0, 1.0))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use wildlod_mesh::{
+        shapes, Attribute, ComponentFormat, ImageSource, Material, Node, Texture, TextureRef,
+        IDENTITY,
+    };
+
+    fn translate(x: f32) -> [f32; 16] {
+        let mut m = IDENTITY;
+        m[12] = x;
+        m
+    }
+
+    #[test]
+    fn instances_are_moved_to_world_space_and_counted_each() {
+        let mut s = Scene::from_mesh(shapes::cube());
+        s.nodes[0].mesh = None;
+        s.nodes[0].children = vec![1, 2];
+        for x in [0.0, 3.0] {
+            s.nodes.push(Node {
+                matrix: translate(x),
+                mesh: Some(0),
+                ..Node::default()
+            });
+        }
+        let e = EvalMesh::from_scene(&s, &[]);
+        let c = e.counts();
+        assert_eq!((c.faces, c.quads, c.triangulated), (12, 12, 24));
+        assert_eq!((c.components, c.instances), (2, 2));
+        assert_eq!(e.instances().len(), 2);
+        assert_eq!(e.instances()[1].counts.faces, 6);
+        assert_eq!(e.triangles().len(), 24);
+        assert_eq!(e.vertex_samples().len(), 16);
+        let b = e.bounds();
+        assert_eq!((b.min, b.max), (DVec3::ZERO, DVec3::new(4.0, 1.0, 1.0)));
+        assert!((e.area() - 12.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn colors_use_the_uv_set_of_the_base_color_texture_and_its_factor() {
+        // One triangle; UV set 0 puts every corner at u = 0.25 (black
+        // texel), set 1 at u = 0.75 (white texel). The material reads set 1.
+        let mut m = Mesh::from_triangles(
+            vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]],
+            &[0, 1, 2],
+        );
+        m.parts[0].material = Some(0);
+        for (set, u) in [(0, 0.25f32), (1, 0.75)] {
+            m.attributes.push(Attribute {
+                semantic: Semantic::TexCoord(set),
+                components: 2,
+                values: vec![u, 0.5],
+                indices: vec![0, 0, 0],
+                format: ComponentFormat::F32,
+            });
+        }
+        let mut s = Scene::from_mesh(m);
+        s.materials.push(Material {
+            base_color: [0.5, 0.25, 1.0, 1.0],
+            base_color_texture: Some(TextureRef {
+                texture: 0,
+                tex_coord: 1,
+            }),
+            ..Material::default()
+        });
+        s.textures.push(Texture {
+            name: String::new(),
+            source: ImageSource::Path("t.png".into()),
+        });
+        let mut img = Image::filled(2, 1, [0.0, 0.0, 0.0, 1.0]);
+        img.pixels[1] = [1.0; 4];
+        let images = [Some(img)];
+        let e = EvalMesh::from_scene(&s, &images);
+        assert!(e.has_texture());
+        assert_eq!(e.color_at(0, [1.0 / 3.0; 3]), [0.5, 0.25, 1.0]);
+        // Without the decoded image the factor alone colors the triangle.
+        let none: [Option<Image>; 1] = [None];
+        let e = EvalMesh::from_scene(&s, &none);
+        assert!(!e.has_texture());
+        assert_eq!(e.color_at(0, [1.0, 0.0, 0.0]), [0.5, 0.25, 1.0]);
+        // A texture index past the images is treated the same way.
+        let e = EvalMesh::from_scene(&s, &[]);
+        assert!(!e.has_texture());
+    }
+
+    #[test]
+    fn triangles_without_surface_are_dropped_but_faces_still_counted() {
+        let mut m = Mesh::from_triangles(
+            vec![
+                [0.0, 0.0, 0.0],
+                [1.0, 0.0, 0.0],
+                [0.0, 1.0, 0.0],
+                [f32::NAN, 0.0, 0.0],
+            ],
+            &[0, 1, 2, 0, 1, 3, 0, 1, 9],
+        );
+        m.parts[0].material = Some(7); // no such material: default white
+        let e = EvalMesh::from_mesh(&m);
+        assert_eq!(e.counts().faces, 3);
+        assert_eq!(e.triangles(), &[[0, 1, 2]]);
+        assert_eq!(e.vertex_samples(), &[0, 1, 2]);
+        assert_eq!(e.color_at(0, [1.0, 0.0, 0.0]), [1.0; 3]);
+        let s = Scene::from_mesh(m);
+        assert_eq!(EvalMesh::from_scene(&s, &[]).triangles().len(), 1);
+    }
+
+    #[test]
+    fn seam_duplicates_are_one_vertex_sample_and_one_component() {
+        // quad_grid's positions are unique; a copy of vertex 0 used by the
+        // second quad must weld back to it.
+        let mut m = shapes::quad_grid(2, 1);
+        m.positions.push(m.positions[1]);
+        let last = m.positions.len() as u32 - 1;
+        let f1 = m.faces.corner_range(1);
+        m.faces.indices[f1.start] = last;
+        let e = EvalMesh::from_mesh(&m);
+        assert_eq!(e.vertex_samples().len(), 6);
+        assert_eq!(e.counts().components, 1);
+    }
+}
