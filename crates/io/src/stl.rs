@@ -132,6 +132,8 @@ struct Cursor<'a> {
     data: &'a [u8],
     pos: usize,
     line: usize,
+    /// Line of the last token, where an unexpected end of file is reported.
+    last: usize,
 }
 
 impl<'a> Cursor<'a> {
@@ -153,7 +155,11 @@ impl<'a> Cursor<'a> {
         {
             self.pos += 1;
         }
-        (self.pos > start).then(|| (&self.data[start..self.pos], self.line))
+        if self.pos == start {
+            return None;
+        }
+        self.last = self.line;
+        Some((&self.data[start..self.pos], self.line))
     }
 
     /// The rest of the current line (a solid's name).
@@ -174,7 +180,7 @@ impl<'a> Cursor<'a> {
                 format!("expected '{word}' {context}, found '{}'", show(t)),
             )),
             None => Err(ErrorKind::syntax(
-                self.line,
+                self.last,
                 format!("the file ends where '{word}' {context} should be"),
             )),
         }
@@ -186,7 +192,7 @@ impl<'a> Cursor<'a> {
                 parse_f32(t).map_err(|e| ErrorKind::syntax(ln, format!("{what}: {e}")))
             }
             None => Err(ErrorKind::syntax(
-                self.line,
+                self.last,
                 format!("the file ends inside a {what}"),
             )),
         }
@@ -198,6 +204,7 @@ fn read_ascii(data: &[u8]) -> Result<Mesh, ErrorKind> {
         data,
         pos: 0,
         line: 1,
+        last: 1,
     };
     let mut positions: Vec<[f32; 3]> = Vec::new();
     let mut faces = Faces::new();
@@ -271,7 +278,7 @@ fn read_ascii(data: &[u8]) -> Result<Mesh, ErrorKind> {
                         ))
                     }
                     None => {
-                        return Err(ErrorKind::syntax(cur.line, "the file ends inside a facet"))
+                        return Err(ErrorKind::syntax(cur.last, "the file ends inside a facet"))
                     }
                 }
             }

@@ -327,10 +327,17 @@ fn read_faces(body: &mut Body, e: &Element, vertex_count: u64) -> Result<FaceDat
         .properties
         .iter()
         .position(|p| matches!(p.kind, Kind::List { .. }) && p.name == "texcoord");
-    let n = e.count as usize;
-    // Capacity for triangles, bounded: the plausibility check limits `n`
-    // by the file size already.
-    let mut faces = Faces::with_capacity(n, 3 * n);
+    // Room for triangles, but never more than the rest of the file can
+    // encode: the header check allows one byte per face, which would
+    // otherwise reserve twelve per byte of file for corners.
+    let left = body.data.len().saturating_sub(body.pos);
+    let (count_size, item_size) = match (body.encoding, e.properties[list].kind) {
+        (Encoding::Ascii, _) => (2, 2),
+        (_, Kind::List { count, item }) => (count.size(), item.size()),
+        (_, Kind::Scalar(_)) => (1, 1),
+    };
+    let n = (e.count as usize).min(left / (count_size + 3 * item_size));
+    let mut faces = Faces::with_capacity(n, (3 * n).min(left / item_size));
     let mut corner_uvs: Option<Vec<f32>> = texcoord.map(|_| Vec::new());
     let mut uv_scratch = Vec::new();
     for i in 0..e.count {
