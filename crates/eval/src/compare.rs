@@ -173,7 +173,6 @@ fn directed(
     vertices: &[u32],
     to: &TriangleSet,
     options: &CompareOptions,
-    stream: Stream,
 ) -> Directed {
     let area_samples = if sampler.can_sample() {
         options.samples
@@ -202,7 +201,13 @@ fn directed(
             .into_par_iter()
             .map(|c| {
                 let mut part = Partial::default();
-                let pts = sampler.chunk(from, options.seed, stream, c, chunk_len(area_samples, c));
+                let pts = sampler.chunk(
+                    from,
+                    options.seed,
+                    Stream::Surface,
+                    c,
+                    chunk_len(area_samples, c),
+                );
                 for s in pts {
                     part.push(dist2(s.point));
                 }
@@ -245,7 +250,9 @@ fn capped_vertices(mesh: &EvalMesh, cap: usize) -> Vec<u32> {
 ///
 /// Runs on the rayon pool; the result is bit-identical for a given seed
 /// whatever the thread count: samples come in fixed-size chunks seeded from
-/// (seed, surface, chunk index), and partial sums are added in chunk order.
+/// (seed, purpose, chunk index), and partial sums are added in chunk order.
+/// Both surfaces are sampled with the same random numbers, so a surface
+/// compared with itself gives exactly 0 on every metric, texture included.
 pub fn compare(reference: &EvalMesh, candidate: &EvalMesh, options: &CompareOptions) -> Comparison {
     let mut notes = Vec::new();
     let diagonal = reference.bounds().diagonal();
@@ -274,22 +281,8 @@ pub fn compare(reference: &EvalMesh, candidate: &EvalMesh, options: &CompareOpti
     }
     let ref_vertices = capped_vertices(reference, options.max_vertex_samples);
     let cand_vertices = capped_vertices(candidate, options.max_vertex_samples);
-    let r2c = directed(
-        reference,
-        &ref_sampler,
-        &ref_vertices,
-        &cand_set,
-        options,
-        Stream::ReferenceSurface,
-    );
-    let c2r = directed(
-        candidate,
-        &cand_sampler,
-        &cand_vertices,
-        &ref_set,
-        options,
-        Stream::CandidateSurface,
-    );
+    let r2c = directed(reference, &ref_sampler, &ref_vertices, &cand_set, options);
+    let c2r = directed(candidate, &cand_sampler, &cand_vertices, &ref_set, options);
     let texture = texture_chamfer(
         (reference, &ref_sampler),
         (candidate, &cand_sampler),

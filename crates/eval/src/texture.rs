@@ -76,8 +76,8 @@ pub(crate) fn texture_chamfer(
         return None;
     }
     let (r, c) = rayon::join(
-        || colored_samples(reference.0, reference.1, n, seed, Stream::ReferenceTexture),
-        || colored_samples(candidate.0, candidate.1, n, seed, Stream::CandidateTexture),
+        || colored_samples(reference.0, reference.1, n, seed, Stream::Texture),
+        || colored_samples(candidate.0, candidate.1, n, seed, Stream::Texture),
     );
     let tree = |s: &ColoredSamples| {
         let boxes: Vec<Aabb> = s.points.iter().map(|&p| Aabb::from_point(p)).collect();
