@@ -227,8 +227,9 @@ impl<T> Decoded<T> {
 pub(crate) struct Data<'a> {
     pub root: &'a Root,
     pub buffers: &'a [Vec<u8>],
-    /// Largest element count accepted for an accessor without a buffer
-    /// view (sparse-only or all zeros), whose count no bytes back.
+    /// Most values (elements × components) accepted for an accessor
+    /// without a buffer view (sparse-only or all zeros), whose count no
+    /// bytes back.
     pub max_unbacked: u64,
 }
 
@@ -378,11 +379,11 @@ impl Data<'_> {
                 }
             }
         } else {
-            if count > self.max_unbacked {
+            if count.saturating_mul(n as u64) > self.max_unbacked {
                 return Err(ErrorKind::ImplausibleCount {
                     element: format!("{} (no bufferView)", name()),
                     count,
-                    max: self.max_unbacked,
+                    max: self.max_unbacked / n as u64,
                 });
             }
             values = vec![T::default(); count as usize * n];

@@ -46,19 +46,24 @@ pub(crate) fn parse(data: &[u8]) -> Result<Glb<'_>, ErrorKind> {
     }
     let declared = u32_at(data, 8).unwrap_or(0) as usize;
     let mut warnings = Vec::new();
-    if declared > data.len() {
-        return Err(header(format!(
-            "declares a length of {declared} bytes, but the file has {} (truncated?)",
+    // A cut file is reported at the chunk it cuts, which says more than
+    // the header's total length does.
+    let truncated = declared > data.len();
+    let note = if truncated {
+        format!(
+            " (the header declares {declared} bytes, the file has {}: truncated)",
             data.len()
-        )));
-    }
+        )
+    } else {
+        String::new()
+    };
     if declared < data.len() {
         warnings.push(format!(
             "GLB header declares {declared} bytes; the {} bytes after that are ignored",
             data.len() - declared
         ));
     }
-    let data = &data[..declared];
+    let data = &data[..declared.min(data.len())];
     let mut at = 12usize;
     let mut json = None;
     let mut bin = None;
@@ -73,7 +78,7 @@ pub(crate) fn parse(data: &[u8]) -> Result<Glb<'_>, ErrorKind> {
             return Err(ErrorKind::malformed(
                 name,
                 format!(
-                    "its 8-byte header starts at byte {at}, but the file ends at byte {}",
+                    "its 8-byte header starts at byte {at}, but the file ends at byte {}{note}",
                     data.len()
                 ),
             ));
@@ -84,7 +89,7 @@ pub(crate) fn parse(data: &[u8]) -> Result<Glb<'_>, ErrorKind> {
             return Err(ErrorKind::malformed(
                 name,
                 format!(
-                    "declares {len} bytes, but only {} remain in the file (truncated?)",
+                    "declares {len} bytes, but only {} remain in the file{note}",
                     data.len() - start
                 ),
             ));
@@ -115,9 +120,15 @@ pub(crate) fn parse(data: &[u8]) -> Result<Glb<'_>, ErrorKind> {
     let Some(json) = json else {
         return Err(ErrorKind::malformed(
             "JSON chunk",
-            "missing: the file ends after the GLB header",
+            format!("missing: the file ends after the GLB header{note}"),
         ));
     };
+    if truncated {
+        return Err(header(format!(
+            "declares a length of {declared} bytes, but the file has {} (truncated)",
+            data.len()
+        )));
+    }
     Ok(Glb {
         json,
         bin,

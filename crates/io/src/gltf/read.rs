@@ -32,11 +32,13 @@ pub(crate) fn read(
     } else {
         dir
     };
-    let bytes: u64 = data.len() as u64 + loaded.buffers.iter().map(|b| b.len() as u64).sum::<u64>();
-    // Vertices and corners a file may expand to. Primitives that share
-    // accessors legitimately decode the same bytes more than once; a file
-    // that expands beyond this is hostile.
-    let budget = bytes.saturating_mul(16).saturating_add(1 << 20);
+    let bytes: u64 = loaded.buffers.iter().map(|b| b.len() as u64).sum();
+    // Values and corners a file may expand to. Primitives that share an
+    // accessor decode its bytes once per distinct attribute set, which
+    // legitimately expands a little; a file expanding far beyond its
+    // binary data is hostile. (JSON size does not count: it holds no
+    // vertex data.)
+    let budget = bytes.saturating_mul(4).saturating_add(1 << 24);
     let d = Data {
         root: &loaded.root,
         buffers: &loaded.buffers,
@@ -52,10 +54,7 @@ pub(crate) fn read(
     }
     let mut scene = Scene::default();
     let mut sources = Vec::new();
-    let mut budget_left = Budget {
-        vertices: budget,
-        corners: budget.saturating_mul(3),
-    };
+    let mut budget_left = Budget { units: budget };
     let prims_json = |mi: usize| -> &[Value] {
         loaded
             .json
@@ -110,30 +109,22 @@ fn declares(json: &Value, name: &str) -> bool {
         .is_some_and(|a| a.iter().any(|v| v.as_str() == Some(name)))
 }
 
-/// What is left of the expansion allowance.
+/// What is left of the expansion allowance, in 4-byte units of the mesh
+/// model: vertex values, per-corner indices of every stream, skin slots.
 struct Budget {
-    vertices: u64,
-    corners: u64,
+    units: u64,
 }
 
 impl Budget {
-    fn take(&mut self, element: &str, vertices: u64, corners: u64) -> Result<(), ErrorKind> {
-        if vertices > self.vertices {
+    fn take(&mut self, element: &str, units: u64) -> Result<(), ErrorKind> {
+        if units > self.units {
             return Err(ErrorKind::ImplausibleCount {
-                element: format!("{element} vertices"),
-                count: vertices,
-                max: self.vertices,
+                element: format!("{element} (mesh data expanded from shared accessors)"),
+                count: units,
+                max: self.units,
             });
         }
-        if corners > self.corners {
-            return Err(ErrorKind::ImplausibleCount {
-                element: format!("{element} triangle corners"),
-                count: corners,
-                max: self.corners,
-            });
-        }
-        self.vertices -= vertices;
-        self.corners -= corners;
+        self.units -= units;
         Ok(())
     }
 }
@@ -333,6 +324,7 @@ fn read_mesh(
                     base,
                     (&mut skin_joints, &mut skin_weights),
                     (&mut joint_format, &mut weight_format),
+                    budget,
                 )?;
                 let base = u32::try_from(base).map_err(|_| {
                     ErrorKind::malformed(here(), "more than 4 billion vertices in one mesh")
@@ -341,9 +333,18 @@ fn read_mesh(
                 (base, count, skinned)
             }
         };
-        let tris = read_triangles(d, &here(), prim, mode, count, budget, warnings)?;
+        let tris = read_triangles(d, &here(), prim, mode, count, warnings)?;
+        // Every stream, the skinning and the faces keep an index per corner.
+        let per_corner = 1 + streams.len() as u64 + u64::from(influences > 0);
+        budget.take(&here(), (tris.len() as u64).saturating_mul(per_corner))?;
         let part = mesh.parts.len() as u32;
         let first_corner = mesh.faces.indices.len();
+        // Streams new in this primitive get ABSENT on every earlier corner.
+        let backfill: usize = streams
+            .values()
+            .map(|s| first_corner.saturating_sub(s.indices.len()))
+            .sum();
+        budget.take(&here(), backfill as u64)?;
         for t in tris.chunks_exact(3) {
             mesh.faces.push(&[base + t[0], base + t[1], base + t[2]]);
             mesh.face_parts.push(part);
@@ -388,6 +389,14 @@ fn read_mesh(
     }
     let vertices = mesh.positions.len();
     let corners = mesh.faces.indices.len();
+    let padding: usize = streams
+        .values()
+        .map(|s| {
+            (vertices * s.components).saturating_sub(s.values.len())
+                + corners.saturating_sub(s.indices.len())
+        })
+        .sum();
+    budget.take(&format!("mesh {mi}"), padding as u64)?;
     for (sem, mut s) in streams {
         s.pad_to(vertices, fill_for(&sem));
         s.indices.resize(corners, ABSENT);
@@ -460,7 +469,7 @@ fn read_vertices(
         ));
     }
     let count = pos.count();
-    budget.take(here, count as u64, 0)?;
+    budget.take(here, pos.values.len() as u64)?;
     let base = positions.len();
     positions.reserve(count);
     for (e, p) in pos.values.chunks_exact(3).enumerate() {
@@ -551,6 +560,14 @@ fn read_vertices(
             ));
         }
         let fill = fill_for(&sem);
+        // This primitive's values, and the padding a new or widened stream
+        // needs for the vertices before it.
+        let (have, width) = streams
+            .get(&sem)
+            .map(|s| (s.values.len(), s.components.max(dec.components)))
+            .unwrap_or((0, dec.components));
+        let grown = ((base + count) * width).saturating_sub(have);
+        budget.take(here, grown as u64)?;
         let s = streams.entry(sem).or_insert_with(|| StreamBuild {
             components: dec.components,
             values: Vec::new(),
@@ -585,6 +602,7 @@ fn read_skin_vertices(
     base: usize,
     (joints, weights): (&mut Vec<u16>, &mut Vec<f32>),
     (joint_format, weight_format): (&mut Option<ComponentFormat>, &mut Option<ComponentFormat>),
+    budget: &mut Budget,
 ) -> Result<bool, ErrorKind> {
     let mut sets: BTreeMap<u32, (Option<usize>, Option<usize>)> = BTreeMap::new();
     for (k, v) in attrs {
@@ -597,6 +615,15 @@ fn read_skin_vertices(
     if sets.is_empty() {
         return Ok(false);
     }
+    // Joints and weights of this primitive's vertices and of the unskinned
+    // ones before it.
+    let slots = (base + count).saturating_mul(influences) as u64;
+    budget.take(
+        here,
+        slots
+            .saturating_mul(2)
+            .saturating_sub(joints.len() as u64 * 2),
+    )?;
     joints.resize(base * influences, 0);
     weights.resize(base * influences, 0.0);
     let start = joints.len();
@@ -661,7 +688,6 @@ fn read_triangles(
     prim: &Value,
     mode: u64,
     count: usize,
-    budget: &mut Budget,
     warnings: &mut Vec<String>,
 ) -> Result<Vec<u32>, ErrorKind> {
     let indices: Vec<u32> = match prim.get("indices").and_then(accessor_index) {
@@ -726,7 +752,6 @@ fn read_triangles(
             t
         }
     };
-    budget.take(here, 0, tris.len() as u64)?;
     Ok(tris)
 }
 

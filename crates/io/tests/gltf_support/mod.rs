@@ -264,3 +264,200 @@ pub fn assert_same_scene(name: &str, a: &Scene, b: &Scene) {
         );
     }
 }
+
+/// A glTF document assembled in code: JSON plus one binary buffer.
+pub struct Builder {
+    pub json: Value,
+    pub bin: Vec<u8>,
+}
+
+impl Builder {
+    /// An asset with nothing in it.
+    pub fn new() -> Self {
+        Builder {
+            json: serde_json::json!({"asset": {"version": "2.0"}}),
+            bin: Vec::new(),
+        }
+    }
+
+    fn push(&mut self, key: &str, v: Value) -> usize {
+        let arr = self.json[key].as_array_mut();
+        match arr {
+            Some(a) => {
+                a.push(v);
+                a.len() - 1
+            }
+            None => {
+                self.json[key] = Value::Array(vec![v]);
+                0
+            }
+        }
+    }
+
+    /// Appends `bytes` as a 4-byte aligned buffer view.
+    pub fn view(&mut self, bytes: &[u8], stride: Option<usize>) -> usize {
+        while self.bin.len() % 4 != 0 {
+            self.bin.push(0);
+        }
+        let mut v = serde_json::json!({
+            "buffer": 0, "byteOffset": self.bin.len(), "byteLength": bytes.len()
+        });
+        if let Some(s) = stride {
+            v["byteStride"] = s.into();
+        }
+        self.bin.extend_from_slice(bytes);
+        self.push("bufferViews", v)
+    }
+
+    /// Appends an accessor; `extra` is merged into its JSON.
+    pub fn accessor(
+        &mut self,
+        view: Option<usize>,
+        component: u32,
+        count: usize,
+        ty: &str,
+        extra: Value,
+    ) -> usize {
+        let mut a = serde_json::json!({"componentType": component, "count": count, "type": ty});
+        if let Some(v) = view {
+            a["bufferView"] = v.into();
+        }
+        if let Value::Object(e) = extra {
+            for (k, v) in e {
+                a[k.as_str()] = v;
+            }
+        }
+        self.push("accessors", a)
+    }
+
+    /// A float accessor over `values` (min/max included for VEC3).
+    pub fn floats(&mut self, values: &[f32], ty: &str) -> usize {
+        let bytes: Vec<u8> = values.iter().flat_map(|v| v.to_le_bytes()).collect();
+        let n = type_shape(ty).0 * type_shape(ty).1;
+        let view = self.view(&bytes, None);
+        let mut extra = serde_json::json!({});
+        if ty == "VEC3" {
+            let lo: Vec<f32> = (0..3)
+                .map(|k| {
+                    values
+                        .iter()
+                        .skip(k)
+                        .step_by(3)
+                        .copied()
+                        .fold(f32::INFINITY, f32::min)
+                })
+                .collect();
+            let hi: Vec<f32> = (0..3)
+                .map(|k| {
+                    values
+                        .iter()
+                        .skip(k)
+                        .step_by(3)
+                        .copied()
+                        .fold(f32::NEG_INFINITY, f32::max)
+                })
+                .collect();
+            extra = serde_json::json!({"min": lo, "max": hi});
+        }
+        self.accessor(Some(view), 5126, values.len() / n, ty, extra)
+    }
+
+    /// An unsigned short index accessor.
+    pub fn indices(&mut self, idx: &[u16]) -> usize {
+        let bytes: Vec<u8> = idx.iter().flat_map(|v| v.to_le_bytes()).collect();
+        let view = self.view(&bytes, None);
+        self.accessor(Some(view), 5123, idx.len(), "SCALAR", serde_json::json!({}))
+    }
+
+    /// Adds a mesh of the given primitives, a node instancing it, and the
+    /// default scene if there is none yet; returns the mesh index.
+    pub fn mesh(&mut self, primitives: Value) -> usize {
+        let m = self.push("meshes", serde_json::json!({ "primitives": primitives }));
+        let n = self.push("nodes", serde_json::json!({ "mesh": m }));
+        if self.json.get("scenes").is_none() {
+            self.json["scenes"] = serde_json::json!([{"nodes": []}]);
+            self.json["scene"] = 0.into();
+        }
+        if let Some(roots) = self.json["scenes"][0]["nodes"].as_array_mut() {
+            roots.push(n.into());
+        }
+        m
+    }
+
+    fn with_buffer(&self, uri: Option<String>) -> Value {
+        let mut j = self.json.clone();
+        if !self.bin.is_empty() {
+            let mut b = serde_json::json!({"byteLength": self.bin.len()});
+            if let Some(u) = uri {
+                b["uri"] = u.into();
+            }
+            j["buffers"] = serde_json::json!([b]);
+        }
+        j
+    }
+
+    /// The document as GLB bytes.
+    pub fn glb(&self) -> Vec<u8> {
+        let mut json = serde_json::to_vec(&self.with_buffer(None)).expect("serializable");
+        while json.len() % 4 != 0 {
+            json.push(b' ');
+        }
+        let mut bin = self.bin.clone();
+        while bin.len() % 4 != 0 {
+            bin.push(0);
+        }
+        let total = 12 + 8 + json.len() + if bin.is_empty() { 0 } else { 8 + bin.len() };
+        let mut out = Vec::new();
+        out.extend_from_slice(b"glTF");
+        out.extend_from_slice(&2u32.to_le_bytes());
+        out.extend_from_slice(&(total as u32).to_le_bytes());
+        out.extend_from_slice(&(json.len() as u32).to_le_bytes());
+        out.extend_from_slice(b"JSON");
+        out.extend_from_slice(&json);
+        if !bin.is_empty() {
+            out.extend_from_slice(&(bin.len() as u32).to_le_bytes());
+            out.extend_from_slice(b"BIN\0");
+            out.extend_from_slice(&bin);
+        }
+        out
+    }
+
+    /// The document as `.gltf` JSON with the buffer in a base64 data URI.
+    pub fn gltf_embedded(&self) -> Vec<u8> {
+        use base64::Engine;
+        let uri = format!(
+            "data:application/octet-stream;base64,{}",
+            base64::engine::general_purpose::STANDARD.encode(&self.bin)
+        );
+        serde_json::to_vec_pretty(&self.with_buffer(Some(uri))).expect("serializable")
+    }
+
+    /// The document as `.gltf` JSON whose buffer is the file `uri`.
+    pub fn gltf_external(&self, uri: &str) -> Vec<u8> {
+        serde_json::to_vec_pretty(&self.with_buffer(Some(uri.to_string()))).expect("serializable")
+    }
+}
+
+impl Default for Builder {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+/// One triangle: POSITION (accessor 0) and u16 indices (accessor 1) in
+/// mesh 0, node 0.
+pub fn triangle() -> Builder {
+    let mut b = Builder::new();
+    let pos = b.floats(&[0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0], "VEC3");
+    let idx = b.indices(&[0, 1, 2]);
+    b.mesh(serde_json::json!([{"attributes": {"POSITION": pos}, "indices": idx}]));
+    b
+}
+
+/// Writes `bytes` as `name` in a fresh directory and reads it.
+pub fn read_bytes(name: &str, bytes: &[u8]) -> Result<wildlod_io::Document, wildlod_io::Error> {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let p = dir.path().join(name);
+    std::fs::write(&p, bytes).expect("write test file");
+    wildlod_io::read(&p)
+}
