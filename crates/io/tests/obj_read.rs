@@ -78,6 +78,17 @@ fn vertex_colors_become_a_color_stream_indexed_like_positions() {
 }
 
 #[test]
+fn texture_v_is_flipped_to_the_models_top_left_origin() {
+    // OBJ's v = 0 is the bottom row of the image; the model's (glTF's) is
+    // the top row.
+    let doc = read_obj(&format!(
+        "{SQUARE}vt 0.25 0\nvt 0.5 0.75\nvt 1\nf 1/1 2/2 3/3\n"
+    ));
+    let uv = &doc.scene.meshes[0].attributes[0];
+    assert_eq!(uv.values, [0.25, 1.0, 0.5, 0.25, 1.0, 1.0]);
+}
+
+#[test]
 fn vertex_w_and_texture_w_are_dropped() {
     let doc = read_obj("v 0 0 0 1\nv 1 0 0 1\nv 0 1 0 0.5\nvt 0.25 0.5 0.75\nf 1/1 2/1 3/1\n");
     let m = &doc.scene.meshes[0];

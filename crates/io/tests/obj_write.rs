@@ -162,6 +162,30 @@ fn floats_are_written_shortest_and_read_back_bit_exact() {
 }
 
 #[test]
+fn texture_v_is_written_with_the_bottom_left_origin_and_reads_back_bit_exactly() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut m = Mesh::from_triangles(vec![[0.0; 3], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]], &[0, 1, 2]);
+    let values = vec![0.0, 0.0, 0.5, 0.1, 0.25, 0.123_456_79];
+    m.attributes.push(Attribute {
+        semantic: Semantic::TexCoord(0),
+        components: 2,
+        values: values.clone(),
+        indices: vec![0, 1, 2],
+        format: ComponentFormat::F32,
+    });
+    let out = dir.path().join("v.obj");
+    write_ok(&Document::from_scene(Scene::from_mesh(m)), &out);
+    let text = std::fs::read_to_string(&out).unwrap();
+    assert!(text.contains("vt 0 1\nvt 0.5 0.9\n"), "{text}");
+    let back = read(&out).unwrap();
+    let bits = |v: &[f32]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+    assert_eq!(
+        bits(&back.scene.meshes[0].attributes[0].values),
+        bits(&values)
+    );
+}
+
+#[test]
 fn face_with_partly_absent_uvs_drops_uvs_for_that_face() {
     let dir = tempfile::tempdir().unwrap();
     let mut m = quad_grid(2, 1);

@@ -186,7 +186,9 @@ fn ascii_quads_keep_arity_and_vertex_properties_become_corner_streams() {
     assert_eq!(c.corner_value(5), Some(&[80.0 / 255.0, 1.0, 0.0][..]));
     let uv = m.attribute(&Semantic::TexCoord(0)).unwrap();
     assert_eq!(uv.indices, m.faces.indices);
-    assert_eq!(uv.value(5), &[1.0, 1.0]);
+    // PLY's t = 1 (top of the image) is the model's v = 0.
+    assert_eq!(uv.value(5), &[1.0, 0.0]);
+    assert_eq!(uv.value(0), &[0.0, 1.0]);
     assert_eq!(
         m.attribute(&Semantic::Normal).unwrap().value(0),
         &[0.0, 0.0, 1.0]
@@ -358,7 +360,8 @@ fn face_texcoord_lists_become_per_corner_uvs() {
         .attribute(&Semantic::TexCoord(0))
         .unwrap();
     assert_eq!(uv.indices, [0, 1, 2]);
-    assert_eq!(uv.value(1), &[1.0, 0.0]);
+    assert_eq!(uv.value(1), &[1.0, 1.0]);
+    assert_eq!(uv.value(2), &[0.0, 0.0]);
 }
 
 #[test]
@@ -444,4 +447,44 @@ fn instances_are_flattened_and_parts_dropped_with_a_warning() {
         warnings.iter().any(|w| w.contains("parts or materials")),
         "{warnings:?}"
     );
+}
+
+#[test]
+fn texture_v_is_flipped_on_read_and_round_trips_bit_exactly() {
+    let dir = tempfile::tempdir().unwrap();
+    let ts = [0.3, 0.123_456_79, -2.5, 1.7, 0.999_999_9, 1e-6];
+    let els = [
+        El {
+            name: "vertex",
+            props: &[
+                ("float", "x"),
+                ("float", "y"),
+                ("float", "z"),
+                ("float", "s"),
+                ("float", "t"),
+            ],
+            rows: ts
+                .iter()
+                .enumerate()
+                .map(|(i, &t)| vec![i as f64, (i % 2) as f64, 0.0, 0.5, t as f32 as f64])
+                .collect(),
+        },
+        El {
+            name: "face",
+            props: &[("list uchar int", "vertex_indices")],
+            rows: vec![vec![3.0, 0.0, 1.0, 2.0], vec![3.0, 3.0, 4.0, 5.0]],
+        },
+    ];
+    let doc = read_bytes(dir.path(), "t.ply", &encode(Enc::Le, &els));
+    let uv = doc.scene.meshes[0]
+        .attribute(&Semantic::TexCoord(0))
+        .unwrap()
+        .clone();
+    assert_eq!(uv.value(0)[1], (1.0 - 0.3f32 as f64) as f32);
+    let (back, _, _) = write_read(&doc, dir.path(), "back.ply");
+    let again = back.scene.meshes[0]
+        .attribute(&Semantic::TexCoord(0))
+        .unwrap();
+    let bits = |v: &[f32]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+    assert_eq!(bits(&again.values), bits(&uv.values));
 }

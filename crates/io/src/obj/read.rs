@@ -1,5 +1,6 @@
 //! OBJ statements → a [`Mesh`] whose streams mirror the file: positions as
-//! `v`, UV set 0 as `vt`, normals as `vn`, and per-corner indices taken from
+//! `v`, UV set 0 as `vt` (v flipped to the model's top-left origin, see
+//! `text::v_from_file`), normals as `vn`, and per-corner indices taken from
 //! the `v/vt/vn` triplets. Faces keep their arity.
 
 use std::collections::{BTreeMap, HashMap};
@@ -8,44 +9,18 @@ use std::path::Path;
 use wildlod_mesh::{Attribute, ComponentFormat, Faces, Mesh, Part, Scene, Semantic, ABSENT};
 
 use super::mtl;
-use super::text::{self, cut_comment, parse_f32, parse_i64, show, split_keyword, tokens, Lines};
+use super::text::{
+    self, cut_comment, parse_f32, parse_f64, parse_i64, show, split_keyword, tokens, v_from_file,
+    Lines,
+};
 use crate::ErrorKind;
 
-/// Statements that carry no polygon data we keep. They are skipped and
-/// reported together in one warning.
-const KNOWN_IGNORED: &[&str] = &[
-    "s",
-    "l",
-    "p",
-    "vp",
-    "curv",
-    "curv2",
-    "surf",
-    "parm",
-    "trim",
-    "hole",
-    "scrv",
-    "sp",
-    "end",
-    "con",
-    "cstype",
-    "deg",
-    "bmat",
-    "step",
-    "mg",
-    "lod",
-    "bevel",
-    "c_interp",
-    "d_interp",
-    "usemap",
-    "maplib",
-    "shadow_obj",
-    "trace_obj",
-    "ctech",
-    "stech",
-    "call",
-    "csh",
-];
+/// Statements that carry no polygon data we keep (smoothing groups,
+/// lines, points, free-form geometry, display attributes). They are skipped
+/// and reported together in one warning.
+const KNOWN_IGNORED: &str = "s l p vp curv curv2 surf parm trim hole scrv sp end con cstype deg \
+                             bmat step mg lod bevel c_interp d_interp usemap maplib shadow_obj \
+                             trace_obj ctech stech call csh";
 
 /// Reads an OBJ file and the MTL files it names.
 pub(crate) fn read(
@@ -250,20 +225,29 @@ impl State {
     }
 
     fn tex_coord(&mut self, ln: usize, rest: &[u8]) -> Result<(), ErrorKind> {
-        let mut uv = [0f32; 2];
+        // A missing v is 0, the bottom of the image.
+        let mut uv = [0f32, v_from_file(0.0)];
         let mut n = 0;
         for tok in tokens(rest) {
-            // A third component (w) is legal and dropped; more is not OBJ.
-            if n == 3 {
-                return Err(ErrorKind::syntax(
-                    ln,
-                    "a texture coordinate has at most 3 values",
-                ));
-            }
-            let v = parse_f32(tok)
-                .map_err(|e| ErrorKind::syntax(ln, format!("texture coordinate: {e}")))?;
-            if n < 2 {
-                uv[n] = v;
+            let bad = |e: String| ErrorKind::syntax(ln, format!("texture coordinate: {e}"));
+            match n {
+                0 => uv[0] = parse_f32(tok).map_err(bad)?,
+                1 => {
+                    uv[1] = v_from_file(parse_f64(tok).map_err(bad)?);
+                    if !uv[1].is_finite() {
+                        return Err(bad(format!("'{}' is not a finite number", show(tok))));
+                    }
+                }
+                // A third component (w) is legal and dropped.
+                2 => {
+                    parse_f32(tok).map_err(bad)?;
+                }
+                _ => {
+                    return Err(ErrorKind::syntax(
+                        ln,
+                        "a texture coordinate has at most 3 values",
+                    ))
+                }
             }
             n += 1;
         }
@@ -384,7 +368,7 @@ impl State {
             ));
         }
         let kw = String::from_utf8_lossy(kw).into_owned();
-        let known = KNOWN_IGNORED.contains(&kw.as_str());
+        let known = KNOWN_IGNORED.split_whitespace().any(|k| k == kw);
         // Unknown words are ignored too (exporters invent statements), but a
         // file of nothing else is probably not OBJ; the distinct names kept
         // for the warning are bounded.

@@ -201,6 +201,49 @@ pub(crate) fn parse_i64(tok: &[u8]) -> Option<i64> {
     }
 }
 
+/// Texture coordinate v as the model holds it, from v as OBJ and PLY store
+/// it. Those formats put v = 0 at the bottom of the image; the model, like
+/// glTF, at the top (see `wildlod_mesh::Image::sample_bilinear`), so a
+/// texture looks the same whichever format the mesh came from.
+#[inline]
+pub(crate) fn v_from_file(v: f64) -> f32 {
+    (1.0 - v) as f32
+}
+
+/// The text of a file v that [`v_from_file`] reads back to exactly `v`, so
+/// that an unchanged mesh round-trips bit for bit. The shortest `f32` text
+/// of 1 − v usually does; the exact `f64` text of 1 − v does for all but
+/// nonzero |v| < 2⁻²⁹, where the nearest is written.
+pub(crate) fn v_to_text(v: f32) -> String {
+    let reads_back = |t: &str| {
+        t.parse::<f64>()
+            .is_ok_and(|x| v_from_file(x).to_bits() == v.to_bits())
+    };
+    let short = format!("{}", v_from_file(v as f64));
+    if reads_back(&short) {
+        return short;
+    }
+    let exact = format!("{}", 1.0 - v as f64);
+    if reads_back(&exact) {
+        exact
+    } else {
+        short
+    }
+}
+
+/// A 32-bit file v that [`v_from_file`] reads back to exactly `v` (binary
+/// PLY). Every model v read from such a file has one among the nearest
+/// floats to 1 − v; other values get the nearest.
+pub(crate) fn v_to_f32(v: f32) -> f32 {
+    let t = v_from_file(v as f64);
+    let bits = t.to_bits();
+    [bits, bits.wrapping_add(1), bits.wrapping_sub(1)]
+        .into_iter()
+        .map(f32::from_bits)
+        .find(|c| c.is_finite() && v_from_file(*c as f64).to_bits() == v.to_bits())
+        .unwrap_or(t)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -223,6 +266,39 @@ mod tests {
             Some((1, b"g a".to_vec()))
         );
         assert_eq!(l.next_line(), None);
+    }
+
+    #[test]
+    fn flipped_v_round_trips_bit_exactly_through_text_and_f32() {
+        let samples = [
+            0.0f32,
+            1.0,
+            0.5,
+            0.1,
+            0.9,
+            0.123_456_79,
+            0.999_999_9,
+            2.75,
+            -3.1,
+            1e-3,
+            1e-8,
+            7e5,
+        ];
+        for v in samples {
+            let t = v_to_text(v);
+            let back = v_from_file(t.parse().unwrap());
+            assert_eq!(back.to_bits(), v.to_bits(), "{v} via '{t}'");
+        }
+        // Values read from a 32-bit file always have a 32-bit preimage.
+        for t in [0.0f32, 0.3, 0.7, 0.123_456_79, 1.0, 1.5, -2.25, 3e-5] {
+            let v = v_from_file(t as f64);
+            assert_eq!(
+                v_from_file(v_to_f32(v) as f64).to_bits(),
+                v.to_bits(),
+                "{t}"
+            );
+        }
+        assert_eq!(v_to_text(0.25), "0.75");
     }
 
     #[test]

@@ -5,7 +5,8 @@
 //! `vn`) in stored order and faces index them per corner, so a mesh read
 //! from OBJ and left unchanged is written back with the same vertices,
 //! values and faces. Floats use Rust's shortest representation that parses
-//! back to the same bits.
+//! back to the same bits; texture v goes back to OBJ's bottom-left origin
+//! by a text that reads back to the same bits too.
 
 use std::collections::{BTreeSet, HashMap, HashSet};
 use std::io::Write;
@@ -15,6 +16,7 @@ use wildlod_mesh::transform::transformed;
 use wildlod_mesh::{AlphaMode, Attribute, ImageSource, Material, Mesh, Scene, Semantic, ABSENT};
 
 use super::mtl::obj_default;
+use super::text::v_to_text;
 use crate::{Document, ErrorKind, OutputFiles};
 
 /// Writes `doc` as OBJ to `path`, with `<stem>.mtl` and extracted images
@@ -198,7 +200,7 @@ impl ObjWriter {
             let k = uv.components as usize;
             for val in uv.values.chunks_exact(k) {
                 let v = if k > 1 { val[1] } else { 0.0 };
-                writeln!(out, "vt {} {}", val[0], v)?;
+                writeln!(out, "vt {} {}", val[0], v_to_text(v))?;
             }
         }
         if let Some(n) = normal {

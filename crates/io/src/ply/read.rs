@@ -1,10 +1,11 @@
 //! PLY body → [`Mesh`]. Per-vertex properties become per-corner streams
-//! indexed like the positions; every other element is skipped.
+//! indexed like the positions; every other element is skipped. Texture
+//! v is flipped to the model's top-left origin (see `v_from_file`).
 
 use wildlod_mesh::{Attribute, ComponentFormat, Faces, Mesh, Scene, Semantic};
 
 use super::header::{self, Element, Encoding, Kind, Scalar};
-use crate::obj::text::{is_space, parse_f32, parse_i64, show};
+use crate::obj::text::{is_space, parse_f32, parse_i64, show, v_from_file};
 use crate::ErrorKind;
 
 /// What went wrong inside one element instance; the caller adds the
@@ -300,7 +301,14 @@ fn read_vertices(body: &mut Body, e: &Element) -> Result<Vertices, ErrorKind> {
             cs.extend(col[..*k as usize].iter().map(|&c| c as f32));
         }
         if let Some(us) = &mut out.uvs {
-            us.extend(uv.map(|c| c as f32));
+            let t = v_from_file(uv[1]);
+            if !t.is_finite() {
+                return Err(ErrorKind::malformed(
+                    e.at(i),
+                    "texture coordinate v is not finite",
+                ));
+            }
+            us.extend([uv[0] as f32, t]);
         }
     }
     Ok(out)
@@ -370,8 +378,9 @@ fn read_faces(body: &mut Body, e: &Element, vertex_count: u64) -> Result<FaceDat
                 Kind::List { count, item } if Some(j) == texcoord => {
                     let k = body.list_len(count, item).map_err(|f| f.at(e, i))?;
                     uv_scratch.clear();
-                    for _ in 0..k {
-                        uv_scratch.push(body.value(item).map_err(|f| f.at(e, i))? as f32);
+                    for j in 0..k {
+                        let x = body.value(item).map_err(|f| f.at(e, i))?;
+                        uv_scratch.push(if j % 2 == 1 { v_from_file(x) } else { x as f32 });
                     }
                     uv_len = Some(k);
                 }

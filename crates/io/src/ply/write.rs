@@ -4,7 +4,8 @@
 //! is written for every distinct (position, UV, normal, color) combination
 //! the corners use. When every stream is already indexed like the positions
 //! (a mesh read from PLY, or one without attributes) the positions are
-//! written as stored, unused ones included.
+//! written as stored, unused ones included. Texture v goes back to PLY's
+//! bottom-left origin.
 
 use std::collections::{BTreeSet, HashMap};
 use std::hash::BuildHasherDefault;
@@ -14,6 +15,7 @@ use wildlod_mesh::transform::transformed;
 use wildlod_mesh::weld::PositionHasher;
 use wildlod_mesh::{Attribute, ComponentFormat, Mesh, Scene, Semantic, ABSENT};
 
+use crate::obj::text::v_to_f32;
 use crate::{ErrorKind, OutputFiles};
 
 /// The streams PLY vertices can carry, in key order.
@@ -191,7 +193,10 @@ pub(crate) fn write(scene: &Scene, path: &Path, files: &mut OutputFiles) -> Resu
                 for i in 0..n {
                     // Missing alpha is opaque; other missing values are 0.
                     let default = if k == COLOR && i == 3 { 1.0 } else { 0.0 };
-                    let x = v.and_then(|v| v.get(i).copied()).unwrap_or(default);
+                    let mut x = v.and_then(|v| v.get(i).copied()).unwrap_or(default);
+                    if k == UV && i == 1 {
+                        x = v_to_f32(x);
+                    }
                     if as_u8 {
                         out.push((x.clamp(0.0, 1.0) * 255.0).round() as u8);
                     } else {
