@@ -488,3 +488,27 @@ fn texture_v_is_flipped_on_read_and_round_trips_bit_exactly() {
     let bits = |v: &[f32]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
     assert_eq!(bits(&again.values), bits(&uv.values));
 }
+
+#[test]
+fn writing_over_the_source_is_refused_and_a_failed_write_leaves_nothing() {
+    let dir = tempfile::tempdir().unwrap();
+    let bytes = encode(Enc::Ascii, &two_quads("uchar"));
+    let doc = read_bytes(dir.path(), "src.ply", &bytes);
+    let err = write(&doc, dir.path().join("./src.ply"), &WriteOptions::default()).unwrap_err();
+    assert!(
+        matches!(err.kind, wildlod_io::ErrorKind::WouldOverwriteInput(_)),
+        "{err}"
+    );
+    assert_eq!(std::fs::read(dir.path().join("src.ply")).unwrap(), bytes);
+    assert!(write(
+        &doc,
+        dir.path().join("no/such/dir.ply"),
+        &WriteOptions::default()
+    )
+    .is_err());
+    let names: Vec<_> = std::fs::read_dir(dir.path())
+        .unwrap()
+        .map(|e| e.unwrap().file_name())
+        .collect();
+    assert_eq!(names, ["src.ply"]);
+}

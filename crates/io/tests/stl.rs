@@ -131,3 +131,25 @@ fn instances_are_flattened_with_their_world_matrices() {
     assert_eq!(m.faces.len(), 24);
     assert!(m.positions[36..].iter().all(|p| p[1] <= -3.0));
 }
+
+#[test]
+fn writing_over_the_source_is_refused_unless_allowed() {
+    let dir = tempfile::tempdir().unwrap();
+    let src = dir.path().join("part.stl");
+    let bytes = binary(b"original", &[TRI]);
+    std::fs::write(&src, &bytes).unwrap();
+    let doc = read(&src).unwrap();
+    let err = write(&doc, &src, &WriteOptions::default()).unwrap_err();
+    assert!(
+        matches!(err.kind, wildlod_io::ErrorKind::WouldOverwriteInput(_)),
+        "{err}"
+    );
+    assert_eq!(std::fs::read(&src).unwrap(), bytes);
+    let allow = WriteOptions {
+        allow_overwrite_input: true,
+    };
+    write(&doc, &src, &allow).unwrap();
+    assert!(std::fs::read(&src)
+        .unwrap()
+        .starts_with(b"binary STL written by wildlod"));
+}
