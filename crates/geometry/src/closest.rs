@@ -10,10 +10,12 @@ use glam::DVec3;
 
 /// Below this `sin²` of the angle at the first corner a triangle is treated
 /// as the union of its edges. The normal `ab × ac` carries an absolute error
-/// of a few ulps of `|ab|·|ac|`, so its direction is only trustworthy when
-/// `sin A` is well above 1e-16; at `sin A = 1e-8` the direction is good to
-/// 1e-8 rad, and the edge fallback is off by at most the triangle's width,
-/// which is then below 1e-8 of its length.
+/// of a few ulps of `|ab|·|ac|`, so its direction is good to about
+/// `1e-16 / sin A` rad, while the edge fallback is off by at most the
+/// triangle's width, `sin A` times its size. The two errors meet at
+/// `sin A ≈ 1e-8`: results on slivers are within about 1e-8 of the
+/// triangle's size (far below the precision of `f32` input), and exact up
+/// to rounding elsewhere.
 const SIN2_DEGENERATE: f64 = 1e-16;
 
 /// The point of segment `[a, b]` closest to `p`, and its parameter `t`
@@ -79,7 +81,9 @@ fn best_edge(p: DVec3, v: [DVec3; 3], use_edge: [bool; 3]) -> Candidate {
 
 /// The point of triangle `[a, b, c]` closest to `p`, with its barycentric
 /// coordinates `[u, v, w]` (`point = u a + v b + w c`, all in `[0, 1]`,
-/// summing to 1).
+/// summing to 1). On slivers (a width below about 1e-6 of the length) the
+/// barycentrics are less accurate than the point: they are determined only
+/// to about `1e-16 · length / width`.
 ///
 /// The triangle is the intersection of three half-planes in its plane. When
 /// the projection of `p` lies in all three, it is the answer. Otherwise the
@@ -114,9 +118,13 @@ fn closest_on_triangle(p: DVec3, a: DVec3, b: DVec3, c: DVec3) -> Candidate {
     let eb = n.dot((a - c).cross(p - c));
     let ec = n.dot(ab.cross(p - a));
     if ea >= 0.0 && eb >= 0.0 && ec >= 0.0 {
+        // The point is the projection onto the plane, not the barycentric
+        // combination: on a sliver the barycentrics are ill-conditioned
+        // (an error of ε·size/width along the sliver) while the projection
+        // is only tilted by the normal's error.
         let s = ea + eb + ec;
         let (bv, bw) = (eb / s, ec / s);
-        let point = a + ab * bv + ac * bw;
+        let point = p - n * (n.dot(p - a) / n.length_squared());
         return Candidate {
             point,
             bary: [1.0 - bv - bw, bv, bw],
@@ -328,6 +336,35 @@ mod tests {
             let back = a * bary[0] + b * bary[1] + c * bary[2];
             assert!((back - q).length() < 1e-9, "case {i}");
             assert!(is_projection(p, q, &[a, b, c], 1e-9), "case {i}");
+        }
+    }
+
+    #[test]
+    fn slivers_and_far_offsets_still_give_certified_projections() {
+        let mut rng = Rng::new(13);
+        for i in 0..20_000 {
+            let (a, b) = (random_point(&mut rng, 1.0), random_point(&mut rng, 1.0));
+            // c within `eps` of the line ab (eps from 1e-3 down to 1e-14,
+            // across the degenerate threshold), then everything moved far
+            // from the origin.
+            let eps = 10f64.powi(-3 - i % 12);
+            let off = (b - a).any_orthonormal_vector() * eps;
+            let c = a + (b - a) * rng.range(-0.5, 1.5) + off;
+            let shift = DVec3::splat(if i % 2 == 0 { 0.0 } else { 1e4 });
+            let (a, b, c) = (a + shift, b + shift, c + shift);
+            let p = random_point(&mut rng, 2.0) + shift;
+            let (q, bary) = closest_point_on_triangle(p, a, b, c);
+            assert!(
+                bary.iter().all(|&x| (-1e-9..=1.0 + 1e-9).contains(&x)),
+                "case {i}"
+            );
+            // Barycentrics of slivers are ill-conditioned (see the
+            // function's documentation); the point itself is certified.
+            let back = a * bary[0] + b * bary[1] + c * bary[2];
+            assert!((back - q).length() < 1e-6, "case {i}");
+            // Rounding at 1e4 is ~1e-12 per coordinate; the certificate
+            // is a product of two lengths of order 1.
+            assert!(is_projection(p, q, &[a, b, c], 1e-7), "case {i}");
         }
     }
 

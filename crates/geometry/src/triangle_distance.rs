@@ -234,13 +234,25 @@ mod tests {
     /// of the other: `(x − y)·(x' − x) ≥ 0` over the corners x' of the first
     /// set and likewise for the second.
     fn certified(r: &ClosestPair, t1: &[DVec3; 3], t2: &[DVec3; 3]) -> bool {
+        certified_within(r, t1, t2, 1e-10, 1e-12)
+    }
+
+    /// [`certified`] with the points `on` away from their triangles at most
+    /// and the variational inequalities violated by `dot` at most.
+    fn certified_within(
+        r: &ClosestPair,
+        t1: &[DVec3; 3],
+        t2: &[DVec3; 3],
+        on: f64,
+        dot: f64,
+    ) -> bool {
         let (x, y) = (r.on_first, r.on_second);
-        let on1 = point_triangle_distance2(x, t1[0], t1[1], t1[2]) < 1e-20;
-        let on2 = point_triangle_distance2(y, t2[0], t2[1], t2[2]) < 1e-20;
+        let on1 = point_triangle_distance2(x, t1[0], t1[1], t1[2]) <= on * on;
+        let on2 = point_triangle_distance2(y, t2[0], t2[1], t2[2]) <= on * on;
         let d = x - y;
         on1 && on2
-            && t1.iter().all(|&p| d.dot(p - x) >= -1e-12)
-            && t2.iter().all(|&q| (-d).dot(q - y) >= -1e-12)
+            && t1.iter().all(|&p| d.dot(p - x) >= -dot)
+            && t2.iter().all(|&q| (-d).dot(q - y) >= -dot)
     }
 
     #[test]
@@ -276,6 +288,35 @@ mod tests {
             assert!((s.distance2 - r.distance2).abs() < 1e-12, "case {i}");
         }
         assert!(hits > 1000, "the random set must exercise intersections");
+    }
+
+    #[test]
+    fn sliver_pairs_give_certified_closest_pairs() {
+        let mut rng = Rng::new(15);
+        for i in 0..10_000 {
+            let mut t = [random_triangle(&mut rng, DVec3::ZERO), [DVec3::ZERO; 3]];
+            let center = v(
+                rng.range(-1.0, 1.0),
+                rng.range(-1.0, 1.0),
+                rng.range(-1.0, 1.0),
+            );
+            t[1] = random_triangle(&mut rng, center);
+            // Squash one or both into slivers of width 1e-4 to 1e-13.
+            let eps = 10f64.powi(-4 - (i % 10) as i32);
+            for tri in t.iter_mut().take(1 + i % 2) {
+                let (a, b) = (tri[0], tri[1]);
+                tri[2] =
+                    a + (b - a) * rng.range(-0.5, 1.5) + (b - a).any_orthonormal_vector() * eps;
+            }
+            let r = triangle_triangle_closest(&t[0], &t[1]);
+            // A sliver's plane is ill-conditioned: answers are good to about
+            // 1e-8 of its size (see `SIN2_DEGENERATE`), and the checker's
+            // own point-to-sliver distances are no better.
+            assert!(
+                certified_within(&r, &t[0], &t[1], 1e-7, 1e-7),
+                "case {i}: {r:?}"
+            );
+        }
     }
 
     #[test]
