@@ -371,3 +371,24 @@ fn texture_inside_the_output_directory_is_named_relative() {
         ImageSource::Path(dir.path().join("tex/a b.png"))
     );
 }
+
+#[test]
+fn material_library_of_the_source_is_not_replaced() {
+    let dir = tempfile::tempdir().unwrap();
+    let src = dir.path().join("a.obj");
+    std::fs::write(
+        &src,
+        "mtllib b.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl m\nf 1 2 3\n",
+    )
+    .unwrap();
+    std::fs::write(dir.path().join("b.mtl"), "newmtl m\nKd 1 0 0\n").unwrap();
+    let doc = read(&src).unwrap();
+    let err = write(&doc, dir.path().join("b.obj"), &WriteOptions::default()).unwrap_err();
+    assert!(
+        matches!(err.kind, ErrorKind::WouldOverwriteInput(_)),
+        "{err}"
+    );
+    assert_eq!(file_names(dir.path()), ["a.obj", "b.mtl"]);
+    // Writing elsewhere is fine.
+    write_ok(&doc, &dir.path().join("c.obj"));
+}

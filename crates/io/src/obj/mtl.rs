@@ -193,7 +193,7 @@ fn existing_image(path: &Path) -> Option<PathBuf> {
 /// file names, but exporters also write one name containing spaces, or
 /// quote names: a whole argument naming an existing file wins, then quoted
 /// names, then a split on whitespace.
-fn library_paths(dir: &Path, arg: &[u8]) -> Vec<PathBuf> {
+pub(crate) fn library_paths(dir: &Path, arg: &[u8]) -> Vec<PathBuf> {
     let arg = trim(arg);
     if arg.is_empty() {
         return Vec::new();

@@ -15,9 +15,10 @@ use std::path::{Path, PathBuf};
 use wildlod_mesh::transform::transformed;
 use wildlod_mesh::{AlphaMode, Attribute, ImageSource, Material, Mesh, Scene, Semantic, ABSENT};
 
+use super::mtl::library_paths;
 use super::mtl::obj_default;
-use super::text::v_to_text;
-use crate::{Document, ErrorKind, OutputFiles};
+use super::text::{split_keyword, trim_start, v_to_text, Lines};
+use crate::{Document, ErrorKind, Format, OutputFiles};
 
 /// Writes `doc` as OBJ to `path`, with `<stem>.mtl` and extracted images
 /// beside it.
@@ -35,6 +36,8 @@ pub(crate) fn write(doc: &Document, path: &Path, files: &mut OutputFiles) -> Res
             files.protect(p);
         }
     }
+    let mtl_path = path.with_file_name(format!("{stem}.mtl"));
+    protect_source_libraries(doc, &mtl_path, files);
     let instances = scene.instances();
     let materials = MaterialNames::new(scene, &instances);
 
@@ -67,7 +70,7 @@ pub(crate) fn write(doc: &Document, path: &Path, files: &mut OutputFiles) -> Res
     };
     files.add(path, w.out)?;
     if let Some(mtl) = mtl {
-        files.add(&path.with_file_name(format!("{stem}.mtl")), mtl)?;
+        files.add(&mtl_path, mtl)?;
     }
     for (p, bytes) in images.extracted {
         files.add(&p, bytes)?;
@@ -76,6 +79,32 @@ pub(crate) fn write(doc: &Document, path: &Path, files: &mut OutputFiles) -> Res
         files.warn(format!("OBJ cannot hold {d}; dropped"));
     }
     Ok(())
+}
+
+/// The MTL files of an OBJ source are inputs too, but the scene does not
+/// record them: when the MTL to write already exists, the source's
+/// `mtllib` statements are read again so that writing `b.obj` from an
+/// `a.obj` that uses `b.mtl` cannot replace it.
+fn protect_source_libraries(doc: &Document, mtl_path: &Path, files: &mut OutputFiles) {
+    let (Some(src), Some(Format::Obj)) = (&doc.source, doc.format) else {
+        return;
+    };
+    if !mtl_path.exists() {
+        return;
+    }
+    let Ok(data) = std::fs::read(src) else {
+        return;
+    };
+    let dir = super::absolute_dir(src);
+    let mut lines = Lines::new(&data, true);
+    while let Some((_, line)) = lines.next_line() {
+        let (kw, rest) = split_keyword(trim_start(line));
+        if kw == b"mtllib" {
+            for lib in library_paths(&dir, rest) {
+                files.protect(&lib);
+            }
+        }
+    }
 }
 
 /// Content the scene has and OBJ has no place for.
