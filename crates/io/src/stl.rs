@@ -211,13 +211,20 @@ fn read_ascii(data: &[u8]) -> Result<Mesh, ErrorKind> {
     let mut face_parts = Vec::new();
     let mut parts: Vec<Part> = Vec::new();
     let mut part_ids: HashMap<String, u32> = HashMap::new();
-    while let Some((tok, ln)) = cur.next() {
-        if !tok.eq_ignore_ascii_case(b"solid") {
-            return Err(ErrorKind::syntax(
-                ln,
-                format!("expected 'solid', found '{}'", show(tok)),
-            ));
+    // A `solid` met where a facet could be starts the next solid: some
+    // exporters omit `endsolid` between blocks.
+    let mut pending_solid = false;
+    loop {
+        if !pending_solid {
+            let Some((tok, ln)) = cur.next() else { break };
+            if !tok.eq_ignore_ascii_case(b"solid") {
+                return Err(ErrorKind::syntax(
+                    ln,
+                    format!("expected 'solid', found '{}'", show(tok)),
+                ));
+            }
         }
+        pending_solid = false;
         let name = crate::obj::text::name(cur.rest_of_line());
         let next = parts.len() as u32;
         let part = *part_ids.entry(name.clone()).or_insert(next);
@@ -231,6 +238,10 @@ fn read_ascii(data: &[u8]) -> Result<Mesh, ErrorKind> {
         while let Some((tok, ln)) = cur.next() {
             if tok.eq_ignore_ascii_case(b"endsolid") {
                 cur.rest_of_line();
+                break;
+            }
+            if tok.eq_ignore_ascii_case(b"solid") {
+                pending_solid = true;
                 break;
             }
             if !tok.eq_ignore_ascii_case(b"facet") {

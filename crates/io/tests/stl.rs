@@ -73,6 +73,17 @@ fn ascii_solids_become_parts_named_after_them() {
 }
 
 #[test]
+fn ascii_solid_without_endsolid_ends_at_the_next_solid() {
+    let dir = tempfile::tempdir().unwrap();
+    let facet = "facet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\nendloop\nendfacet\n";
+    let text = format!("solid a\n{facet}solid b\n{facet}{facet}");
+    let doc = read_bytes(dir.path(), "n.stl", text.as_bytes());
+    let m = &doc.scene.meshes[0];
+    assert_eq!(m.parts.len(), 2);
+    assert_eq!(m.face_parts, [0, 1, 1]);
+}
+
+#[test]
 fn ascii_keywords_are_case_insensitive_and_nan_normals_are_ignored() {
     let dir = tempfile::tempdir().unwrap();
     let text = "SOLID x\r\n\tFACET NORMAL nan nan nan\r\n\t\tOUTER LOOP\r\n\t\t\tVERTEX 0 0 0\r\n\t\t\tVERTEX 1E0 0 0\r\n\
