@@ -326,9 +326,12 @@ fn read_mesh(
                     (&mut joint_format, &mut weight_format),
                     budget,
                 )?;
-                let base = u32::try_from(base).map_err(|_| {
-                    ErrorKind::malformed(here(), "more than 4 billion vertices in one mesh")
-                })?;
+                // Corner indices are u32: the last vertex must fit too.
+                let base = u32::try_from(base + count)
+                    .map(|_| base as u32)
+                    .map_err(|_| {
+                        ErrorKind::malformed(here(), "more than 4 billion vertices in one mesh")
+                    })?;
                 shared.insert(key, (base, count, skinned));
                 (base, count, skinned)
             }

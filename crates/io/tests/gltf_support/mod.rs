@@ -256,6 +256,13 @@ pub fn assert_same_scene(name: &str, a: &Scene, b: &Scene) {
             used_vertices(mb),
             "{name} mesh {i}: vertices"
         );
+        if used_vertices(ma) == ma.positions.len() {
+            // Nothing unused to drop: the vertices come back in their order.
+            let bits = |m: &Mesh| -> Vec<[u32; 3]> {
+                m.positions.iter().map(|p| p.map(f32::to_bits)).collect()
+            };
+            assert!(bits(ma) == bits(mb), "{name} mesh {i}: vertex order");
+        }
         let mats = |m: &Mesh| m.parts.iter().map(|p| p.material).collect::<Vec<_>>();
         assert_eq!(mats(ma), mats(mb), "{name} mesh {i}: part materials");
     }
