@@ -512,3 +512,22 @@ fn writing_over_the_source_is_refused_and_a_failed_write_leaves_nothing() {
         .collect();
     assert_eq!(names, ["src.ply"]);
 }
+
+#[test]
+fn ascii_integers_written_as_integral_floats_are_accepted() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n\
+                property uchar red\nproperty uchar green\nproperty uchar blue\nelement face 1\n\
+                property list uchar int vertex_indices\nend_header\n\
+                0 0 0 255.000000 0 0\n1 0 0 0 255 0\n0 1 0 0 0 255.0\n3.0 0 1 2\n";
+    let doc = read_bytes(dir.path(), "f.ply", text.as_bytes());
+    let c = doc.scene.meshes[0].attribute(&Semantic::Color(0)).unwrap();
+    assert_eq!(c.value(0), &[1.0, 0.0, 0.0]);
+    let text = text.replace("255.000000", "254.5");
+    let p = dir.path().join("g.ply");
+    std::fs::write(&p, text).unwrap();
+    assert!(read(&p)
+        .unwrap_err()
+        .to_string()
+        .contains("PLY element 'vertex' 0"));
+}

@@ -73,9 +73,16 @@ impl Body<'_> {
         if self.encoding == Encoding::Ascii {
             let tok = self.token()?;
             return if ty.is_integer() {
+                // Some writers print integers as "255.000000": accepted when
+                // the value is integral.
                 let v = parse_i64(tok)
-                    .ok_or_else(|| Fault::Bad(format!("'{}' is not an integer", show(tok))))?
-                    as f64;
+                    .map(|i| i as f64)
+                    .or_else(|| {
+                        crate::obj::text::parse_f64(tok)
+                            .ok()
+                            .filter(|x| x.fract() == 0.0)
+                    })
+                    .ok_or_else(|| Fault::Bad(format!("'{}' is not an integer", show(tok))))?;
                 let (lo, hi) = ty.range();
                 if v < lo || v > hi {
                     return Err(Fault::Bad(format!("{v} does not fit the type {ty:?}")));
