@@ -58,10 +58,20 @@ pub struct InstanceCounts {
 
 /// Where the color of a triangle comes from: an optional base color image
 /// times the material's base color factor.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy)]
 struct ColorSource<'a> {
     image: Option<&'a Image>,
     factor: [f32; 4],
+}
+
+impl std::fmt::Debug for ColorSource<'_> {
+    // The image by its size: printing megapixels helps nobody.
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("ColorSource")
+            .field("image", &self.image.map(|i| (i.width, i.height)))
+            .field("factor", &self.factor)
+            .finish()
+    }
 }
 
 /// Color source of triangles without a material: glTF's default material,
