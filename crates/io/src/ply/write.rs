@@ -25,8 +25,8 @@ const COLOR: usize = 3;
 
 /// One mesh's output vertices and the vertex of every corner.
 struct VertexMap {
-    /// (position, UV value, normal value, color value) per output vertex;
-    /// `ABSENT` where the corner had no value.
+    /// Per output vertex: its position and the UV, normal and color value
+    /// indices of the first corner that uses it (`ABSENT`: no value).
     vertices: Vec<[u32; 4]>,
     corners: Vec<u32>,
 }
