@@ -726,3 +726,60 @@ fn outputs_are_byte_identical_across_runs() {
     }
     assert!(outs[0] == outs[1]);
 }
+
+/// The triangle with a material whose base color texture is `image`.
+fn textured_triangle(image: Value) -> Builder {
+    let mut b = triangle();
+    b.json["images"] = json!([image]);
+    b.json["textures"] = json!([{"source": 0}]);
+    b.json["materials"] = json!([{"pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}}]);
+    b.json["meshes"][0]["primitives"][0]["material"] = json!(0);
+    b
+}
+
+#[test]
+fn data_uri_images_are_embedded_in_glb_and_kept_in_gltf() {
+    use base64::Engine;
+    let uri = format!(
+        "data:image/png;base64,{}",
+        base64::engine::general_purpose::STANDARD.encode(png_bytes())
+    );
+    let b = textured_triangle(json!({ "uri": uri }));
+    let doc = read_bytes("d.gltf", &b.gltf_embedded()).unwrap_or_else(|e| panic!("{e}"));
+    assert!(matches!(&doc.scene.textures[0].source,
+        ImageSource::Embedded { bytes, mime_type } if *bytes == png_bytes() && mime_type == "image/png"));
+    let dir = tempfile::tempdir().expect("temp dir");
+    let (back, _, json) = write_read(&doc, dir.path(), "d.glb");
+    assert_eq!(json["images"][0]["mimeType"], "image/png");
+    assert!(json["images"][0].get("uri").is_none());
+    assert_eq!(back.scene.textures, doc.scene.textures);
+    let (back, _, json) = write_read(&doc, dir.path(), "d.gltf");
+    assert_eq!(json["images"][0]["uri"], json!(uri));
+    assert_eq!(back.scene.textures, doc.scene.textures);
+}
+
+#[test]
+fn a_missing_image_file_is_a_warning_and_its_uri_is_kept() {
+    let b = textured_triangle(json!({"uri": "gone.png"}));
+    let dir = tempfile::tempdir().expect("temp dir");
+    std::fs::write(dir.path().join("t.gltf"), b.gltf_embedded()).expect("write");
+    let doc = read(dir.path().join("t.gltf")).unwrap_or_else(|e| panic!("{e}"));
+    assert!(
+        doc.warnings
+            .iter()
+            .any(|w| w.contains("image 0") && w.contains("gone.png")),
+        "{:?}",
+        doc.warnings
+    );
+    let out = tempfile::tempdir().expect("temp dir");
+    for ext in ["glb", "gltf"] {
+        let p = out.path().join(format!("t.{ext}"));
+        let warnings = write(&doc, &p, &WriteOptions::default()).unwrap_or_else(|e| panic!("{e}"));
+        assert!(
+            warnings.iter().any(|w| w.contains("gone.png")),
+            "{warnings:?}"
+        );
+        let json = check_written(&p);
+        assert_eq!(json["images"][0]["uri"], "gone.png");
+    }
+}
