@@ -13,6 +13,7 @@ mod images;
 mod load;
 mod passthrough;
 mod read;
+mod rewrite;
 mod scene_json;
 mod uri;
 mod write;

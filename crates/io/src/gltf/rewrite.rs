@@ -1,0 +1,429 @@
+//! Writing a document read from glTF: its original JSON with the meshes
+//! rebuilt from the scene.
+//!
+//! Pipeline: decide which source accessors to keep → copy their buffer
+//! views and themselves into the new buffer → encode the meshes → remap
+//! every reference to a moved accessor or mesh (nodes, skins, animations,
+//! kept primitives) → materials, textures and images.
+
+use serde_json::{json, Map, Value};
+use wildlod_mesh::Scene;
+
+use super::bin::Bin;
+use super::encode::{encode_mesh, EncodeOptions};
+use super::images::ImageWriter;
+use super::passthrough::{MeshSource, Passthrough};
+use super::scene_json;
+use crate::ErrorKind;
+
+/// Old index → new index (`None`: not written).
+type IndexMap = Vec<Option<usize>>;
+
+fn array<'a>(json: &'a Value, key: &str) -> &'a [Value] {
+    json.get(key)
+        .and_then(Value::as_array)
+        .map(Vec::as_slice)
+        .unwrap_or(&[])
+}
+
+fn index(v: Option<&Value>) -> Option<usize> {
+    v.and_then(Value::as_u64)
+        .and_then(|i| usize::try_from(i).ok())
+}
+
+/// Rewrites an index value through `map`; values not in the map stay.
+fn remap(v: &mut Value, map: &[Option<usize>]) {
+    if let Some(n) = index(Some(v)).and_then(|i| map.get(i).copied().flatten()) {
+        *v = json!(n);
+    }
+}
+
+/// The JSON of a document read from glTF, with meshes rebuilt; returns it
+/// and whether quantized encodings were used.
+pub(crate) fn from_passthrough(
+    scene: &Scene,
+    p: &Passthrough,
+    bin: &mut Bin,
+    images: &mut ImageWriter,
+    warnings: &mut Vec<String>,
+) -> Result<(Value, bool), ErrorKind> {
+    let src = &p.json;
+    let mut out = src.as_object().cloned().unwrap_or_default();
+    let keep = kept_accessors(src, &p.meshes);
+    let view_map = copy_views(p, &keep, bin)?;
+    let acc_map = copy_accessors(src, &keep, &view_map, bin);
+    let meshes = rebuild_meshes(scene, p, &acc_map, bin, warnings)?;
+    out.insert("meshes".into(), Value::Array(meshes.json));
+    remap_references(&mut out, src, &meshes.map, &acc_map);
+    materials_and_images(&mut out, scene, p, bin, images)?;
+    Ok((Value::Object(out), meshes.used_quantization))
+}
+
+/// Accessor indices a primitive refers to (attributes, indices, morph targets).
+fn primitive_accessors(prim: &Value) -> Vec<usize> {
+    let mut out: Vec<usize> = Vec::new();
+    if let Some(a) = prim.get("attributes").and_then(Value::as_object) {
+        out.extend(a.values().filter_map(|v| index(Some(v))));
+    }
+    out.extend(index(prim.get("indices")));
+    for t in array(prim, "targets") {
+        if let Some(t) = t.as_object() {
+            out.extend(t.values().filter_map(|v| index(Some(v))));
+        }
+    }
+    out
+}
+
+/// Rewrites every accessor index in a primitive through `map`.
+fn remap_primitive(prim: &mut Value, map: &[Option<usize>]) {
+    if let Some(a) = prim.get_mut("attributes").and_then(Value::as_object_mut) {
+        a.values_mut().for_each(|v| remap(v, map));
+    }
+    if let Some(i) = prim.get_mut("indices") {
+        remap(i, map);
+    }
+    for t in prim
+        .get_mut("targets")
+        .and_then(Value::as_array_mut)
+        .into_iter()
+        .flatten()
+    {
+        if let Some(t) = t.as_object_mut() {
+            t.values_mut().for_each(|v| remap(v, map));
+        }
+    }
+}
+
+/// The GPU-instancing extension's per-instance accessors of a node.
+fn instancing_attributes(node: &mut Value) -> Option<&mut Map<String, Value>> {
+    node.get_mut("extensions")?
+        .get_mut("EXT_mesh_gpu_instancing")?
+        .get_mut("attributes")?
+        .as_object_mut()
+}
+
+/// Which source accessors are copied. Those only triangle primitives use
+/// are rebuilt from the scene; every other one (animations, skins, kept
+/// primitives, instancing, even unreferenced ones) is copied, since
+/// something we do not interpret may still use it.
+fn kept_accessors(src: &Value, meshes: &[MeshSource]) -> Vec<bool> {
+    let n = array(src, "accessors").len();
+    let mut mesh_use = vec![false; n];
+    let mut other_use = vec![false; n];
+    for (mi, m) in array(src, "meshes").iter().enumerate() {
+        let kept = meshes
+            .get(mi)
+            .map(|s| s.kept_primitives.as_slice())
+            .unwrap_or(&[]);
+        for (pi, prim) in array(m, "primitives").iter().enumerate() {
+            let flags = if kept.contains(&pi) {
+                &mut other_use
+            } else {
+                &mut mesh_use
+            };
+            for a in primitive_accessors(prim) {
+                if let Some(f) = flags.get_mut(a) {
+                    *f = true;
+                }
+            }
+        }
+    }
+    let mut mark = |v: Option<&Value>| {
+        if let Some(f) = index(v).and_then(|a| other_use.get_mut(a)) {
+            *f = true;
+        }
+    };
+    for s in array(src, "skins") {
+        mark(s.get("inverseBindMatrices"));
+    }
+    for a in array(src, "animations") {
+        for s in array(a, "samplers") {
+            mark(s.get("input"));
+            mark(s.get("output"));
+        }
+    }
+    for n in array(src, "nodes") {
+        let mut n = n.clone();
+        if let Some(attrs) = instancing_attributes(&mut n) {
+            attrs.values().for_each(|v| mark(Some(v)));
+        }
+    }
+    (0..n).map(|a| other_use[a] || !mesh_use[a]).collect()
+}
+
+/// The bytes of source buffer view `v`.
+fn source_view(p: &Passthrough, v: usize) -> Option<Vec<u8>> {
+    let view = array(&p.json, "bufferViews").get(v)?;
+    let b = index(view.get("buffer"))?;
+    let start = index(view.get("byteOffset")).unwrap_or(0);
+    let len = index(view.get("byteLength"))?;
+    p.buffers
+        .get(b)?
+        .get(start..start.checked_add(len)?)
+        .map(<[u8]>::to_vec)
+}
+
+/// Copies the buffer views kept accessors use (their own and their sparse
+/// parts'), byte for byte.
+fn copy_views(p: &Passthrough, keep: &[bool], bin: &mut Bin) -> Result<IndexMap, ErrorKind> {
+    let views = array(&p.json, "bufferViews");
+    let mut needed = vec![false; views.len()];
+    for (acc, _) in array(&p.json, "accessors")
+        .iter()
+        .zip(keep)
+        .filter(|(_, &k)| k)
+    {
+        let sparse = acc.get("sparse");
+        let part = |name: &str| {
+            sparse
+                .and_then(|s| s.get(name))
+                .and_then(|s| s.get("bufferView"))
+        };
+        for v in [acc.get("bufferView"), part("indices"), part("values")] {
+            if let Some(f) = index(v).and_then(|v| needed.get_mut(v)) {
+                *f = true;
+            }
+        }
+    }
+    let mut map = vec![None; views.len()];
+    for (v, view) in views.iter().enumerate() {
+        if !needed[v] {
+            continue;
+        }
+        let bytes = source_view(p, v).ok_or_else(|| {
+            ErrorKind::malformed(format!("bufferView {v}"), "lies outside its buffer")
+        })?;
+        let mut template = view.as_object().cloned().unwrap_or_default();
+        let old_offset = index(template.get("byteOffset")).unwrap_or(0) as u64;
+        for k in ["buffer", "byteOffset", "byteLength"] {
+            template.remove(k);
+        }
+        map[v] = Some(bin.view_from(&bytes, old_offset, template));
+    }
+    Ok(map)
+}
+
+/// Copies the kept accessors, pointing them at the copied views.
+fn copy_accessors(
+    src: &Value,
+    keep: &[bool],
+    view_map: &[Option<usize>],
+    bin: &mut Bin,
+) -> IndexMap {
+    let accessors = array(src, "accessors");
+    let mut map = vec![None; accessors.len()];
+    for (a, acc) in accessors.iter().enumerate() {
+        if !keep[a] {
+            continue;
+        }
+        let mut acc = acc.clone();
+        if let Some(v) = acc.get_mut("bufferView") {
+            remap(v, view_map);
+        }
+        if let Some(s) = acc.get_mut("sparse") {
+            for part in ["indices", "values"] {
+                if let Some(v) = s.get_mut(part).and_then(|x| x.get_mut("bufferView")) {
+                    remap(v, view_map);
+                }
+            }
+        }
+        bin.accessors.push(acc);
+        map[a] = Some(bin.accessors.len() - 1);
+    }
+    map
+}
+
+/// Removes Draco data from an object's extensions: the compressed buffer
+/// views it points to are not written, the uncompressed data is.
+fn strip_draco(obj: &mut Map<String, Value>) {
+    if let Some(ext) = obj.get_mut("extensions").and_then(Value::as_object_mut) {
+        ext.remove("KHR_draco_mesh_compression");
+        if ext.is_empty() {
+            obj.remove("extensions");
+        }
+    }
+}
+
+/// The written meshes.
+struct Meshes {
+    json: Vec<Value>,
+    /// Scene mesh → written mesh (`None`: no primitive left).
+    map: IndexMap,
+    used_quantization: bool,
+}
+
+/// Encodes every scene mesh into the source mesh's JSON (name, weights,
+/// extras, extensions kept), giving each primitive the extras and
+/// extensions of the source primitive its part came from, and appending
+/// the primitives the model could not hold.
+fn rebuild_meshes(
+    scene: &Scene,
+    p: &Passthrough,
+    acc_map: &[Option<usize>],
+    bin: &mut Bin,
+    warnings: &mut Vec<String>,
+) -> Result<Meshes, ErrorKind> {
+    let opts = EncodeOptions {
+        quantization: p.quantization,
+    };
+    let src_meshes = array(&p.json, "meshes");
+    let mut out = Meshes {
+        json: Vec::new(),
+        map: vec![None; scene.meshes.len()],
+        used_quantization: false,
+    };
+    for (mi, mesh) in scene.meshes.iter().enumerate() {
+        let enc = encode_mesh(mesh, mi, bin, &opts, warnings)?;
+        out.used_quantization |= enc.used_quantization;
+        let src_mesh = src_meshes.get(mi).cloned().unwrap_or_else(|| json!({}));
+        let src_prims = array(&src_mesh, "primitives");
+        let source = p.meshes.get(mi).cloned().unwrap_or_default();
+        // Parts match the source primitives one to one unless an edit added
+        // or removed parts.
+        let aligned = source.part_primitives.len() == mesh.parts.len();
+        let mut prims = Vec::new();
+        for (part, prim) in enc.primitives {
+            let mut prim = prim.as_object().cloned().unwrap_or_default();
+            let from = aligned
+                .then(|| source.part_primitives.get(part))
+                .flatten()
+                .and_then(|&sp| src_prims.get(sp))
+                .and_then(Value::as_object);
+            for (k, v) in from.into_iter().flatten() {
+                if !matches!(
+                    k.as_str(),
+                    "attributes" | "indices" | "material" | "mode" | "targets"
+                ) {
+                    prim.insert(k.clone(), v.clone());
+                }
+            }
+            strip_draco(&mut prim);
+            prims.push(Value::Object(prim));
+        }
+        for prim in source
+            .kept_primitives
+            .iter()
+            .filter_map(|&k| src_prims.get(k))
+        {
+            let mut prim = prim.clone();
+            remap_primitive(&mut prim, acc_map);
+            if let Some(o) = prim.as_object_mut() {
+                strip_draco(o);
+            }
+            prims.push(prim);
+        }
+        if prims.is_empty() {
+            warnings.push(format!(
+                "mesh {mi} has no faces left; it is not written and nodes no longer refer to it"
+            ));
+            continue;
+        }
+        let targets = prims.iter().map(|p| array(p, "targets").len()).max();
+        let mut m = src_mesh.as_object().cloned().unwrap_or_default();
+        m.insert("primitives".into(), Value::Array(prims));
+        if mesh.name.is_empty() {
+            m.remove("name");
+        } else {
+            m.insert("name".into(), json!(mesh.name));
+        }
+        // Default morph weights describe targets that no longer exist.
+        if targets == Some(0) {
+            m.remove("weights");
+        }
+        out.map[mi] = Some(out.json.len());
+        out.json.push(Value::Object(m));
+    }
+    Ok(out)
+}
+
+/// Points nodes, skins and animations at the moved meshes and accessors.
+/// A node whose mesh was not written loses its mesh, skin and weights.
+fn remap_references(
+    out: &mut Map<String, Value>,
+    src: &Value,
+    mesh_map: &[Option<usize>],
+    acc_map: &[Option<usize>],
+) {
+    let mut nodes = array(src, "nodes").to_vec();
+    for n in &mut nodes {
+        if let Some(attrs) = instancing_attributes(n) {
+            attrs.values_mut().for_each(|v| remap(v, acc_map));
+        }
+        let Some(o) = n.as_object_mut() else {
+            continue;
+        };
+        if let Some(m) = index(o.get("mesh")) {
+            match mesh_map.get(m).copied().flatten() {
+                Some(w) => {
+                    o.insert("mesh".into(), json!(w));
+                }
+                None => {
+                    for k in ["mesh", "skin", "weights"] {
+                        o.remove(k);
+                    }
+                }
+            }
+        }
+    }
+    let mut skins = array(src, "skins").to_vec();
+    for s in &mut skins {
+        if let Some(v) = s.get_mut("inverseBindMatrices") {
+            remap(v, acc_map);
+        }
+    }
+    let mut animations = array(src, "animations").to_vec();
+    for a in &mut animations {
+        let samplers = a.get_mut("samplers").and_then(Value::as_array_mut);
+        for s in samplers.into_iter().flatten() {
+            for k in ["input", "output"] {
+                if let Some(v) = s.get_mut(k) {
+                    remap(v, acc_map);
+                }
+            }
+        }
+    }
+    for (key, list) in [
+        ("nodes", nodes),
+        ("skins", skins),
+        ("animations", animations),
+    ] {
+        if !list.is_empty() {
+            out.insert(key.into(), Value::Array(list));
+        }
+    }
+}
+
+/// Materials and textures: the source's own objects while unchanged,
+/// rebuilt from the scene once a later step (re-baking) replaced them.
+/// Source images are placed for the output format either way they stay.
+fn materials_and_images(
+    out: &mut Map<String, Value>,
+    scene: &Scene,
+    p: &Passthrough,
+    bin: &mut Bin,
+    images: &mut ImageWriter,
+) -> Result<(), ErrorKind> {
+    if scene.materials != p.read.materials {
+        out.insert(
+            "materials".into(),
+            Value::Array(scene_json::materials(&scene.materials)),
+        );
+    }
+    if scene.textures == p.read.textures {
+        let view = |v: usize| source_view(p, v);
+        let mut placed = Vec::new();
+        for (i, img) in array(&p.json, "images").iter().enumerate() {
+            placed.push(images.passthrough(bin, i, img, &view)?);
+        }
+        if !placed.is_empty() {
+            out.insert("images".into(), Value::Array(placed));
+        }
+    } else {
+        let (textures, placed) = scene_json::textures(scene, bin, images)?;
+        out.insert("textures".into(), Value::Array(textures));
+        out.insert("images".into(), Value::Array(placed));
+        // Samplers belonged to the replaced textures.
+        out.remove("samplers");
+    }
+    Ok(())
+}
