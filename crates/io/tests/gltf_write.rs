@@ -198,6 +198,8 @@ fn obj_like_scene_with_quads_and_a_texture_file_writes_valid_glb_and_gltf() {
         assert_eq!(back.scene.meshes[0].triangle_count(), 12);
         assert_same_mesh(ext, &expected, &back.scene.meshes[0]);
         assert_eq!(back.scene.materials, scene.materials);
+        assert_eq!(back.scene.meshes[0].parts, scene.meshes[0].parts);
+        assert_eq!(back.scene.meshes[0].name, "grid");
         assert_eq!(back.scene.textures[0].name, "albedo");
         let img = &json["images"][0];
         match ext {

@@ -350,8 +350,14 @@ fn encode_part(
     let mut prim = Map::new();
     prim.insert("attributes".into(), Value::Object(attributes));
     prim.insert("indices".into(), json!(indices));
-    if let Some(m) = mesh.parts.get(part).and_then(|p| p.material) {
-        prim.insert("material".into(), json!(m));
+    if let Some(p) = mesh.parts.get(part) {
+        if let Some(m) = p.material {
+            prim.insert("material".into(), json!(m));
+        }
+        // Keeps OBJ group names through glTF; the reader looks here.
+        if !p.name.is_empty() {
+            prim.insert("extras".into(), json!({ "name": p.name }));
+        }
     }
     if !targets.is_empty() {
         prim.insert(

@@ -382,7 +382,13 @@ fn read_mesh(
             }
         }
         mesh.parts.push(Part {
-            name: String::new(),
+            // glTF primitives have no name; wildlod writes a part's name
+            // (an OBJ group) to `extras.name`.
+            name: prim
+                .pointer("/extras/name")
+                .and_then(Value::as_str)
+                .unwrap_or("")
+                .to_string(),
             material: prim
                 .get("material")
                 .and_then(Value::as_u64)
