@@ -28,6 +28,40 @@ pub(crate) struct Encoded {
     pub used_quantization: bool,
 }
 
+/// What encoding the parts of one mesh had to do.
+#[derive(Default)]
+struct Stats {
+    used_quantization: bool,
+    /// Zero-length normals and tangents replaced by a default direction.
+    defaulted_vectors: usize,
+}
+
+/// glTF requires unit normals and tangent directions (and a ±1 tangent
+/// sign). Simplified meshes interpolate them, so vectors clearly off unit
+/// length are renormalized; vectors already unit within float noise are
+/// left bit for bit. Zero vectors cannot be normalized and become
+/// `fallback`. Returns how many did.
+fn make_unit(values: &mut [f32], comps: usize, fallback: &[f32; 4]) -> usize {
+    // Well inside the Khronos validator's tolerance, well above f32 noise.
+    const TOLERANCE: f64 = 1e-4;
+    let mut defaulted = 0;
+    for v in values.chunks_exact_mut(comps) {
+        let len = (v[..3].iter().map(|&x| x as f64 * x as f64).sum::<f64>()).sqrt();
+        if len < 1e-12 {
+            v[..3].copy_from_slice(&fallback[..3]);
+            defaulted += 1;
+        } else if (len - 1.0).abs() > TOLERANCE {
+            for x in &mut v[..3] {
+                *x = (*x as f64 / len) as f32;
+            }
+        }
+        if comps == 4 && v[3].abs() != 1.0 {
+            v[3] = if v[3] < 0.0 { -1.0 } else { 1.0 };
+        }
+    }
+    defaulted
+}
+
 /// The glTF attribute name of a stream (morph channels excluded).
 fn attribute_name(s: &Semantic) -> String {
     match s {
@@ -122,10 +156,8 @@ pub(crate) fn encode_mesh(
             ));
         }
     }
-    let mut out = Encoded {
-        primitives: Vec::new(),
-        used_quantization: false,
-    };
+    let mut primitives = Vec::new();
+    let mut stats = Stats::default();
     let mut scratch = vec![u32::MAX; mesh.positions.len()];
     for (part, faces) in by_part.iter().enumerate() {
         if faces.is_empty() {
@@ -140,11 +172,20 @@ pub(crate) fn encode_mesh(
             bin,
             opts,
             &mut scratch,
-            &mut out.used_quantization,
+            &mut stats,
         )?;
-        out.primitives.push((part, prim));
+        primitives.push((part, prim));
     }
-    Ok(out)
+    if stats.defaulted_vectors > 0 {
+        warnings.push(format!(
+            "mesh {mi}: {} zero-length normals or tangents written as a default direction",
+            stats.defaulted_vectors
+        ));
+    }
+    Ok(Encoded {
+        primitives,
+        used_quantization: stats.used_quantization,
+    })
 }
 
 /// The corner that stands for each vertex of a primitive, and every
@@ -228,7 +269,7 @@ fn encode_part(
     bin: &mut Bin,
     opts: &EncodeOptions,
     scratch: &mut [u32],
-    used_quantization: &mut bool,
+    stats: &mut Stats,
 ) -> Result<Value, ErrorKind> {
     let corners: Vec<usize> = faces
         .iter()
@@ -299,7 +340,12 @@ fn encode_part(
             ComponentFormat::F32
         };
         if fits && !core {
-            *used_quantization = true;
+            stats.used_quantization = true;
+        }
+        if format == ComponentFormat::F32
+            && matches!(attr.semantic, Semantic::Normal | Semantic::Tangent)
+        {
+            stats.defaulted_vectors += make_unit(&mut values, comps, &fill);
         }
         let bounds = matches!(
             attr.semantic,
@@ -488,6 +534,20 @@ fn quantize_weights(weights: &[f32], per_entry: usize, format: ComponentFormat) 
 mod tests {
     use super::*;
     use wildlod_mesh::Faces;
+
+    #[test]
+    fn off_unit_normals_are_renormalized_and_unit_ones_left_bit_for_bit() {
+        let third = 1.0f32 / 3.0f32.sqrt();
+        let mut v = vec![third, third, third, 0.0, 0.0, 2.0, 0.0, 0.0, 0.0];
+        let before = v[..3].to_vec();
+        let defaulted = make_unit(&mut v, 3, &[0.0, 0.0, 1.0, 0.0]);
+        assert_eq!(defaulted, 1);
+        assert_eq!(&v[..3], &before[..]);
+        assert_eq!(&v[3..], &[0.0, 0.0, 1.0, 0.0, 0.0, 1.0]);
+        let mut t = vec![0.6, 0.0, 0.0, -0.3];
+        make_unit(&mut t, 4, &[1.0, 0.0, 0.0, 1.0]);
+        assert_eq!(t, vec![1.0, 0.0, 0.0, -1.0]);
+    }
 
     #[test]
     fn quantized_weights_keep_summing_to_one() {
