@@ -306,3 +306,128 @@ fn hostile_shared_accessors_hit_the_expansion_budget() {
     let e = read_bytes("budget.glb", &b.glb()).expect_err("over budget");
     assert!(matches!(e.kind, ErrorKind::ImplausibleCount { .. }), "{e}");
 }
+
+/// A small document touching most of the reader: attributes, sparse data,
+/// morph targets, skins, animations, an embedded image and materials.
+fn rich() -> Builder {
+    let mut b = triangle();
+    let nrm = b.floats(&[0.0, 0.0, 1.0].repeat(3), "VEC3");
+    let uv = b.floats(&[0.0, 0.0, 1.0, 0.0, 0.0, 1.0], "VEC2");
+    let joints = b.view(&[0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0], None);
+    let joints = b.accessor(Some(joints), 5121, 3, "VEC4", json!({}));
+    let weights = b.floats(&[1.0, 0.0, 0.0, 0.0].repeat(3), "VEC4");
+    let si = b.view(&2u16.to_le_bytes(), None);
+    let sv = b.view(
+        &[0.0f32, 0.0, 1.0]
+            .iter()
+            .flat_map(|v| v.to_le_bytes())
+            .collect::<Vec<_>>(),
+        None,
+    );
+    let morph = b.accessor(
+        None,
+        5126,
+        3,
+        "VEC3",
+        json!({"min": [0.0, 0.0, 0.0], "max": [0.0, 0.0, 1.0], "sparse": {
+            "count": 1,
+            "indices": {"bufferView": si, "componentType": 5123},
+            "values": {"bufferView": sv}
+        }}),
+    );
+    let ibm = b.floats(&wildlod_mesh::IDENTITY.repeat(2), "MAT4");
+    let times = b.floats(&[0.0, 1.0], "SCALAR");
+    let h = std::f32::consts::FRAC_1_SQRT_2;
+    let rot = b.floats(&[0.0, 0.0, 0.0, 1.0, 0.0, 0.0, h, h], "VEC4");
+    let png = b.view(b"\x89PNG\r\n\x1a\n not really", None);
+    let prim = &mut b.json["meshes"][0]["primitives"][0];
+    prim["attributes"]["NORMAL"] = json!(nrm);
+    prim["attributes"]["TEXCOORD_0"] = json!(uv);
+    prim["attributes"]["JOINTS_0"] = json!(joints);
+    prim["attributes"]["WEIGHTS_0"] = json!(weights);
+    prim["targets"] = json!([{ "POSITION": morph }]);
+    prim["material"] = json!(0);
+    prim["mode"] = json!(4);
+    b.json["meshes"][0]["weights"] = json!([0.0]);
+    b.json["nodes"] = json!([
+        {"mesh": 0, "skin": 0, "children": [1], "translation": [1.0, 2.0, 3.0]},
+        {"children": [2], "rotation": [0.0, 0.0, 0.0, 1.0], "scale": [1.0, 1.0, 1.0]},
+        {"matrix": wildlod_mesh::IDENTITY}
+    ]);
+    b.json["skins"] = json!([{"joints": [1, 2], "inverseBindMatrices": ibm, "skeleton": 1}]);
+    b.json["animations"] = json!([{
+        "channels": [{"sampler": 0, "target": {"node": 2, "path": "rotation"}}],
+        "samplers": [{"input": times, "output": rot}]
+    }]);
+    b.json["images"] = json!([{"bufferView": png, "mimeType": "image/png"}]);
+    b.json["samplers"] = json!([{"wrapS": 33071}]);
+    b.json["textures"] = json!([{"source": 0, "sampler": 0}]);
+    b.json["materials"] = json!([{
+        "pbrMetallicRoughness": {"baseColorTexture": {"index": 0, "texCoord": 0}},
+        "normalTexture": {"index": 0}, "alphaMode": "MASK", "alphaCutoff": 0.3
+    }]);
+    b
+}
+
+/// JSON pointers of every scalar in `v`.
+fn scalar_pointers(v: &serde_json::Value, at: String, out: &mut Vec<String>) {
+    match v {
+        serde_json::Value::Object(o) => {
+            for (k, x) in o {
+                scalar_pointers(x, format!("{at}/{k}"), out);
+            }
+        }
+        serde_json::Value::Array(a) => {
+            for (i, x) in a.iter().enumerate() {
+                scalar_pointers(x, format!("{at}/{i}"), out);
+            }
+        }
+        _ => out.push(at),
+    }
+}
+
+#[test]
+fn every_scalar_of_a_rich_document_replaced_by_hostile_values_never_panics() {
+    let b = rich();
+    let doc = read_bytes("rich.glb", &b.glb()).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(doc.scene.skins[0].joints.len(), 2);
+    assert_eq!(doc.scene.animations[0].duration, 1.0);
+    let mut pointers = Vec::new();
+    scalar_pointers(&b.json, String::new(), &mut pointers);
+    let hostile = [
+        json!(-1),
+        json!(0),
+        json!(3),
+        json!(4_294_967_295u64),
+        json!(1e300),
+        json!("x"),
+        json!(null),
+    ];
+    let dir = tempfile::tempdir().expect("temp dir");
+    let path = dir.path().join("m.glb");
+    let mut read_ok = 0;
+    for p in &pointers {
+        for h in &hostile {
+            let mut m = Builder {
+                json: b.json.clone(),
+                bin: b.bin.clone(),
+            };
+            *m.json.pointer_mut(p).expect("pointer exists") = h.clone();
+            std::fs::write(&path, m.glb()).expect("write");
+            // Shown when an assertion below fails.
+            eprintln!("{p} = {h}");
+            if let Ok(doc) = wildlod_io::read(&path) {
+                doc.scene.validate().expect("what reads is valid");
+                // What reads also writes.
+                let out = dir.path().join("w.glb");
+                if wildlod_io::write(&doc, &out, &Default::default()).is_ok() {
+                    gltf_support::check_written(&out);
+                }
+                read_ok += 1;
+            }
+        }
+    }
+    // Many replacements are harmless (names, factors): the test must
+    // have exercised the success path too.
+    assert!(read_ok > 10, "{read_ok}");
+}

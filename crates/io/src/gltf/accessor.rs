@@ -154,6 +154,31 @@ fn shape(t: Type) -> (usize, usize) {
     }
 }
 
+/// Bytes of one element of an accessor given by its JSON `componentType`
+/// and `type`, or `None` when either is not a glTF value.
+pub(crate) fn element_size(component_type: u64, type_name: &str) -> Option<usize> {
+    let component = match component_type {
+        5120 => Component::I8,
+        5121 => Component::U8,
+        5122 => Component::I16,
+        5123 => Component::U16,
+        5125 => Component::U32,
+        5126 => Component::F32,
+        _ => return None,
+    };
+    let t = match type_name {
+        "SCALAR" => Type::Scalar,
+        "VEC2" => Type::Vec2,
+        "VEC3" => Type::Vec3,
+        "VEC4" => Type::Vec4,
+        "MAT2" => Type::Mat2,
+        "MAT3" => Type::Mat3,
+        "MAT4" => Type::Mat4,
+        _ => return None,
+    };
+    Some(Layout::new(component, t).size)
+}
+
 /// The JSON name of an accessor type with `n` components (vectors only).
 pub(crate) fn type_name(n: usize) -> &'static str {
     match n {

@@ -9,6 +9,7 @@
 use serde_json::{json, Map, Value};
 use wildlod_mesh::Scene;
 
+use super::accessor::element_size;
 use super::bin::Bin;
 use super::encode::{encode_mesh, EncodeOptions};
 use super::images::ImageWriter;
@@ -163,42 +164,63 @@ fn source_view(p: &Passthrough, v: usize) -> Option<Vec<u8>> {
         .map(<[u8]>::to_vec)
 }
 
+/// Bytes per component of a JSON `componentType`.
+fn component_size(v: Option<&Value>) -> usize {
+    match index(v) {
+        Some(5120 | 5121) => 1,
+        Some(5122 | 5123) => 2,
+        _ => 4,
+    }
+}
+
 /// Copies the buffer views kept accessors use (their own and their sparse
-/// parts'), byte for byte.
+/// parts'), byte for byte. Each view starts where every accessor into it
+/// lands on a multiple of its component size: the source's offset modulo 4
+/// when that works (it does for any valid file), else the first that does,
+/// so a misaligned source does not make a misaligned output.
 fn copy_views(p: &Passthrough, keep: &[bool], bin: &mut Bin) -> Result<IndexMap, ErrorKind> {
     let views = array(&p.json, "bufferViews");
-    let mut needed = vec![false; views.len()];
+    // Per view: (byteOffset within the view, component size) of every use.
+    let mut uses: Vec<Option<Vec<(usize, usize)>>> = vec![None; views.len()];
+    let mut need = |v: Option<&Value>, offset: Option<&Value>, size: usize| {
+        if let Some(u) = index(v).and_then(|v| uses.get_mut(v)) {
+            u.get_or_insert_with(Vec::new)
+                .push((index(offset).unwrap_or(0), size));
+        }
+    };
     for (acc, _) in array(&p.json, "accessors")
         .iter()
         .zip(keep)
         .filter(|(_, &k)| k)
     {
-        let sparse = acc.get("sparse");
-        let part = |name: &str| {
-            sparse
-                .and_then(|s| s.get(name))
-                .and_then(|s| s.get("bufferView"))
-        };
-        for v in [acc.get("bufferView"), part("indices"), part("values")] {
-            if let Some(f) = index(v).and_then(|v| needed.get_mut(v)) {
-                *f = true;
-            }
+        let size = component_size(acc.get("componentType"));
+        need(acc.get("bufferView"), acc.get("byteOffset"), size);
+        if let Some(s) = acc.get("sparse") {
+            let (i, v) = (&s["indices"], &s["values"]);
+            let isize = component_size(i.get("componentType"));
+            need(i.get("bufferView"), i.get("byteOffset"), isize);
+            need(v.get("bufferView"), v.get("byteOffset"), size);
         }
     }
     let mut map = vec![None; views.len()];
     for (v, view) in views.iter().enumerate() {
-        if !needed[v] {
+        let Some(uses) = &uses[v] else {
             continue;
-        }
+        };
         let bytes = source_view(p, v).ok_or_else(|| {
             ErrorKind::malformed(format!("bufferView {v}"), "lies outside its buffer")
         })?;
         let mut template = view.as_object().cloned().unwrap_or_default();
-        let old_offset = index(template.get("byteOffset")).unwrap_or(0) as u64;
+        let old = index(template.get("byteOffset")).unwrap_or(0) % 4;
+        let aligned = |r: usize| uses.iter().all(|&(o, size)| (r + o) % size == 0);
+        let residue = [old, 0, 1, 2, 3]
+            .into_iter()
+            .find(|&r| aligned(r))
+            .unwrap_or(old);
         for k in ["buffer", "byteOffset", "byteLength"] {
             template.remove(k);
         }
-        map[v] = Some(bin.view_from(&bytes, old_offset, template));
+        map[v] = Some(bin.view_from(&bytes, residue as u64, template));
     }
     Ok(map)
 }
@@ -217,8 +239,22 @@ fn copy_accessors(
             continue;
         }
         let mut acc = acc.clone();
-        if let Some(v) = acc.get_mut("bufferView") {
+        // JSON null means absent, as serde reads it.
+        let has = |acc: &Value, k: &str| acc.get(k).is_some_and(|v| !v.is_null());
+        if let Some(v) = acc.get_mut("bufferView").filter(|v| !v.is_null()) {
             remap(v, view_map);
+        } else if !has(&acc, "sparse") {
+            // All zeros by the specification, but common readers (the gltf
+            // crate among them) insist on a buffer view: give it one.
+            let size = element_size(
+                index(acc.get("componentType")).unwrap_or(0) as u64,
+                acc.get("type").and_then(Value::as_str).unwrap_or(""),
+            );
+            let count = index(acc.get("count")).unwrap_or(0);
+            if let (Some(size), Some(o)) = (size, acc.as_object_mut()) {
+                let v = bin.view(&vec![0; size.saturating_mul(count)], None, None);
+                o.insert("bufferView".into(), json!(v));
+            }
         }
         if let Some(s) = acc.get_mut("sparse") {
             for part in ["indices", "values"] {
