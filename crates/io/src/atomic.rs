@@ -77,10 +77,11 @@ impl OutputFiles {
                 Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
                 _ => PathBuf::from("."),
             };
-            let mut tmp = tempfile::Builder::new()
-                .prefix(".wildlod-")
-                .suffix(".tmp")
-                .tempfile_in(&dir)?;
+            let mut builder = tempfile::Builder::new();
+            builder.prefix(".wildlod-").suffix(".tmp");
+            #[cfg(unix)]
+            builder.permissions(output_permissions(path));
+            let mut tmp = builder.tempfile_in(&dir)?;
             tmp.write_all(bytes)?;
             tmp.as_file().sync_all()?;
             staged.push((tmp, path));
@@ -92,6 +93,18 @@ impl OutputFiles {
         }
         Ok(self.warnings)
     }
+}
+
+/// Permissions for an output: those of the file it replaces, else what a
+/// plain create gives (0666 minus the umask, applied by the OS) rather than
+/// the temporary file's private 0600. (Elsewhere than unix, temporary files
+/// already get ordinary permissions.)
+#[cfg(unix)]
+fn output_permissions(path: &Path) -> std::fs::Permissions {
+    use std::os::unix::fs::PermissionsExt;
+    std::fs::metadata(path)
+        .map(|m| m.permissions())
+        .unwrap_or_else(|_| std::fs::Permissions::from_mode(0o666))
 }
 
 /// An absolute, `.`/`..`-free form of a path for comparison; symlinks and
@@ -147,6 +160,24 @@ mod tests {
             .collect();
         names.sort();
         assert_eq!(names, vec!["a.bin", "a.gltf"]);
+    }
+
+    #[cfg(unix)]
+    #[test]
+    fn outputs_get_ordinary_permissions_not_the_temporary_ones() {
+        use std::os::unix::fs::PermissionsExt;
+        let dir = tempfile::tempdir().unwrap();
+        let mut o = OutputFiles::new(None, false);
+        o.add(&dir.path().join("a.obj"), b"v 0 0 0".to_vec())
+            .unwrap();
+        o.commit().unwrap();
+        let mode = std::fs::metadata(dir.path().join("a.obj"))
+            .unwrap()
+            .permissions()
+            .mode();
+        // Readable by others unless the umask forbids it; never 0600 only
+        // because of the temporary file.
+        assert_ne!(mode & 0o777, 0o600);
     }
 
     #[test]
