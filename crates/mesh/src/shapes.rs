@@ -137,6 +137,21 @@ pub fn quad_sphere(n: usize) -> Mesh {
     Mesh::from_polygons(positions, f)
 }
 
+/// A box from `lo` to `hi` whose six sides are `n × n` quad grids: a closed
+/// manifold with something to simplify.
+pub fn box_grid(lo: [f32; 3], hi: [f32; 3], n: usize) -> Mesh {
+    let mut m = quad_sphere(n);
+    // Push the sphere back onto the cube it was projected from.
+    for p in &mut m.positions {
+        let s = p.iter().fold(0.0f32, |a, c| a.max(c.abs()));
+        for k in 0..3 {
+            let t = 0.5 * (p[k] / s + 1.0);
+            p[k] = lo[k] + t * (hi[k] - lo[k]);
+        }
+    }
+    m
+}
+
 /// Fan-triangulates every polygon: face `[a, b, c, d]` becomes `[a, b, c]`
 /// and `[a, c, d]`. Attribute and skinning indices follow their corners;
 /// parts are kept. Triangles are returned unchanged.

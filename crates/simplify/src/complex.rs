@@ -10,6 +10,12 @@
 //! attributes ride along.
 
 use glam::DVec3;
+use smallvec::SmallVec;
+
+/// A star list: faces or edges around a vertex. Inline up to 8 (valence is
+/// about 6 on most meshes), so walking a star touches one cache line
+/// instead of chasing a pointer per vertex.
+pub(crate) type Star = SmallVec<[u32; 8]>;
 
 /// Marks a dead face (`face_len == 0`) or an unused scratch entry.
 pub(crate) const NONE: u32 = u32::MAX;
@@ -20,19 +26,13 @@ pub(crate) struct Complex {
     /// Vertex positions (normalized coordinates).
     pub pos: Vec<DVec3>,
     /// Faces around each vertex (each face listed once per vertex).
-    pub vert_faces: Vec<Vec<u32>>,
+    pub vert_faces: Vec<Star>,
     /// Edges around each vertex.
-    pub vert_edges: Vec<Vec<u32>>,
-    /// Endpoints of each edge.
-    pub edges: Vec<[u32; 2]>,
-    /// False once an edge was collapsed or merged into another.
-    pub edge_alive: Vec<bool>,
-    /// Bumped whenever an edge changes; heap entries carry the value they saw.
-    pub edge_gen: Vec<u32>,
-    /// First slot of each face.
-    pub face_start: Vec<u32>,
-    /// Current arity of each face; 0 when the face is gone.
-    pub face_len: Vec<u32>,
+    pub vert_edges: Vec<Star>,
+    /// Every edge, physical or virtual.
+    pub edges: Vec<Edge>,
+    /// Every face's slot range.
+    pub faces: Vec<FaceSlots>,
     /// Vertex of each slot.
     pub slot_vertex: Vec<u32>,
     /// Input corner of each slot.
@@ -41,9 +41,38 @@ pub(crate) struct Complex {
     pub triangles: usize,
     /// Scratch marks for set operations, compared against `stamp`.
     vmark: Vec<u32>,
-    vmark_val: Vec<u32>,
     fmark: Vec<u32>,
     stamp: u32,
+    /// Scratch of `collapse`.
+    touched: Vec<u32>,
+    j_corners: Vec<u32>,
+}
+
+/// Per-edge state, packed in 16 bytes: the collapse loop touches an edge's
+/// endpoints, generation and flags together, at random, so they share one
+/// cache line instead of five arrays' worth of misses.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) struct Edge {
+    /// Endpoints.
+    pub ends: [u32; 2],
+    /// Bumped whenever the edge changes; queue entries carry the value they
+    /// saw, so stale ones are recognized.
+    pub gen: u32,
+    /// False once the edge was collapsed or merged into another.
+    pub alive: bool,
+    /// The collapse loop's mark: the edge has an entry in the queue.
+    pub queued: bool,
+    /// The collapse loop's mark: a guard refused the edge.
+    pub refused: bool,
+}
+
+/// A face's slots: where its corners start and how many are left.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) struct FaceSlots {
+    /// First slot.
+    pub start: u32,
+    /// Current arity; 0 when the face is gone.
+    pub len: u32,
 }
 
 /// What a collapse changed, for the caller's bookkeeping.
@@ -51,6 +80,10 @@ pub(crate) struct Complex {
 pub(crate) struct CollapseOutcome {
     /// Triangles removed (triangulated count).
     pub removed_triangles: usize,
+    /// Something beyond the regular case happened: a duplicate face was
+    /// removed or a face split at a repeated vertex. Only then can edges
+    /// away from the old boundary become boundary edges.
+    pub irregular: bool,
 }
 
 /// Faces cleaned away while building: degenerate and duplicate ones.
@@ -71,48 +104,51 @@ impl Complex {
         let nv = pos.len();
         let nf = offsets.len().saturating_sub(1);
         let mut c = Complex {
-            vert_faces: vec![Vec::new(); nv],
-            vert_edges: vec![Vec::new(); nv],
+            vert_faces: vec![Star::new(); nv],
+            vert_edges: vec![Star::new(); nv],
             edges: Vec::new(),
-            edge_alive: Vec::new(),
-            edge_gen: Vec::new(),
-            face_start: offsets[..nf].to_vec(),
-            face_len: (0..nf).map(|f| offsets[f + 1] - offsets[f]).collect(),
+            faces: (0..nf)
+                .map(|f| FaceSlots {
+                    start: offsets[f],
+                    len: offsets[f + 1] - offsets[f],
+                })
+                .collect(),
             slot_vertex: indices.to_vec(),
             slot_corner: (0..indices.len() as u32).collect(),
             triangles: 0,
             vmark: vec![0; nv],
-            vmark_val: vec![0; nv],
             fmark: vec![0; nf],
             stamp: 0,
+            touched: Vec::new(),
+            j_corners: Vec::new(),
             pos,
         };
         let mut cleaned = Cleaned::default();
         for f in 0..nf {
             c.normalize_face(f as u32, None);
-            if c.face_len[f] == 0 {
+            if c.faces[f].len == 0 {
                 cleaned.degenerate += 1;
             }
         }
         // Exact duplicates: sort canonical keys, keep the lowest face id.
         let mut keys: Vec<(Vec<u32>, u32)> = (0..nf as u32)
-            .filter(|&f| c.face_len[f as usize] > 0)
+            .filter(|&f| c.faces[f as usize].len > 0)
             .map(|f| (c.canonical(f), f))
             .collect();
         keys.sort_unstable();
         for w in keys.windows(2) {
             if w[0].0 == w[1].0 {
-                c.face_len[w[1].1 as usize] = 0;
+                c.faces[w[1].1 as usize].len = 0;
                 cleaned.duplicate += 1;
             }
         }
         for f in 0..nf as u32 {
-            let len = c.face_len[f as usize] as usize;
+            let len = c.faces[f as usize].len as usize;
             if len == 0 {
                 continue;
             }
             c.triangles += len - 2;
-            let s = c.face_start[f as usize] as usize;
+            let s = c.faces[f as usize].start as usize;
             for k in 0..len {
                 let v = c.slot_vertex[s + k] as usize;
                 c.vert_faces[v].push(f);
@@ -121,8 +157,8 @@ impl Complex {
         // Physical edges: consecutive corners, deduplicated.
         let mut ek: Vec<u64> = Vec::with_capacity(indices.len());
         for f in 0..nf {
-            let len = c.face_len[f] as usize;
-            let s = c.face_start[f] as usize;
+            let len = c.faces[f].len as usize;
+            let s = c.faces[f].start as usize;
             for k in 0..len {
                 let a = c.slot_vertex[s + k];
                 let b = c.slot_vertex[s + (k + 1) % len];
@@ -141,9 +177,13 @@ impl Complex {
 
     fn push_edge(&mut self, a: u32, b: u32) -> u32 {
         let e = self.edges.len() as u32;
-        self.edges.push([a, b]);
-        self.edge_alive.push(true);
-        self.edge_gen.push(0);
+        self.edges.push(Edge {
+            ends: [a, b],
+            gen: 0,
+            alive: true,
+            queued: false,
+            refused: false,
+        });
         self.vert_edges[a as usize].push(e);
         self.vert_edges[b as usize].push(e);
         e
@@ -175,7 +215,7 @@ impl Complex {
     /// The endpoint of `e` that is not `v`.
     #[inline]
     pub fn other(&self, e: u32, v: u32) -> u32 {
-        let [a, b] = self.edges[e as usize];
+        let [a, b] = self.edges[e as usize].ends;
         if a == v {
             b
         } else {
@@ -186,8 +226,8 @@ impl Complex {
     /// The current corners of face `f` (vertex ids).
     #[inline]
     pub fn face(&self, f: u32) -> &[u32] {
-        let s = self.face_start[f as usize] as usize;
-        &self.slot_vertex[s..s + self.face_len[f as usize] as usize]
+        let s = self.faces[f as usize].start as usize;
+        &self.slot_vertex[s..s + self.faces[f as usize].len as usize]
     }
 
     /// The face's vertex cycle rotated to start at its smallest vertex:
@@ -285,8 +325,8 @@ impl Complex {
     /// face is gone (`face_len = 0`). Returns the vertices that left the
     /// face (excluding repeats of kept ones) into `dropped`.
     fn normalize_face(&mut self, f: u32, prefer: Option<&dyn Fn(u32) -> bool>) -> Vec<u32> {
-        let s = self.face_start[f as usize] as usize;
-        let n = self.face_len[f as usize] as usize;
+        let s = self.faces[f as usize].start as usize;
+        let n = self.faces[f as usize].len as usize;
         let verts = &self.slot_vertex[s..s + n];
         let mut has_repeat = false;
         for a in 0..n {
@@ -349,7 +389,7 @@ impl Complex {
             self.slot_vertex[s + k] = sl.0;
             self.slot_corner[s + k] = sl.1;
         }
-        self.face_len[f as usize] = new_len as u32;
+        self.faces[f as usize].len = new_len as u32;
         let mut dropped: Vec<u32> = before
             .into_iter()
             .filter(|v| new_len == 0 || !kept.iter().any(|k| k.0 == *v))
@@ -359,9 +399,10 @@ impl Complex {
         dropped
     }
 
-    /// Collapses edge `e = (i, j)` into `i`, moving it to `x` (W §4.1).
+    /// Collapses edge `e = (i, j)` into `keep` (= `i`), moving it to `x`
+    /// (W §4.1).
     ///
-    /// `prefer_j` picks which corners survive where a face held both
+    /// `prefer_removed` picks which corners survive where a face held both
     /// endpoints (the ones that were at `j` when true): the caller keeps the
     /// corners of the endpoint nearer to `x`, so their attributes fit best.
     /// Degenerate faces, duplicate faces and duplicate edges that appear are
@@ -374,25 +415,26 @@ impl Complex {
         prefer_removed: bool,
         changed: &mut Vec<u32>,
     ) -> CollapseOutcome {
-        let [a, b] = self.edges[e as usize];
+        let [a, b] = self.edges[e as usize].ends;
         let (i, j) = if keep == a { (a, b) } else { (b, a) };
         let mut out = CollapseOutcome::default();
         self.pos[i as usize] = x;
 
         // Faces: move j's faces to i.
         let j_faces = std::mem::take(&mut self.vert_faces[j as usize]);
-        let mut touched: Vec<u32> = Vec::with_capacity(j_faces.len());
-        // Corners that were at j, for the survivor choice.
-        let mut j_corners: Vec<u32> = Vec::new();
+        let mut touched = std::mem::take(&mut self.touched);
+        let mut j_corners = std::mem::take(&mut self.j_corners);
+        touched.clear();
+        j_corners.clear();
         for &f in &j_faces {
-            let s = self.face_start[f as usize] as usize;
-            let n = self.face_len[f as usize] as usize;
+            let s = self.faces[f as usize].start as usize;
+            let n = self.faces[f as usize].len as usize;
             let mut had_i = false;
-            for k in 0..n {
-                if self.slot_vertex[s + k] == j {
-                    self.slot_vertex[s + k] = i;
-                    j_corners.push(self.slot_corner[s + k]);
-                } else if self.slot_vertex[s + k] == i {
+            for k in s..s + n {
+                if self.slot_vertex[k] == j {
+                    self.slot_vertex[k] = i;
+                    j_corners.push(self.slot_corner[k]);
+                } else if self.slot_vertex[k] == i {
                     had_i = true;
                 }
             }
@@ -403,61 +445,72 @@ impl Complex {
         }
         j_corners.sort_unstable();
         for &f in &touched {
-            let old = self.face_len[f as usize] as usize;
+            let old = self.faces[f as usize].len as usize;
             let prefer = |c: u32| j_corners.binary_search(&c).is_ok() == prefer_removed;
             let dropped = self.normalize_face(f, Some(&prefer));
-            let new = self.face_len[f as usize] as usize;
+            let new = self.faces[f as usize].len as usize;
             if new == 0 {
                 out.removed_triangles += old - 2;
-                for v in dropped {
-                    if v != j {
-                        remove_item(&mut self.vert_faces[v as usize], f);
-                    }
-                }
             } else {
                 out.removed_triangles += old - new;
-                for v in dropped {
-                    if v != i && v != j {
-                        remove_item(&mut self.vert_faces[v as usize], f);
-                    }
+            }
+            for v in dropped {
+                if v == j || (new > 0 && v == i) {
+                    continue;
                 }
+                if v != i {
+                    // A vertex other than the merged pair left the face: the
+                    // face split at a repeated vertex.
+                    out.irregular |= new > 0;
+                }
+                remove_item(&mut self.vert_faces[v as usize], f);
             }
         }
 
-        // Duplicate faces around i (same cycle, same orientation).
-        let mut keys: Vec<(Vec<u32>, u32)> = self.vert_faces[i as usize]
-            .iter()
-            .map(|&f| (self.canonical(f), f))
-            .collect();
-        keys.sort_unstable();
-        for w in 1..keys.len() {
-            if keys[w].0 == keys[w - 1].0 {
-                let f = keys[w].1;
-                let len = self.face_len[f as usize] as usize;
+        // Duplicate faces: only a face that changed can have become equal to
+        // another face around i (same cycle, same orientation). The higher
+        // id goes, as when cleaning the input.
+        for &f in &touched {
+            if self.faces[f as usize].len == 0 {
+                continue;
+            }
+            let mut twin = None;
+            for &g in &self.vert_faces[i as usize] {
+                if g != f && self.faces[g as usize].len > 0 && self.same_cycle(f, g, i) {
+                    twin = Some(g);
+                    break;
+                }
+            }
+            if let Some(g) = twin {
+                let dead = f.max(g);
+                let len = self.faces[dead as usize].len as usize;
                 out.removed_triangles += len - 2;
-                for k in 0..len {
-                    let v = self.slot_vertex[self.face_start[f as usize] as usize + k];
+                out.irregular = true;
+                let s = self.faces[dead as usize].start as usize;
+                for k in s..s + len {
+                    let v = self.slot_vertex[k];
                     if v != i {
-                        remove_item(&mut self.vert_faces[v as usize], f);
+                        remove_item(&mut self.vert_faces[v as usize], dead);
                     }
                 }
-                self.face_len[f as usize] = 0;
+                self.faces[dead as usize].len = 0;
             }
         }
-        let face_len = &self.face_len;
-        self.vert_faces[i as usize].retain(|&f| face_len[f as usize] > 0);
+        let faces = &self.faces;
+        self.vert_faces[i as usize].retain(|f| faces[*f as usize].len > 0);
         self.triangles -= out.removed_triangles;
+        self.touched = touched;
+        self.j_corners = j_corners;
 
         // Edges: re-point j's edges to i, merging duplicates.
         let s = self.next_stamp();
         for &ei in &self.vert_edges[i as usize] {
             let k = self.other(ei, i);
             self.vmark[k as usize] = s;
-            self.vmark_val[k as usize] = ei;
         }
         let j_edges = std::mem::take(&mut self.vert_edges[j as usize]);
         for &ej in &j_edges {
-            if !self.edge_alive[ej as usize] {
+            if !self.edges[ej as usize].alive {
                 continue;
             }
             let k = self.other(ej, j);
@@ -471,16 +524,15 @@ impl Complex {
                 self.kill_edge(ej);
                 remove_item(&mut self.vert_edges[k as usize], ej);
             } else {
-                let ends = &mut self.edges[ej as usize];
+                let ends = &mut self.edges[ej as usize].ends;
                 if ends[0] == j {
                     ends[0] = i;
                 } else {
                     ends[1] = i;
                 }
-                self.edge_gen[ej as usize] = self.edge_gen[ej as usize].wrapping_add(1);
+                self.edges[ej as usize].gen = self.edges[ej as usize].gen.wrapping_add(1);
                 self.vert_edges[i as usize].push(ej);
                 self.vmark[k as usize] = s;
-                self.vmark_val[k as usize] = ej;
             }
         }
         changed.clear();
@@ -488,14 +540,31 @@ impl Complex {
         out
     }
 
+    /// Whether live faces `f` and `g`, both holding `v` once, are the same
+    /// cycle with the same orientation.
+    fn same_cycle(&self, f: u32, g: u32, v: u32) -> bool {
+        let (a, b) = (self.face(f), self.face(g));
+        if a.len() != b.len() {
+            return false;
+        }
+        let (Some(pa), Some(pb)) = (
+            a.iter().position(|&x| x == v),
+            b.iter().position(|&x| x == v),
+        ) else {
+            return false;
+        };
+        let n = a.len();
+        (1..n).all(|t| a[(pa + t) % n] == b[(pb + t) % n])
+    }
+
     fn kill_edge(&mut self, e: u32) {
-        self.edge_alive[e as usize] = false;
-        self.edge_gen[e as usize] = self.edge_gen[e as usize].wrapping_add(1);
+        self.edges[e as usize].alive = false;
+        self.edges[e as usize].gen = self.edges[e as usize].gen.wrapping_add(1);
     }
 
     /// Live faces, for output.
     pub fn live_faces(&self) -> impl Iterator<Item = u32> + '_ {
-        (0..self.face_len.len() as u32).filter(|&f| self.face_len[f as usize] > 0)
+        (0..self.faces.len() as u32).filter(|&f| self.faces[f as usize].len > 0)
     }
 
     /// Checks the star lists against the faces and edges (debug and tests).
@@ -526,11 +595,11 @@ impl Complex {
         }
         for (v, fs) in self.vert_faces.iter().enumerate() {
             for &f in fs {
-                if self.face_len[f as usize] == 0 || !self.face(f).contains(&(v as u32)) {
+                if self.faces[f as usize].len == 0 || !self.face(f).contains(&(v as u32)) {
                     return Err(format!("vertex {v} lists face {f} it is not in"));
                 }
             }
-            let mut s = fs.clone();
+            let mut s = fs.to_vec();
             s.sort_unstable();
             s.dedup();
             if s.len() != fs.len() {
@@ -540,10 +609,10 @@ impl Complex {
         for (v, es) in self.vert_edges.iter().enumerate() {
             let mut others = Vec::new();
             for &e in es {
-                if !self.edge_alive[e as usize] {
+                if !self.edges[e as usize].alive {
                     return Err(format!("vertex {v} lists dead edge {e}"));
                 }
-                let [a, b] = self.edges[e as usize];
+                let [a, b] = self.edges[e as usize].ends;
                 if a != v as u32 && b != v as u32 {
                     return Err(format!("vertex {v} lists edge {e} = {a}-{b}"));
                 }
@@ -561,7 +630,7 @@ impl Complex {
 }
 
 /// Removes one occurrence of `x` from `v` (order not kept).
-fn remove_item(v: &mut Vec<u32>, x: u32) {
+fn remove_item(v: &mut Star, x: u32) {
     if let Some(p) = v.iter().position(|&y| y == x) {
         v.swap_remove(p);
     }
@@ -587,7 +656,7 @@ mod tests {
         let c = grid();
         assert_eq!(c.edges.len(), 7);
         assert_eq!(c.triangles, 4);
-        assert_eq!(c.vert_faces[1], vec![0, 1]);
+        assert_eq!(c.vert_faces[1].as_slice(), &[0, 1]);
         assert_eq!(c.edge_face_count(1, 4), 2);
         assert_eq!(c.edge_face_count(0, 1), 1);
         let mut b = Vec::new();
@@ -620,7 +689,7 @@ mod tests {
         assert_eq!(out.removed_triangles, 2);
         assert_eq!(c.face(0).len(), 3);
         assert_eq!(c.face(1).len(), 3);
-        assert!(!c.vert_edges[1].iter().any(|&e| c.edge_alive[e as usize]));
+        assert!(!c.vert_edges[1].iter().any(|&e| c.edges[e as usize].alive));
         c.check().unwrap();
     }
 

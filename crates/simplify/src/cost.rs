@@ -46,6 +46,16 @@ pub(crate) fn newell(points: impl Iterator<Item = DVec3> + Clone) -> (DVec3, DVe
     (n, if count > 0.0 { sum / count } else { sum })
 }
 
+/// Normal (length = twice the area) of a polygon from its corners: the
+/// cross product for triangles, Newell's sum otherwise.
+#[inline]
+pub(crate) fn polygon_normal(p: &[DVec3]) -> DVec3 {
+    match p.len() {
+        3 => (p[1] - p[0]).cross(p[2] - p[0]),
+        _ => newell(p.iter().copied()).0,
+    }
+}
+
 /// Plane of face `f`: (unit normal, area, centroid), or `None` when it has no
 /// area.
 pub(crate) fn face_plane(c: &Complex, f: u32) -> Option<(DVec3, f64, DVec3)> {
@@ -63,10 +73,10 @@ pub(crate) fn face_plane(c: &Complex, f: u32) -> Option<(DVec3, f64, DVec3)> {
 /// plus the regularization term, times the vertex's weight. Summed per
 /// vertex in face order, so the result does not depend on thread count.
 pub(crate) fn vertex_quadrics(c: &Complex, metric: &Metric, weights: &[f64]) -> Vec<Quadric> {
-    let planes: Vec<Option<(DVec3, f64, DVec3)>> = (0..c.face_len.len() as u32)
+    let planes: Vec<Option<(DVec3, f64, DVec3)>> = (0..c.faces.len() as u32)
         .into_par_iter()
         .map(|f| {
-            if c.face_len[f as usize] == 0 {
+            if c.faces[f as usize].len == 0 {
                 None
             } else {
                 face_plane(c, f)
@@ -80,7 +90,7 @@ pub(crate) fn vertex_quadrics(c: &Complex, metric: &Metric, weights: &[f64]) -> 
             let mut area = 0.0;
             for &f in &c.vert_faces[v] {
                 if let Some((n, a, p)) = planes[f as usize] {
-                    let share = a / c.face_len[f as usize] as f64;
+                    let share = a / c.faces[f as usize].len as f64;
                     q += Quadric::plane(n, p, share);
                     area += share;
                 }
@@ -123,6 +133,11 @@ pub(crate) struct Scratch {
 }
 
 impl CostModel {
+    /// Whether evaluation needs to know which vertices are on a border.
+    pub fn needs_border(&self) -> bool {
+        self.metric.boundary_area || self.lock_borders
+    }
+
     /// Evaluates collapsing edge `e`: the summed quadric with memory, plus
     /// the memoryless boundary-area term, minimized (W Eq. 14) with the
     /// documented fallback. `None` when the collapse is not allowed (both
@@ -131,22 +146,28 @@ impl CostModel {
         &self,
         c: &Complex,
         q: &[Quadric],
+        border: &[bool],
         e: u32,
         s: &mut Scratch,
     ) -> Option<Evaluation> {
-        let [i, j] = c.edges[e as usize];
+        let [i, j] = c.edges[e as usize].ends;
         let (pi, pj) = (c.pos[i as usize], c.pos[j as usize]);
         let memory = q[i as usize] + q[j as usize];
         let mut total = memory;
-        let need_boundary = self.metric.boundary_area || self.lock_borders;
+        // `border` says which vertices have boundary edges at all; most
+        // evaluations (interior edges) skip the scan.
         let (mut bi, mut bj) = (false, false);
-        if need_boundary {
-            s.a.clear();
-            c.boundary_neighbors(i, &mut s.a);
-            s.b.clear();
-            c.boundary_neighbors(j, &mut s.b);
-            bi = !s.a.is_empty();
-            bj = !s.b.is_empty();
+        s.a.clear();
+        s.b.clear();
+        if self.needs_border() {
+            if border.get(i as usize).copied().unwrap_or(true) {
+                c.boundary_neighbors(i, &mut s.a);
+                bi = !s.a.is_empty();
+            }
+            if border.get(j as usize).copied().unwrap_or(true) {
+                c.boundary_neighbors(j, &mut s.b);
+                bj = !s.b.is_empty();
+            }
         }
         if self.metric.boundary_area && (bi || bj) {
             let w = self.metric.boundary_area_weight;
@@ -254,8 +275,8 @@ mod tests {
         let mut s = Scratch::default();
         for e in 0..c.edges.len() as u32 {
             assert_eq!(
-                with.evaluate(&c, &q, e, &mut s),
-                without.evaluate(&c, &q, e, &mut s)
+                with.evaluate(&c, &q, &[], e, &mut s),
+                without.evaluate(&c, &q, &[], e, &mut s)
             );
         }
     }
@@ -275,7 +296,7 @@ mod tests {
         };
         let mut s = Scratch::default();
         let e = c.edge_between(0, 2).unwrap();
-        let ev = m.evaluate(&c, &q, e, &mut s).unwrap();
+        let ev = m.evaluate(&c, &q, &[], e, &mut s).unwrap();
         let plain = CostModel {
             metric: Metric {
                 boundary_area: false,
@@ -283,7 +304,7 @@ mod tests {
             },
             lock_borders: false,
         }
-        .evaluate(&c, &q, e, &mut s)
+        .evaluate(&c, &q, &[], e, &mut s)
         .unwrap();
         assert!(ev.cost > plain.cost, "{ev:?} vs {plain:?}");
     }
@@ -299,7 +320,7 @@ mod tests {
         let mut s = Scratch::default();
         // Every vertex of the hinge is on the border.
         for e in 0..c.edges.len() as u32 {
-            assert_eq!(m.evaluate(&c, &q, e, &mut s), None);
+            assert_eq!(m.evaluate(&c, &q, &[], e, &mut s), None);
         }
     }
 }

@@ -1,8 +1,14 @@
-//! The collapse queue: a binary min-heap of edge costs whose stale entries
-//! are recognized by generation counters, never by comparing floats.
+//! The collapse queue: a min-heap of edge costs whose stale entries are
+//! recognized by generation counters, never by comparing floats.
+//!
+//! Quaternary rather than binary: with 16-byte entries a node's four
+//! children share a 64-byte cache line, and the tree is half as deep, so a
+//! pop or re-key on a million-edge queue misses the cache about half as
+//! often (the queue is a third of the collapse loop's time on large scans).
 
 use std::cmp::Ordering;
-use std::collections::BinaryHeap;
+
+use dary_heap::QuaternaryHeap;
 
 /// One candidate collapse, as it was evaluated.
 #[derive(Clone, Copy, Debug)]
@@ -27,7 +33,7 @@ impl PartialOrd for Entry {
     }
 }
 impl Ord for Entry {
-    /// Reversed so that `BinaryHeap` pops the cheapest first; a total order
+    /// Reversed so that the max-heap pops the cheapest first; a total order
     /// (`total_cmp`, then edge id, then generation) makes runs deterministic.
     fn cmp(&self, o: &Self) -> Ordering {
         o.cost
@@ -40,14 +46,14 @@ impl Ord for Entry {
 /// The queue of candidate collapses.
 #[derive(Default)]
 pub(crate) struct CollapseQueue {
-    heap: BinaryHeap<Entry>,
+    heap: QuaternaryHeap<Entry>,
 }
 
 impl CollapseQueue {
     /// A queue built from initial entries in O(n).
     pub fn from_entries(entries: Vec<Entry>) -> Self {
         CollapseQueue {
-            heap: BinaryHeap::from(entries),
+            heap: QuaternaryHeap::from(entries),
         }
     }
 
@@ -57,15 +63,28 @@ impl CollapseQueue {
         self.heap.push(e);
     }
 
-    /// The cheapest entry that is still current (its generation matches
-    /// `gens`); stale entries are dropped on the way.
-    pub fn pop_current(&mut self, gens: &[u32], alive: &[bool]) -> Option<Entry> {
-        while let Some(e) = self.heap.pop() {
-            if alive[e.edge as usize] && gens[e.edge as usize] == e.gen {
-                return Some(e);
-            }
+    /// The cheapest entry, current or stale: the caller compares its
+    /// generation with the edge's.
+    #[inline]
+    pub fn pop(&mut self) -> Option<Entry> {
+        self.heap.pop()
+    }
+
+    /// The cheapest entry, without removing it.
+    #[inline]
+    pub fn peek(&self) -> Option<Entry> {
+        self.heap.peek().copied()
+    }
+
+    /// Replaces the cheapest entry (a stale one just re-evaluated): one
+    /// sift-down instead of a pop and a push.
+    #[inline]
+    pub fn replace_top(&mut self, e: Entry) {
+        if self.heap.is_empty() {
+            self.heap.push(e);
+        } else if let Some(mut top) = self.heap.peek_mut() {
+            *top = e;
         }
-        None
     }
 }
 
@@ -74,40 +93,16 @@ mod tests {
     use super::*;
 
     #[test]
-    fn pops_cheapest_first_and_skips_stale_entries() {
-        let mut gens = vec![0u32; 3];
-        let alive = vec![true; 3];
-        let mut q = CollapseQueue::from_entries(vec![
-            Entry {
-                cost: 2.0,
-                edge: 0,
-                gen: 0,
-            },
-            Entry {
-                cost: 1.0,
-                edge: 1,
-                gen: 0,
-            },
-            Entry {
-                cost: 1.0,
-                edge: 2,
-                gen: 0,
-            },
-        ]);
-        // Edge 1 was re-evaluated: its old entry is stale.
-        gens[1] = 1;
-        q.push(Entry {
-            cost: 3.0,
-            edge: 1,
-            gen: 1,
-        });
-        // Equal costs break by edge id.
-        assert_eq!(q.pop_current(&gens, &alive).map(|e| e.edge), Some(2));
-        assert_eq!(q.pop_current(&gens, &alive).map(|e| e.edge), Some(0));
-        assert_eq!(
-            q.pop_current(&gens, &alive).map(|e| (e.edge, e.cost)),
-            Some((1, 3.0))
-        );
-        assert!(q.pop_current(&gens, &alive).is_none());
+    fn pops_cheapest_first_with_ties_broken_by_edge_then_generation() {
+        let e = |cost, edge, gen| Entry { cost, edge, gen };
+        let mut q = CollapseQueue::from_entries(vec![e(2.0, 0, 0), e(1.0, 2, 0), e(1.0, 1, 5)]);
+        q.push(e(1.0, 1, 4));
+        // Re-keying the top moves it to its place.
+        q.replace_top(e(1.5, 1, 6));
+        q.push(e(1.0, 1, 4));
+        let order: Vec<(u32, u32)> = std::iter::from_fn(|| q.pop())
+            .map(|e| (e.edge, e.gen))
+            .collect();
+        assert_eq!(order, vec![(1, 4), (1, 5), (2, 0), (1, 6), (0, 0)]);
     }
 }

@@ -41,8 +41,10 @@ mod virtual_edges;
 
 pub use error::Error;
 pub use history::{CollapseRecord, History, RingFace};
-pub use mesh::simplify_mesh;
+pub use mesh::{simplify_mesh, simplify_mesh_with_progress};
 pub use options::{Guards, Metric, Options, Target};
 pub use quadric::{place, Placement, Quadric};
 pub use report::{Rejections, Report, StopReason};
-pub use simplify::{simplify_polygons, simplify_triangles, Simplified};
+pub use simplify::{
+    simplify_polygons, simplify_polygons_with_progress, simplify_triangles, Simplified,
+};

@@ -6,7 +6,7 @@ use wildlod_mesh::Mesh;
 use crate::error::Error;
 use crate::options::Options;
 use crate::report::Report;
-use crate::simplify::simplify_polygons;
+use crate::simplify::simplify_polygons_with_progress;
 
 /// Simplifies a mesh and carries everything per corner: each surviving
 /// corner keeps the attribute values (UVs, normals, colors, morph deltas,
@@ -14,9 +14,19 @@ use crate::simplify::simplify_polygons;
 /// seams cannot tear the surface: positions are welded before simplifying.
 /// Values no corner uses any more are dropped.
 pub fn simplify_mesh(mesh: &Mesh, options: &Options) -> Result<(Mesh, Report), Error> {
+    simplify_mesh_with_progress(mesh, options, &|_| {})
+}
+
+/// [`simplify_mesh`] with a progress callback (see
+/// [`crate::simplify_polygons_with_progress`]).
+pub fn simplify_mesh_with_progress(
+    mesh: &Mesh,
+    options: &Options,
+    progress: &dyn Fn(f64),
+) -> Result<(Mesh, Report), Error> {
     mesh.validate()
         .map_err(|e| Error::InvalidMesh(e.to_string()))?;
-    let s = simplify_polygons(&mesh.positions, &mesh.faces, options)?;
+    let s = simplify_polygons_with_progress(&mesh.positions, &mesh.faces, options, progress)?;
     let mut out = Mesh {
         name: mesh.name.clone(),
         positions: s.positions,

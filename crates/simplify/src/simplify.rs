@@ -60,10 +60,23 @@ pub fn simplify_polygons(
     faces: &Faces,
     options: &Options,
 ) -> Result<Simplified, Error> {
+    simplify_polygons_with_progress(positions, faces, options, &|_| {})
+}
+
+/// [`simplify_polygons`], calling `progress` with the fraction of the work
+/// done (0 to 1) about a hundred times during the run, from the calling
+/// thread. For progress bars; the result is the same.
+pub fn simplify_polygons_with_progress(
+    positions: &[[f32; 3]],
+    faces: &Faces,
+    options: &Options,
+    progress: &dyn Fn(f64),
+) -> Result<Simplified, Error> {
     check_input(positions, faces, options)?;
     let prepared = prepare(positions, faces, options);
     let mut run = Run::new(prepared, options);
-    run.collapse_loop();
+    run.collapse_loop(progress);
+    progress(1.0);
     Ok(run.assemble())
 }
 
@@ -223,10 +236,15 @@ struct Run<'o> {
     model: CostModel,
     quadrics: Vec<Quadric>,
     queue: CollapseQueue,
-    /// Evaluation cached with each edge's current generation.
-    evals: Vec<Option<Evaluation>>,
-    /// Edges a guard refused; re-evaluated when their neighbourhood changes.
-    refused: Vec<bool>,
+    /// Cost of the last collapse popped: the key under which an edge that
+    /// left the queue is put back to be evaluated again soon.
+    last_cost: f64,
+    /// Refused edges around each vertex, so that finding them near a
+    /// collapse costs nothing in the usual case of none.
+    refused_around: Vec<u32>,
+    /// Vertices on a boundary edge (kept only when a term needs them).
+    border: Vec<bool>,
+    track_border: bool,
     moved: Vec<bool>,
     /// The vertex each vertex was merged into (itself while alive).
     merged_into: Vec<u32>,
@@ -235,6 +253,7 @@ struct Run<'o> {
     history: Option<HistoryRecorder>,
     scratch: Scratch,
     star: Vec<u32>,
+    star_verts: Vec<u32>,
     changed: Vec<u32>,
     nbrs: Vec<u32>,
 }
@@ -251,22 +270,40 @@ impl<'o> Run<'o> {
             metric: options.metric,
             lock_borders: options.guards.lock_borders,
         };
+        let track_border = model.needs_border();
         let c = &p.complex;
-        let evals: Vec<Option<Evaluation>> = (0..c.edges.len() as u32)
-            .into_par_iter()
-            .map_init(Scratch::default, |s, e| model.evaluate(c, &quadrics, e, s))
-            .collect();
-        let entries = evals
-            .iter()
-            .enumerate()
-            .filter_map(|(e, ev)| {
-                ev.map(|ev| Entry {
-                    cost: ev.cost,
-                    edge: e as u32,
-                    gen: 0,
+        let border: Vec<bool> = if track_border {
+            (0..c.pos.len() as u32)
+                .into_par_iter()
+                .map_init(Vec::new, |buf, v| {
+                    buf.clear();
+                    c.boundary_neighbors(v, buf);
+                    !buf.is_empty()
                 })
+                .collect()
+        } else {
+            Vec::new()
+        };
+        let costs: Vec<Option<f64>> = (0..c.edges.len() as u32)
+            .into_par_iter()
+            .map_init(Scratch::default, |s, e| {
+                model
+                    .evaluate(c, &quadrics, &border, e, s)
+                    .map(|ev| ev.cost)
             })
             .collect();
+        let mut entries = Vec::with_capacity(costs.len());
+        for (e, cost) in costs.iter().enumerate() {
+            if let Some(cost) = *cost {
+                p.complex.edges[e].queued = true;
+                entries.push(Entry {
+                    cost,
+                    edge: e as u32,
+                    gen: 0,
+                });
+            }
+        }
+        let c = &p.complex;
         let target = options.target.triangles_for(p.input_triangles);
         let report = Report {
             input_triangles: p.input_triangles,
@@ -275,7 +312,6 @@ impl<'o> Run<'o> {
             virtual_edges,
             ..Report::default()
         };
-        let n_edges = c.edges.len();
         let nv = c.pos.len();
         Run {
             history: options
@@ -286,20 +322,32 @@ impl<'o> Run<'o> {
             model,
             quadrics,
             queue: CollapseQueue::from_entries(entries),
-            evals,
-            refused: vec![false; n_edges],
+            last_cost: 0.0,
+            refused_around: vec![0; nv],
+            border,
+            track_border,
             moved: vec![false; nv],
             merged_into: (0..nv as u32).collect(),
             target,
             report,
             scratch: Scratch::default(),
             star: Vec::new(),
+            star_verts: Vec::new(),
             changed: Vec::new(),
             nbrs: Vec::new(),
         }
     }
 
-    fn collapse_loop(&mut self) {
+    /// Greedy: always the cheapest valid collapse (W §4, App. C.1).
+    ///
+    /// Re-evaluation is lazy: a collapse only bumps the generation of the
+    /// edges whose cost it changed; an entry whose generation is stale is
+    /// re-evaluated when it reaches the top and pushed back. Because the
+    /// plane quadrics only accumulate (memory), a cost can only grow, so the
+    /// stale key is a lower bound and the order is exactly greedy; the heap
+    /// holds one entry per edge instead of one per re-evaluation, and edges
+    /// that never come near the top are never re-evaluated.
+    fn collapse_loop(&mut self, progress: &dyn Fn(f64)) {
         let min_cos = self
             .options
             .guards
@@ -311,13 +359,20 @@ impl<'o> Run<'o> {
             return;
         }
         let mut error_limited = false;
+        let start = self.p.complex.triangles;
+        let span = start.saturating_sub(self.target).max(1);
+        let step = (span / 100).max(1);
+        let mut next_report = start.saturating_sub(step);
         loop {
+            if self.p.complex.triangles <= next_report {
+                progress((start - self.p.complex.triangles) as f64 / span as f64);
+                next_report = self.p.complex.triangles.saturating_sub(step);
+            }
             if self.p.complex.triangles <= self.target {
                 self.report.stop = Some(StopReason::TargetReached);
                 break;
             }
-            let c = &self.p.complex;
-            let Some(entry) = self.queue.pop_current(&c.edge_gen, &c.edge_alive) else {
+            let Some(entry) = self.next_current() else {
                 self.report.stop = Some(if error_limited {
                     StopReason::ErrorLimit
                 } else {
@@ -326,7 +381,14 @@ impl<'o> Run<'o> {
                 break;
             };
             let e = entry.edge;
-            let Some(ev) = self.evals[e as usize] else {
+            self.last_cost = entry.cost;
+            // The entry is current, so evaluating again gives its cost back,
+            // now with the position (cheaper than storing one per edge).
+            let c = &self.p.complex;
+            let Some(ev) =
+                self.model
+                    .evaluate(c, &self.quadrics, &self.border, e, &mut self.scratch)
+            else {
                 continue;
             };
             if let Some(limit) = max_error {
@@ -336,27 +398,64 @@ impl<'o> Run<'o> {
                     continue;
                 }
             }
-            let [a, b] = self.p.complex.edges[e as usize];
+            let [a, b] = c.edges[e as usize].ends;
             // Keep the endpoint with the larger star: fewer lists to move.
-            let (i, j) = {
-                let c = &self.p.complex;
-                let (fa, fb) = (
-                    c.vert_faces[a as usize].len(),
-                    c.vert_faces[b as usize].len(),
-                );
-                if fa > fb || (fa == fb && a < b) {
-                    (a, b)
-                } else {
-                    (b, a)
-                }
+            let (fa, fb) = (
+                c.vert_faces[a as usize].len(),
+                c.vert_faces[b as usize].len(),
+            );
+            let (i, j) = if fa > fb || (fa == fb && a < b) {
+                (a, b)
+            } else {
+                (b, a)
             };
             if !self.allowed(i, j, ev.position, min_cos) {
-                self.refused[e as usize] = true;
+                let edge = &mut self.p.complex.edges[e as usize];
+                if !edge.refused {
+                    edge.refused = true;
+                    self.refused_around[a as usize] += 1;
+                    self.refused_around[b as usize] += 1;
+                }
                 continue;
             }
             self.collapse(e, i, j, ev);
         }
         self.report.output_triangles = self.p.complex.triangles;
+    }
+
+    /// Pops the cheapest current entry. Entries of dead edges are dropped;
+    /// a stale entry is re-evaluated and re-keyed in place (one sift-down
+    /// instead of a pop and a push).
+    fn next_current(&mut self) -> Option<Entry> {
+        loop {
+            let top = self.queue.peek()?;
+            let e = top.edge as usize;
+            let edge = self.p.complex.edges[e];
+            if !edge.alive {
+                self.queue.pop();
+                self.p.complex.edges[e].queued = false;
+                continue;
+            }
+            if top.gen == edge.gen {
+                self.p.complex.edges[e].queued = false;
+                return self.queue.pop();
+            }
+            let c = &self.p.complex;
+            let ev =
+                self.model
+                    .evaluate(c, &self.quadrics, &self.border, top.edge, &mut self.scratch);
+            match ev {
+                Some(ev) => self.queue.replace_top(Entry {
+                    cost: ev.cost,
+                    edge: top.edge,
+                    gen: edge.gen,
+                }),
+                None => {
+                    self.queue.pop();
+                    self.p.complex.edges[e].queued = false;
+                }
+            }
+        }
     }
 
     /// The guards, cheapest first.
@@ -367,7 +466,10 @@ impl<'o> Run<'o> {
         let left = c.triangles - self.target;
         if left <= EXACT_COUNT_WINDOW {
             let removed = removed_triangles(c, &self.star, i, j);
-            if removed > left + 1 {
+            // Within one triangle of the target, and never empty a mesh
+            // that was asked to keep something.
+            let floor = if self.target > 0 { 1 } else { 0 };
+            if removed > left + 1 || c.triangles - removed.min(c.triangles) < floor {
                 self.report.rejected.overshoot += 1;
                 return false;
             }
@@ -386,13 +488,24 @@ impl<'o> Run<'o> {
     }
 
     fn collapse(&mut self, e: u32, i: u32, j: u32, ev: Evaluation) {
+        let mut star_had_border = false;
+        if self.track_border {
+            // Vertices whose faces change: those of the star, now.
+            self.star_verts.clear();
+            for &f in &self.star {
+                self.star_verts.extend_from_slice(self.p.complex.face(f));
+            }
+            self.star_verts.sort_unstable();
+            self.star_verts.dedup();
+            star_had_border = self.star_verts.iter().any(|&v| self.border[v as usize]);
+        }
         let c = &mut self.p.complex;
         let (pi, pj) = (c.pos[i as usize], c.pos[j as usize]);
         if let Some(h) = &mut self.history {
             h.before(c, &self.star, i, j);
         }
         let prefer_removed = pj.distance_squared(ev.position) < pi.distance_squared(ev.position);
-        c.collapse(e, i, ev.position, prefer_removed, &mut self.changed);
+        let outcome = c.collapse(e, i, ev.position, prefer_removed, &mut self.changed);
         self.moved[i as usize] = true;
         self.merged_into[j as usize] = i;
         self.quadrics[i as usize] = self.quadrics[i as usize] + self.quadrics[j as usize];
@@ -401,49 +514,74 @@ impl<'o> Run<'o> {
         }
         self.report.collapses += 1;
         self.report.error = self.report.error.max(ev.distance);
-        self.update_around(i);
+        // A collapse inside a closed region keeps it closed unless something
+        // irregular happened (see `CollapseOutcome::irregular`), so border
+        // flags need no update there: the common case on most meshes.
+        let border_changes = star_had_border || outcome.irregular;
+        self.invalidate_around(i, j, border_changes);
     }
 
-    /// Re-evaluates the edges whose cost the collapse changed: those of the
-    /// new vertex; with the memoryless area term, also those of vertices
-    /// whose boundary edges moved; and refused edges one ring out, whose
-    /// guards may now pass.
-    fn update_around(&mut self, i: u32) {
+    /// Marks stale the edges whose cost or validity the collapse changed:
+    /// those of the new vertex; with the memoryless area term, those of
+    /// vertices whose boundary edges moved or whose border status changed;
+    /// and refused edges one ring out, whose guards may now pass.
+    fn invalidate_around(&mut self, i: u32, j: u32, border_changes: bool) {
         let c = &self.p.complex;
         let mut todo = std::mem::take(&mut self.changed);
-        if self.options.metric.boundary_area || self.options.guards.lock_borders {
-            self.nbrs.clear();
-            c.boundary_neighbors(i, &mut self.nbrs);
-            for &k in &self.nbrs {
-                todo.extend_from_slice(&c.vert_edges[k as usize]);
+        if self.track_border && border_changes {
+            for &v in &self.star_verts {
+                if v == j {
+                    continue;
+                }
+                self.nbrs.clear();
+                c.boundary_neighbors(v, &mut self.nbrs);
+                let now = !self.nbrs.is_empty();
+                // i moved: its border neighbours' area terms changed too.
+                let touches_i = v != i && self.nbrs.contains(&i);
+                if now != self.border[v as usize] || touches_i || (v == i && now) {
+                    todo.extend_from_slice(&c.vert_edges[v as usize]);
+                }
+                self.border[v as usize] = now;
             }
+            self.border[j as usize] = false;
         }
         for &ei in &c.vert_edges[i as usize] {
             let k = c.other(ei, i);
-            for &ek in &c.vert_edges[k as usize] {
-                if self.refused[ek as usize] {
-                    todo.push(ek);
+            if self.refused_around[k as usize] > 0 {
+                for &ek in &c.vert_edges[k as usize] {
+                    if c.edges[ek as usize].refused {
+                        todo.push(ek);
+                    }
                 }
             }
         }
         todo.sort_unstable();
         todo.dedup();
+        let c = &mut self.p.complex;
         for &ed in &todo {
-            let c = &mut self.p.complex;
-            if !c.edge_alive[ed as usize] {
+            let k = ed as usize;
+            if !c.edges[k].alive {
                 continue;
             }
-            c.edge_gen[ed as usize] = c.edge_gen[ed as usize].wrapping_add(1);
-            let ev = self
-                .model
-                .evaluate(c, &self.quadrics, ed, &mut self.scratch);
-            self.evals[ed as usize] = ev;
-            self.refused[ed as usize] = false;
-            if let Some(ev) = ev {
+            // The collapse already bumped the edges it re-pointed; bump all
+            // so every changed edge's queued entry is recognized as stale.
+            let edge = &mut c.edges[k];
+            edge.gen = edge.gen.wrapping_add(1);
+            if edge.refused {
+                edge.refused = false;
+                for v in edge.ends {
+                    self.refused_around[v as usize] -= 1;
+                }
+            }
+            if !edge.queued {
+                // Not in the queue (refused, or not collapsible before): put
+                // it back, marked stale, under the cost of the last collapse
+                // so that it is evaluated again right away.
+                edge.queued = true;
                 self.queue.push(Entry {
-                    cost: ev.cost,
+                    cost: self.last_cost,
                     edge: ed,
-                    gen: c.edge_gen[ed as usize],
+                    gen: edge.gen.wrapping_sub(1),
                 });
             }
         }
@@ -475,7 +613,7 @@ impl<'o> Run<'o> {
                 self.p.input[v]
             });
         }
-        let mut faces = Faces::with_capacity(c.face_len.len(), c.slot_vertex.len());
+        let mut faces = Faces::with_capacity(c.faces.len(), c.slot_vertex.len());
         let mut face_origin = Vec::new();
         let mut corner_origin = Vec::new();
         let mut buf = Vec::new();
@@ -484,7 +622,7 @@ impl<'o> Run<'o> {
             buf.extend(c.face(f).iter().map(|&v| out_id[v as usize]));
             faces.push(&buf);
             face_origin.push(f);
-            let s = c.face_start[f as usize] as usize;
+            let s = c.faces[f as usize].start as usize;
             corner_origin.extend_from_slice(&c.slot_corner[s..s + buf.len()]);
         }
         // Where each welded vertex went: follow the collapse forest, which

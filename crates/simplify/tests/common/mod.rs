@@ -61,16 +61,7 @@ pub fn euler(m: &Mesh) -> i64 {
     used.len() as i64 - edges.len() as i64 + m.faces.len() as i64
 }
 
-/// A box from `lo` to `hi` whose six sides are `n × n` quad grids: a closed
-/// manifold with something to simplify.
+/// A subdivided box (see `shapes::box_grid`).
 pub fn grid_box(lo: [f32; 3], hi: [f32; 3], n: usize) -> Mesh {
-    let mut m = shapes::quad_sphere(n);
-    for p in &mut m.positions {
-        let s = p.iter().fold(0.0f32, |a, c| a.max(c.abs()));
-        for k in 0..3 {
-            let t = 0.5 * (p[k] / s + 1.0);
-            p[k] = lo[k] + t * (hi[k] - lo[k]);
-        }
-    }
-    m
+    shapes::box_grid(lo, hi, n)
 }
