@@ -1,1 +1,23 @@
-fn main() {}
+//! `wildlod`: levels of detail for real-world meshes.
+//!
+//! A thin binary: arguments are parsed ([`args`]) into validated settings,
+//! then each command runs a pipeline of the library crates.
+
+mod args;
+mod commands;
+mod progress;
+
+use std::process::ExitCode;
+
+use clap::Parser;
+
+fn main() -> ExitCode {
+    let cli = args::Cli::parse();
+    match commands::run(cli) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e:#}");
+            ExitCode::FAILURE
+        }
+    }
+}

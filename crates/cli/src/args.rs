@@ -1,0 +1,117 @@
+//! The command line, as users script against it. Names here are a contract:
+//! `simplify INPUT -o OUTPUT --ratio R | --faces N | --error E`,
+//! `info FILE --json`, `compare REF CAND --json`.
+
+use std::path::PathBuf;
+
+use clap::{Args, Parser, Subcommand};
+
+/// Levels of detail for real-world meshes: non-manifold, many-component,
+/// triangle soups, textured, quad-dominant, skinned.
+///
+/// Formats: glTF 2.0 (.gltf, .glb), OBJ (+MTL), PLY, STL. The output format
+/// follows the output file's extension.
+#[derive(Parser, Debug)]
+#[command(name = "wildlod", version, about, long_about = None)]
+pub struct Cli {
+    /// What to do.
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+/// The commands.
+#[derive(Subcommand, Debug)]
+pub enum Command {
+    /// Simplify a mesh file to a target triangle count, ratio or error.
+    ///
+    /// Examples:
+    ///   wildlod simplify bunny.obj -o bunny_lod.obj --ratio 0.1
+    ///   wildlod simplify truck.glb -o truck_lod.glb --faces 2000
+    ///   wildlod simplify scan.ply -o scan_lod.stl --error 0.001
+    ///
+    /// Every mesh of the file is simplified: with --ratio each to that
+    /// ratio; with --faces the budget is shared among the file's stored
+    /// meshes in proportion to their triangles; with --error every collapse
+    /// stays within that distance (relative to the whole file's size).
+    /// Materials, nodes, skins and animations are written back unchanged.
+    Simplify(SimplifyArgs),
+    /// Describe a mesh file: faces by arity, topology, UVs, materials, skins.
+    ///
+    /// Topology (components, boundary and non-manifold edges) is computed
+    /// after welding equal positions. Counts are totals over the file with
+    /// each stored mesh counted once; `instanced` counts each mesh once per
+    /// node that shows it.
+    Info(InfoArgs),
+    /// Run the main job on a built-in example: write a wild mesh generated
+    /// in code and its level of detail, and describe both.
+    Demo(DemoArgs),
+}
+
+/// Arguments of `wildlod simplify`.
+#[derive(Args, Debug)]
+pub struct SimplifyArgs {
+    /// The mesh to simplify (.gltf, .glb, .obj, .ply, .stl).
+    pub input: PathBuf,
+    /// Where to write the result; its extension picks the format.
+    #[arg(short, long)]
+    pub output: PathBuf,
+    /// Keep this fraction of the triangles (0 to 1; a quad counts as two).
+    /// Default 0.5 when no target is given.
+    #[arg(long, value_name = "R")]
+    pub ratio: Option<f64>,
+    /// Keep at most this many triangles (a quad counts as two), shared among
+    /// the file's meshes.
+    #[arg(long, value_name = "N")]
+    pub faces: Option<usize>,
+    /// Allow no collapse whose error exceeds E, as a fraction of the
+    /// bounding-box diagonal (0.001 = 0.1%). Combines with --ratio/--faces:
+    /// the first limit reached stops.
+    #[arg(long, value_name = "E")]
+    pub error: Option<f64>,
+    /// Radius r of virtual edges, relative to the bounding-box diagonal:
+    /// parts of different components closer than 2r may merge. 0 disables.
+    #[arg(long, value_name = "R", default_value_t = wildlod_simplify::Options::default().virtual_edge_radius)]
+    pub virtual_radius: f64,
+    /// Keep topology: no merging of parts, no closing of holes; a manifold
+    /// stays a manifold of the same genus. The target may be out of reach.
+    #[arg(long)]
+    pub keep_topology: bool,
+    /// Never move or remove vertices on open borders.
+    #[arg(long)]
+    pub lock_borders: bool,
+    /// Largest angle (degrees) a face may turn in one collapse; 180 turns
+    /// the flip guard off.
+    #[arg(long, value_name = "DEG", default_value_t = 90.0)]
+    pub max_normal_turn: f64,
+    /// Classic quadric error simplification (Garland & Heckbert 1997):
+    /// no virtual edges, no area term. For comparisons.
+    #[arg(long)]
+    pub classic: bool,
+    /// Allow the output to replace the input file.
+    #[arg(long)]
+    pub overwrite: bool,
+    /// Print nothing but errors.
+    #[arg(short, long)]
+    pub quiet: bool,
+}
+
+/// Arguments of `wildlod info`.
+#[derive(Args, Debug)]
+pub struct InfoArgs {
+    /// The mesh file to describe.
+    pub file: PathBuf,
+    /// Print JSON (stable keys, documented in docs/cli.md) instead of text.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// Arguments of `wildlod demo`.
+#[derive(Args, Debug)]
+pub struct DemoArgs {
+    /// Folder to write `demo_input.obj` and `demo_lod.obj` into.
+    #[arg(short, long, default_value = "wildlod-demo")]
+    pub out: PathBuf,
+    /// Ratio of triangles the level of detail keeps.
+    #[arg(long, default_value_t = 0.1)]
+    pub ratio: f64,
+}

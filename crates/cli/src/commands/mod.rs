@@ -1,0 +1,16 @@
+//! One module per command.
+
+mod demo;
+mod info;
+mod simplify;
+
+use crate::args::{Cli, Command};
+
+/// Runs the parsed command line.
+pub fn run(cli: Cli) -> anyhow::Result<()> {
+    match cli.command {
+        Command::Simplify(a) => simplify::run(&simplify::Config::from_args(a)?),
+        Command::Info(a) => info::run(&a),
+        Command::Demo(a) => demo::run(&a),
+    }
+}
