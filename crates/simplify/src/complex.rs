@@ -130,17 +130,31 @@ impl Complex {
                 cleaned.degenerate += 1;
             }
         }
-        // Exact duplicates: sort canonical keys, keep the lowest face id.
-        let mut keys: Vec<(Vec<u32>, u32)> = (0..nf as u32)
+        // Exact duplicates: group faces by a hash of their canonical cycle,
+        // then compare cycles within a group; the lowest face id stays.
+        let mut keys: Vec<(u64, u32)> = (0..nf as u32)
             .filter(|&f| c.faces[f as usize].len > 0)
-            .map(|f| (c.canonical(f), f))
+            .map(|f| (c.cycle_hash(f), f))
             .collect();
         keys.sort_unstable();
-        for w in keys.windows(2) {
-            if w[0].0 == w[1].0 {
-                c.faces[w[1].1 as usize].len = 0;
-                cleaned.duplicate += 1;
+        let mut g = 0;
+        while g < keys.len() {
+            let mut h = g + 1;
+            while h < keys.len() && keys[h].0 == keys[g].0 {
+                h += 1;
             }
+            for a in g + 1..h {
+                let fa = keys[a].1;
+                let dup = (g..a).any(|b| {
+                    let fb = keys[b].1;
+                    c.faces[fb as usize].len > 0 && c.same_cycle_any(fa, fb)
+                });
+                if dup {
+                    c.faces[fa as usize].len = 0;
+                    cleaned.duplicate += 1;
+                }
+            }
+            g = h;
         }
         for f in 0..nf as u32 {
             let len = c.faces[f as usize].len as usize;
@@ -161,7 +175,7 @@ impl Complex {
             let s = c.faces[f].start as usize;
             for k in 0..len {
                 let a = c.slot_vertex[s + k];
-                let b = c.slot_vertex[s + (k + 1) % len];
+                let b = c.slot_vertex[if k + 1 == len { s } else { s + k + 1 }];
                 ek.push(((a.min(b) as u64) << 32) | a.max(b) as u64);
             }
         }
@@ -230,14 +244,36 @@ impl Complex {
         &self.slot_vertex[s..s + self.faces[f as usize].len as usize]
     }
 
-    /// The face's vertex cycle rotated to start at its smallest vertex:
-    /// equal for two faces with the same cycle and orientation.
-    fn canonical(&self, f: u32) -> Vec<u32> {
+    /// Where the face's cycle starts when rotated to its smallest vertex.
+    fn canonical_start(&self, f: u32) -> usize {
         let face = self.face(f);
-        let k = (0..face.len()).min_by_key(|&k| face[k]).unwrap_or(0);
-        (0..face.len())
-            .map(|i| face[(k + i) % face.len()])
-            .collect()
+        (0..face.len()).min_by_key(|&k| face[k]).unwrap_or(0)
+    }
+
+    /// A hash of the face's canonical cycle (rotated to its smallest
+    /// vertex, orientation kept): equal cycles hash equal.
+    fn cycle_hash(&self, f: u32) -> u64 {
+        let face = self.face(f);
+        let k = self.canonical_start(f);
+        let (tail, head) = face.split_at(k);
+        let mut h: u64 = face.len() as u64;
+        for &v in head.iter().chain(tail) {
+            h = (h.rotate_left(7) ^ v as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15);
+        }
+        h
+    }
+
+    /// Whether faces `f` and `g` are the same cycle with the same
+    /// orientation, whatever their starting corners.
+    fn same_cycle_any(&self, f: u32, g: u32) -> bool {
+        let (a, b) = (self.face(f), self.face(g));
+        if a.len() != b.len() {
+            return false;
+        }
+        let (pa, pb) = (self.canonical_start(f), self.canonical_start(g));
+        let (a2, a1) = a.split_at(pa);
+        let (b2, b1) = b.split_at(pb);
+        a1.iter().chain(a2).eq(b1.iter().chain(b2))
     }
 
     fn next_stamp(&mut self) -> u32 {
@@ -259,8 +295,8 @@ impl Complex {
             let n = face.len();
             for k in 0..n {
                 if face[k] == v {
-                    out.push(face[(k + n - 1) % n]);
-                    out.push(face[(k + 1) % n]);
+                    out.push(face[if k == 0 { n - 1 } else { k - 1 }]);
+                    out.push(face[if k + 1 == n { 0 } else { k + 1 }]);
                 }
             }
         }
@@ -328,18 +364,14 @@ impl Complex {
         let s = self.faces[f as usize].start as usize;
         let n = self.faces[f as usize].len as usize;
         let verts = &self.slot_vertex[s..s + n];
-        let mut has_repeat = false;
-        for a in 0..n {
-            for b in a + 1..n {
-                if verts[a] == verts[b] {
-                    has_repeat = true;
-                }
-            }
-        }
+        let has_repeat = (0..n).any(|a| verts[a + 1..].contains(&verts[a]));
         if !has_repeat {
             return Vec::new();
         }
-        let before: Vec<u32> = verts.to_vec();
+        if let Some(d) = self.drop_adjacent_repeat(f, prefer) {
+            return d;
+        }
+        let before: Vec<u32> = self.slot_vertex[s..s + n].to_vec();
         // Collapse cyclic runs of equal vertices to one slot.
         let mut slots: Vec<(u32, u32, bool)> = Vec::with_capacity(n); // (vertex, corner, preferred)
         for k in 0..n {
@@ -397,6 +429,57 @@ impl Complex {
         dropped.sort_unstable();
         dropped.dedup();
         dropped
+    }
+
+    /// The common case of `normalize_face`, without allocating: exactly one
+    /// vertex appears twice, on neighbouring corners (a face that held the
+    /// collapsed edge). Drops one of the two slots in place. `None` when the
+    /// face is not in that case.
+    fn drop_adjacent_repeat(
+        &mut self,
+        f: u32,
+        prefer: Option<&dyn Fn(u32) -> bool>,
+    ) -> Option<Vec<u32>> {
+        let s = self.faces[f as usize].start as usize;
+        let n = self.faces[f as usize].len as usize;
+        let v = &self.slot_vertex[s..s + n];
+        let mut pair = None;
+        for k in 0..n {
+            let next = if k + 1 == n { 0 } else { k + 1 };
+            if v[k] == v[next] {
+                if pair.is_some() {
+                    return None;
+                }
+                pair = Some((k, next));
+            } else if v[k + 1..].contains(&v[k]) && !(k == 0 && v[n - 1] == v[0]) {
+                // A repeat that is not adjacent.
+                return None;
+            }
+        }
+        // `first` is the slot the slow path would keep by default: the
+        // earlier one, or slot 0 when the pair wraps around.
+        let (first, second) = match pair? {
+            (a, 0) => (0, a),
+            (a, b) => (a, b),
+        };
+        if n <= 3 {
+            self.faces[f as usize].len = 0;
+            let mut gone: Vec<u32> = self.slot_vertex[s..s + n].to_vec();
+            gone.sort_unstable();
+            gone.dedup();
+            return Some(gone);
+        }
+        // Keep the preferred slot of the pair; drop the other.
+        let keep_second = prefer
+            .map(|p| p(self.slot_corner[s + second]) && !p(self.slot_corner[s + first]))
+            .unwrap_or(false);
+        let drop = if keep_second { first } else { second };
+        for k in drop..n - 1 {
+            self.slot_vertex[s + k] = self.slot_vertex[s + k + 1];
+            self.slot_corner[s + k] = self.slot_corner[s + k + 1];
+        }
+        self.faces[f as usize].len = (n - 1) as u32;
+        Some(Vec::new())
     }
 
     /// Collapses edge `e = (i, j)` into `keep` (= `i`), moving it to `x`
@@ -553,8 +636,11 @@ impl Complex {
         ) else {
             return false;
         };
-        let n = a.len();
-        (1..n).all(|t| a[(pa + t) % n] == b[(pb + t) % n])
+        // Compare the cycles starting after v, without modulo (an integer
+        // division per step in the hottest duplicate test).
+        let (a2, a1) = a.split_at(pa + 1);
+        let (b2, b1) = b.split_at(pb + 1);
+        a1.iter().chain(a2).eq(b1.iter().chain(b2))
     }
 
     fn kill_edge(&mut self, e: u32) {

@@ -113,9 +113,14 @@ pub(crate) struct Evaluation {
     pub cost: f64,
     /// Where the new vertex goes.
     pub position: DVec3,
-    /// Root-mean-square distance to the accumulated planes at the new
-    /// position (relative to the unit diagonal): the error users see.
-    pub distance: f64,
+}
+
+/// Root-mean-square distance from `x` to the planes vertices `i` and `j`
+/// accumulated (relative to the unit diagonal): the error users see, and the
+/// one `--error` limits. Computed only for collapses actually considered.
+pub(crate) fn distance(q: &[Quadric], i: u32, j: u32, x: DVec3) -> f64 {
+    let m = q[i as usize] + q[j as usize];
+    (m.eval(x).max(0.0) / m.weight.max(f64::MIN_POSITIVE)).sqrt()
 }
 
 /// Evaluation settings derived from the options.
@@ -152,8 +157,7 @@ impl CostModel {
     ) -> Option<Evaluation> {
         let [i, j] = c.edges[e as usize].ends;
         let (pi, pj) = (c.pos[i as usize], c.pos[j as usize]);
-        let memory = q[i as usize] + q[j as usize];
-        let mut total = memory;
+        let mut total = q[i as usize] + q[j as usize];
         // `border` says which vertices have boundary edges at all; most
         // evaluations (interior edges) skip the scan.
         let (mut bi, mut bj) = (false, false);
@@ -196,13 +200,7 @@ impl CostModel {
         if !cost.is_finite() {
             return None;
         }
-        let distance =
-            (memory.eval(position).max(0.0) / memory.weight.max(f64::MIN_POSITIVE)).sqrt();
-        Some(Evaluation {
-            cost,
-            position,
-            distance,
-        })
+        Some(Evaluation { cost, position })
     }
 }
 

@@ -190,6 +190,21 @@ pub struct Placement {
 /// and their midpoint (CGAL's and Garland–Heckbert's fallback).
 pub fn place(e: &Quadric, p: DVec3, q: DVec3, reach: f64) -> Placement {
     let mid = 0.5 * (p + q);
+    if let Some(x) = e.minimizer() {
+        let len = (q - p).length();
+        if x.distance(mid) <= reach * len.max(f64::MIN_POSITIVE) {
+            let err = e.eval(x);
+            // The minimizer of a positive semi-definite quadric is no worse
+            // than any candidate below; only a numerically broken solve is.
+            if err.is_finite() && err <= e.eval(mid) {
+                return Placement {
+                    position: x,
+                    error: err.max(0.0),
+                    optimal: true,
+                };
+            }
+        }
+    }
     let mut best = Placement {
         position: p,
         error: e.eval(p),
@@ -202,20 +217,6 @@ pub fn place(e: &Quadric, p: DVec3, q: DVec3, reach: f64) -> Placement {
                 position: c,
                 error: err,
                 optimal: false,
-            };
-        }
-    }
-    if let Some(x) = e.minimizer() {
-        let len = (q - p).length();
-        let err = e.eval(x);
-        if x.distance(mid) <= reach * len.max(f64::MIN_POSITIVE)
-            && err.is_finite()
-            && err <= best.error
-        {
-            return Placement {
-                position: x,
-                error: err.max(0.0),
-                optimal: true,
             };
         }
     }

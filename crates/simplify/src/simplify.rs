@@ -9,7 +9,7 @@ use wildlod_mesh::weld::weld_positions;
 use wildlod_mesh::Faces;
 
 use crate::complex::Complex;
-use crate::cost::{vertex_quadrics, CostModel, Evaluation, Scratch};
+use crate::cost::{distance, vertex_quadrics, CostModel, Evaluation, Scratch};
 use crate::error::Error;
 use crate::guards::{flips_a_face, keeps_topology, removed_triangles};
 use crate::heap::{CollapseQueue, Entry};
@@ -391,14 +391,15 @@ impl<'o> Run<'o> {
             else {
                 continue;
             };
+            let [a, b] = c.edges[e as usize].ends;
+            let dist = distance(&self.quadrics, a, b, ev.position);
             if let Some(limit) = max_error {
-                if ev.distance > limit {
+                if dist > limit {
                     self.report.rejected.error_limit += 1;
                     error_limited = true;
                     continue;
                 }
             }
-            let [a, b] = c.edges[e as usize].ends;
             // Keep the endpoint with the larger star: fewer lists to move.
             let (fa, fb) = (
                 c.vert_faces[a as usize].len(),
@@ -419,6 +420,7 @@ impl<'o> Run<'o> {
                 continue;
             }
             self.collapse(e, i, j, ev);
+            self.report.error = self.report.error.max(dist);
         }
         self.report.output_triangles = self.p.complex.triangles;
     }
@@ -513,7 +515,6 @@ impl<'o> Run<'o> {
             h.after(c, i, j);
         }
         self.report.collapses += 1;
-        self.report.error = self.report.error.max(ev.distance);
         // A collapse inside a closed region keeps it closed unless something
         // irregular happened (see `CollapseOutcome::irregular`), so border
         // flags need no update there: the common case on most meshes.

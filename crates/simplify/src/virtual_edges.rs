@@ -47,6 +47,15 @@ pub(crate) fn find_virtual_edges(c: &Complex, threshold: f64) -> Vec<(u32, u32)>
         }
     }
     let (label, _) = sets.labels();
+    // Most meshes are one piece: stop before building anything.
+    let mut first = None;
+    let one_piece = c.live_faces().all(|f| {
+        let l = label[c.face(f)[0] as usize];
+        *first.get_or_insert(l) == l
+    });
+    if one_piece {
+        return Vec::new();
+    }
     // Fan triangles, grouped by component.
     let mut tris: Vec<(u32, [u32; 3])> = Vec::new();
     for f in c.live_faces() {
