@@ -490,16 +490,22 @@ impl<'o> Run<'o> {
     }
 
     fn collapse(&mut self, e: u32, i: u32, j: u32, ev: Evaluation) {
+        // Which vertices' faces change: those of the star. Only when one of
+        // them is on a border can border flags change (see below), so the
+        // usual interior collapse just scans the flags.
         let mut star_had_border = false;
         if self.track_border {
-            // Vertices whose faces change: those of the star, now.
+            let c = &self.p.complex;
+            star_had_border = self
+                .star
+                .iter()
+                .any(|&f| c.face(f).iter().any(|&v| self.border[v as usize]));
             self.star_verts.clear();
-            for &f in &self.star {
-                self.star_verts.extend_from_slice(self.p.complex.face(f));
+            if star_had_border {
+                for &f in &self.star {
+                    self.star_verts.extend_from_slice(c.face(f));
+                }
             }
-            self.star_verts.sort_unstable();
-            self.star_verts.dedup();
-            star_had_border = self.star_verts.iter().any(|&v| self.border[v as usize]);
         }
         let c = &mut self.p.complex;
         let (pi, pj) = (c.pos[i as usize], c.pos[j as usize]);
@@ -519,6 +525,17 @@ impl<'o> Run<'o> {
         // irregular happened (see `CollapseOutcome::irregular`), so border
         // flags need no update there: the common case on most meshes.
         let border_changes = star_had_border || outcome.irregular;
+        if border_changes && self.star_verts.is_empty() {
+            // Irregular collapse in a border-free region: the star's vertices
+            // are the new vertex's ring now.
+            let c = &self.p.complex;
+            self.star_verts.push(i);
+            for &f in &c.vert_faces[i as usize] {
+                self.star_verts.extend_from_slice(c.face(f));
+            }
+        }
+        self.star_verts.sort_unstable();
+        self.star_verts.dedup();
         self.invalidate_around(i, j, border_changes);
     }
 
