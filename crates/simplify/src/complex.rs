@@ -64,6 +64,8 @@ pub(crate) struct Edge {
     pub queued: bool,
     /// The collapse loop's mark: a guard refused the edge.
     pub refused: bool,
+    /// Created as a virtual edge (no face at the start).
+    pub is_virtual: bool,
 }
 
 /// A face's slots: where its corners start and how many are left.
@@ -184,12 +186,12 @@ impl Complex {
         c.edges.reserve(ek.len());
         for k in ek {
             let (a, b) = ((k >> 32) as u32, k as u32);
-            c.push_edge(a, b);
+            c.push_edge(a, b, false);
         }
         (c, cleaned)
     }
 
-    fn push_edge(&mut self, a: u32, b: u32) -> u32 {
+    fn push_edge(&mut self, a: u32, b: u32, is_virtual: bool) -> u32 {
         let e = self.edges.len() as u32;
         self.edges.push(Edge {
             ends: [a, b],
@@ -197,6 +199,7 @@ impl Complex {
             alive: true,
             queued: false,
             refused: false,
+            is_virtual,
         });
         self.vert_edges[a as usize].push(e);
         self.vert_edges[b as usize].push(e);
@@ -209,7 +212,7 @@ impl Complex {
         if a == b || self.edge_between(a, b).is_some() {
             return false;
         }
-        self.push_edge(a, b);
+        self.push_edge(a, b, true);
         true
     }
 

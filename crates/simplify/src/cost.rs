@@ -16,6 +16,7 @@ use rayon::prelude::*;
 use crate::complex::Complex;
 use crate::options::Metric;
 use crate::quadric::{place, Quadric};
+use crate::tangent::{tangent_quadrics, EdgeImportance};
 
 /// How far from an edge's midpoint, in edge lengths, the optimal point may
 /// land before the solve is distrusted. Generous: sharp corners can lie a
@@ -83,6 +84,17 @@ pub(crate) fn vertex_quadrics(c: &Complex, metric: &Metric, weights: &[f64]) -> 
             }
         })
         .collect();
+    let tangent = if metric.tangent_weight > 0.0 {
+        let normals: Vec<Option<DVec3>> = planes.iter().map(|p| p.map(|p| p.0)).collect();
+        tangent_quadrics(
+            c,
+            &normals,
+            EdgeImportance::default(),
+            metric.tangent_weight,
+        )
+    } else {
+        Vec::new()
+    };
     (0..c.pos.len())
         .into_par_iter()
         .map(|v| {
@@ -97,6 +109,11 @@ pub(crate) fn vertex_quadrics(c: &Complex, metric: &Metric, weights: &[f64]) -> 
             }
             if metric.regularization > 0.0 && area > 0.0 {
                 q += Quadric::point(c.pos[v], metric.regularization * area);
+            }
+            if let Some(t) = tangent.get(v) {
+                // Tangent planes carry no area: keep the weight (which turns
+                // errors into distances) the faces' own.
+                q += Quadric { weight: 0.0, ..*t };
             }
             match weights.get(v) {
                 Some(&w) if w != 1.0 => q.scaled(w),
@@ -187,6 +204,14 @@ impl CostModel {
             }
             total += area.scaled(w);
         }
+        if self.metric.gluing_weight > 0.0
+            && c.edges[e as usize].is_virtual
+            && c.edge_face_count(i, j) == 0
+        {
+            let g = self.metric.gluing_weight;
+            total += Quadric::point(pi, g * q[i as usize].weight);
+            total += Quadric::point(pj, g * q[j as usize].weight);
+        }
         let (position, cost) = if self.lock_borders && (bi || bj) {
             if bi && bj {
                 return None;
@@ -196,6 +221,14 @@ impl CostModel {
         } else {
             let pl = place(&total, pi, pj, REACH);
             (pl.position, pl.error)
+        };
+        // Knodt Eq. 5: what the collapse adds to the error the endpoints
+        // already carry. Never negative: the quadric sum at the optimum is
+        // at least each part's own minimum (up to rounding).
+        let cost = if self.metric.introduced_error {
+            (cost - q[i as usize].eval(pi) - q[j as usize].eval(pj)).max(0.0)
+        } else {
+            cost
         };
         if !cost.is_finite() {
             return None;
@@ -305,6 +338,54 @@ mod tests {
         .evaluate(&c, &q, &[], e, &mut s)
         .unwrap();
         assert!(ev.cost > plain.cost, "{ev:?} vs {plain:?}");
+    }
+
+    #[test]
+    fn gluing_charges_area_times_squared_travel_across_a_virtual_edge() {
+        // Two unit right triangles in the plane z = 0, apart along x; a
+        // virtual edge joins vertex 1 (1,0,0) and vertex 3 (3,0,0).
+        let pos = vec![
+            DVec3::ZERO,
+            DVec3::X,
+            DVec3::Y,
+            DVec3::new(3.0, 0.0, 0.0),
+            DVec3::new(4.0, 0.0, 0.0),
+            DVec3::new(3.0, 1.0, 0.0),
+        ];
+        let (mut c, _) = Complex::new(pos, &[0, 3, 6], &[0, 1, 2, 3, 4, 5]);
+        c.add_edge(1, 3);
+        let e = c.edge_between(1, 3).unwrap();
+        let metric = Metric {
+            regularization: 0.0,
+            boundary_area: false,
+            gluing_weight: 2.0,
+            ..Metric::default()
+        };
+        let q = vertex_quadrics(&c, &metric, &[]);
+        let m = CostModel {
+            metric,
+            lock_borders: false,
+        };
+        let ev = m.evaluate(&c, &q, &[], e, &mut Scratch::default()).unwrap();
+        // Each vertex has area share 1/6 and lies in z = 0: the planes are
+        // indifferent within the plane, the gluing term 2·(1/6)·|x−p|² per
+        // endpoint is least at the midpoint (2, 0, 0): 2·(1/6)·(1 + 1).
+        assert!(ev.position.distance(DVec3::new(2.0, 0.0, 0.0)) < 1e-9);
+        assert!((ev.cost - 2.0 / 3.0).abs() < 1e-9, "{}", ev.cost);
+        // Without the term the collapse is free.
+        let free = CostModel {
+            metric: Metric {
+                gluing_weight: 0.0,
+                ..metric
+            },
+            lock_borders: false,
+        };
+        assert!(
+            free.evaluate(&c, &q, &[], e, &mut Scratch::default())
+                .unwrap()
+                .cost
+                < 1e-12
+        );
     }
 
     #[test]

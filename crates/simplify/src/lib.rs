@@ -37,6 +37,7 @@ mod options;
 mod quadric;
 mod report;
 mod simplify;
+mod tangent;
 mod virtual_edges;
 
 pub use error::Error;
