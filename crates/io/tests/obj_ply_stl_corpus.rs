@@ -2,48 +2,11 @@
 //! arity as the corpus README states them, and round trips through the same
 //! format (and OBJ → PLY → PLY) with bit-equal data per corner.
 
-use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
 use wildlod_io::{read, write, Document, WriteOptions};
 use wildlod_mesh::{ImageSource, Mesh, Semantic};
-use wildlod_testkit::{corpus, mesh_files, short};
-
-/// Face counts by arity (tri, quad, n-gon) for every file of the README
-/// tables, keyed by path relative to the corpus root.
-fn readme_counts(root: &Path) -> HashMap<PathBuf, (usize, usize, usize)> {
-    let text = std::fs::read_to_string(root.join("README.md")).expect("corpus README");
-    let mut category = String::new();
-    let mut out = HashMap::new();
-    for line in text.lines() {
-        if let Some(h) = line.strip_prefix("## ") {
-            category = h.trim().trim_end_matches('/').to_string();
-            continue;
-        }
-        let cols: Vec<&str> = line.split('|').map(str::trim).collect();
-        // Only the per-category tables; the attribution table also lists files.
-        if category.contains(' ') || cols.len() < 3 || !cols[1].starts_with('`') {
-            continue;
-        }
-        let file = cols[1].split('`').nth(1).expect("file in backticks");
-        let mut counts = (0, 0, 0);
-        for term in cols[2].split('+') {
-            let mut words = term.split_whitespace();
-            let n: usize = words
-                .next()
-                .and_then(|n| n.replace(',', "").parse().ok())
-                .expect("a face count");
-            match words.next().expect("a face kind") {
-                "tri" | "tris" => counts.0 = n,
-                "quad" => counts.1 = n,
-                "n-gon" => counts.2 = n,
-                other => panic!("unknown face kind {other} in README row {line}"),
-            }
-        }
-        out.insert(Path::new(&category).join(file), counts);
-    }
-    out
-}
+use wildlod_testkit::{corpus, mesh_files, readme_face_counts as readme_counts, short};
 
 fn obj_and_stl(root: &Path) -> Vec<PathBuf> {
     mesh_files(root, "")

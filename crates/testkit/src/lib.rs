@@ -5,6 +5,7 @@
 //! call [`corpus`]: under `CI=true` a missing corpus fails the test loudly,
 //! elsewhere the test says it was skipped and passes.
 
+use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
 /// The corpus root: `$WILDLOD_CORPUS` if set, else `../shared/corpus` beside
@@ -67,4 +68,45 @@ fn is_mesh(p: &Path) -> bool {
 /// A path relative to the corpus root, for messages.
 pub fn short(corpus: &Path, p: &Path) -> String {
     p.strip_prefix(corpus).unwrap_or(p).display().to_string()
+}
+
+/// Face counts by arity (triangles, quads, n-gons) of every file of the
+/// corpus README's per-category tables, keyed by path relative to the
+/// corpus root. glTF rows count an instanced mesh once per instance.
+///
+/// # Panics
+/// When the README is missing or a table row cannot be parsed: the tests
+/// that call this check against it and must not silently pass.
+pub fn readme_face_counts(root: &Path) -> HashMap<PathBuf, (usize, usize, usize)> {
+    let text = std::fs::read_to_string(root.join("README.md")).expect("corpus README");
+    let mut category = String::new();
+    let mut out = HashMap::new();
+    for line in text.lines() {
+        if let Some(h) = line.strip_prefix("## ") {
+            category = h.trim().trim_end_matches('/').to_string();
+            continue;
+        }
+        let cols: Vec<&str> = line.split('|').map(str::trim).collect();
+        // Only the per-category tables; the attribution table also lists files.
+        if category.contains(' ') || cols.len() < 3 || !cols[1].starts_with('`') {
+            continue;
+        }
+        let file = cols[1].split('`').nth(1).expect("file in backticks");
+        let mut counts = (0, 0, 0);
+        for term in cols[2].split('+') {
+            let mut words = term.split_whitespace();
+            let n: usize = words
+                .next()
+                .and_then(|n| n.replace(',', "").parse().ok())
+                .expect("a face count");
+            match words.next().expect("a face kind") {
+                "tri" | "tris" => counts.0 = n,
+                "quad" => counts.1 = n,
+                "n-gon" => counts.2 = n,
+                other => panic!("unknown face kind {other} in README row {line}"),
+            }
+        }
+        out.insert(Path::new(&category).join(file), counts);
+    }
+    out
 }
