@@ -1,5 +1,6 @@
 //! One module per command.
 
+mod compare;
 mod demo;
 mod info;
 mod simplify;
@@ -11,6 +12,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
     match cli.command {
         Command::Simplify(a) => simplify::run(&simplify::Config::from_args(a)?),
         Command::Info(a) => info::run(&a),
+        Command::Compare(a) => compare::run(&a),
         Command::Demo(a) => demo::run(&a),
     }
 }

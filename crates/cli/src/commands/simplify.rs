@@ -265,7 +265,9 @@ mod tests {
     #[test]
     fn budget_shares_sum_to_the_budget_in_proportion() {
         assert_eq!(share_budget(10, &[50, 30, 20]), vec![5, 3, 2]);
-        assert_eq!(share_budget(10, &[1, 1, 1]), vec![4, 3, 3]);
+        assert_eq!(share_budget(10, &[10, 10, 10]), vec![4, 3, 3]);
+        // A budget above the total keeps every triangle.
+        assert_eq!(share_budget(10, &[1, 1, 1]), vec![1, 1, 1]);
         assert_eq!(share_budget(100, &[3, 4]), vec![3, 4]);
         assert_eq!(share_budget(5, &[0, 0]), vec![0, 0]);
     }

@@ -1,0 +1,309 @@
+//! The command line as users script against it: every command on files
+//! generated in the test, exit codes, messages, and the contract that an
+//! input is never overwritten.
+#![allow(clippy::unwrap_used, clippy::expect_used)] // test code
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+use wildlod_io::{Document, WriteOptions};
+use wildlod_mesh::{shapes, Scene};
+
+fn wildlod(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_wildlod"))
+        .args(args)
+        .output()
+        .expect("run wildlod")
+}
+
+fn stdout(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stdout).into_owned()
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+/// A bumpy torus of quads (1152 faces = 2304 triangles) written as OBJ.
+fn torus_obj(dir: &Path) -> PathBuf {
+    let mut m = shapes::torus(48, 24, 1.0, 0.35);
+    for (k, p) in m.positions.iter_mut().enumerate() {
+        p[2] *= 1.0 + 0.1 * ((k % 7) as f32 / 7.0);
+    }
+    m.name = "torus".into();
+    let path = dir.join("torus.obj");
+    wildlod_io::write(
+        &Document::from_scene(Scene::from_mesh(m)),
+        &path,
+        &WriteOptions::default(),
+    )
+    .unwrap();
+    path
+}
+
+fn s(p: &Path) -> &str {
+    p.to_str().unwrap()
+}
+
+#[test]
+fn simplify_reaches_the_ratio_and_prints_one_line_per_mesh() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = torus_obj(dir.path());
+    let out = dir.path().join("lod.obj");
+    let o = wildlod(&["simplify", s(&input), "-o", s(&out), "--ratio", "0.1"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let line = stdout(&o);
+    assert!(line.starts_with("torus: 2304 → "), "{line}");
+    assert!(line.contains("triangles, error "), "{line}");
+    let doc = wildlod_io::read(&out).unwrap();
+    let tris = doc.scene.meshes[0].triangle_count();
+    assert!(tris.abs_diff(230) <= 1, "{tris}");
+}
+
+#[test]
+fn simplify_with_faces_budget_and_error_limit() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = torus_obj(dir.path());
+    let out = dir.path().join("faces.ply");
+    let o = wildlod(&["simplify", s(&input), "-o", s(&out), "--faces", "500", "-q"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(stdout(&o).is_empty(), "--quiet prints nothing");
+    let t = wildlod_io::read(&out).unwrap().scene.meshes[0].triangle_count();
+    assert!(t.abs_diff(500) <= 1, "{t}");
+    // A loose error limit simplifies further than a tight one.
+    let tight = dir.path().join("tight.obj");
+    let loose = dir.path().join("loose.obj");
+    assert!(wildlod(&[
+        "simplify",
+        s(&input),
+        "-o",
+        s(&tight),
+        "--error",
+        "0.001",
+        "-q"
+    ])
+    .status
+    .success());
+    assert!(wildlod(&[
+        "simplify",
+        s(&input),
+        "-o",
+        s(&loose),
+        "--error",
+        "0.02",
+        "-q"
+    ])
+    .status
+    .success());
+    let count = |p: &Path| wildlod_io::read(p).unwrap().scene.meshes[0].triangle_count();
+    assert!(
+        count(&loose) < count(&tight),
+        "{} vs {}",
+        count(&loose),
+        count(&tight)
+    );
+    assert!(count(&tight) < 2304);
+}
+
+#[test]
+fn output_format_follows_the_output_extension() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = torus_obj(dir.path());
+    for ext in ["glb", "gltf", "obj", "ply", "stl"] {
+        let out = dir.path().join(format!("lod.{ext}"));
+        let o = wildlod(&["simplify", s(&input), "-o", s(&out), "--ratio", "0.5", "-q"]);
+        assert!(o.status.success(), "{ext}: {}", stderr(&o));
+        let doc = wildlod_io::read(&out).unwrap();
+        assert_eq!(doc.format.map(|f| f.extension()), Some(ext));
+        let t: usize = doc.scene.meshes.iter().map(|m| m.triangle_count()).sum();
+        assert!(t.abs_diff(1152) <= 1, "{ext}: {t}");
+    }
+}
+
+#[test]
+fn simplify_never_overwrites_its_input_unless_told() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = torus_obj(dir.path());
+    let before = std::fs::read(&input).unwrap();
+    let o = wildlod(&["simplify", s(&input), "-o", s(&input), "--ratio", "0.5"]);
+    assert_eq!(o.status.code(), Some(1));
+    assert!(
+        stderr(&o).contains("refusing to overwrite"),
+        "{}",
+        stderr(&o)
+    );
+    assert_eq!(std::fs::read(&input).unwrap(), before);
+    let o = wildlod(&[
+        "simplify",
+        s(&input),
+        "-o",
+        s(&input),
+        "--ratio",
+        "0.5",
+        "--overwrite",
+        "-q",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_ne!(std::fs::read(&input).unwrap(), before);
+}
+
+#[test]
+fn bad_inputs_fail_with_the_file_named_and_exit_code_1() {
+    let dir = tempfile::tempdir().unwrap();
+    let missing = dir.path().join("missing.obj");
+    let out = dir.path().join("out.obj");
+    let o = wildlod(&["simplify", s(&missing), "-o", s(&out)]);
+    assert_eq!(o.status.code(), Some(1));
+    assert!(stderr(&o).contains("missing.obj"), "{}", stderr(&o));
+    assert!(!out.exists(), "no output on failure");
+    // A face with an index out of range names the line.
+    let broken = dir.path().join("broken.obj");
+    std::fs::write(&broken, "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n").unwrap();
+    let o = wildlod(&["info", s(&broken)]);
+    assert_eq!(o.status.code(), Some(1));
+    let e = stderr(&o);
+    assert!(e.contains("broken.obj") && e.contains("line 4"), "{e}");
+    // Unknown output extension.
+    let input = torus_obj(dir.path());
+    let o = wildlod(&["simplify", s(&input), "-o", s(&dir.path().join("x.fbx"))]);
+    assert_eq!(o.status.code(), Some(1));
+    assert!(stderr(&o).contains("fbx"), "{}", stderr(&o));
+    // Out-of-range options are usage errors named as such.
+    let o = wildlod(&["simplify", s(&input), "-o", s(&out), "--ratio", "1.5"]);
+    assert_eq!(o.status.code(), Some(1));
+    assert!(stderr(&o).contains("--ratio"), "{}", stderr(&o));
+    // Missing required argument: clap's usage error, exit code 2.
+    let o = wildlod(&["simplify", s(&input)]);
+    assert_eq!(o.status.code(), Some(2));
+}
+
+#[test]
+fn info_json_has_the_documented_keys_and_counts() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = torus_obj(dir.path());
+    let o = wildlod(&["info", s(&input), "--json"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_str(&stdout(&o)).unwrap();
+    for key in [
+        "vertices",
+        "faces",
+        "triangles",
+        "quads",
+        "ngons",
+        "triangulated",
+        "components",
+        "boundary_edges",
+        "nonmanifold_edges",
+        "degenerate_faces",
+        "duplicate_faces",
+        "uv_islands",
+        "materials",
+        "textures",
+        "skins",
+        "joints",
+        "animations",
+        "instanced",
+    ] {
+        assert!(v.get(key).is_some(), "missing key {key}");
+    }
+    assert_eq!(v["faces"], 1152);
+    assert_eq!(v["quads"], 1152);
+    assert_eq!(v["triangles"], 0);
+    assert_eq!(v["triangulated"], 2304);
+    assert_eq!(v["components"], 1);
+    assert_eq!(v["boundary_edges"], 0);
+    assert_eq!(v["instanced"]["triangulated"], 2304);
+    // The text form says the same in words.
+    let t = stdout(&wildlod(&["info", s(&input)]));
+    assert!(
+        t.contains("1152 (0 triangles, 1152 quads, 0 n-gons)"),
+        "{t}"
+    );
+}
+
+#[test]
+fn compare_json_reports_distances_and_quad_ratio() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = torus_obj(dir.path());
+    let lod = dir.path().join("lod.obj");
+    assert!(wildlod(&[
+        "simplify",
+        s(&input),
+        "-o",
+        s(&lod),
+        "--ratio",
+        "0.25",
+        "-q"
+    ])
+    .status
+    .success());
+    let o = wildlod(&[
+        "compare",
+        s(&input),
+        s(&lod),
+        "--json",
+        "--samples",
+        "20000",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_str(&stdout(&o)).unwrap();
+    for key in [
+        "hausdorff",
+        "hausdorff_ref_to_cand",
+        "hausdorff_cand_to_ref",
+        "chamfer_mean",
+        "chamfer_squared",
+        "quad_ratio",
+        "texture_chamfer",
+        "reference",
+        "candidate",
+    ] {
+        assert!(v.get(key).is_some(), "missing key {key}");
+    }
+    let h = v["hausdorff"].as_f64().unwrap();
+    assert!(h > 0.0 && h < 0.05, "{h}");
+    assert!(v["chamfer_mean"].as_f64().unwrap() <= h);
+    assert!(v["texture_chamfer"].is_null());
+    assert!(v["quad_ratio"].as_f64().is_some());
+    // Same file against itself: zero.
+    let o = wildlod(&[
+        "compare",
+        s(&input),
+        s(&input),
+        "--json",
+        "--samples",
+        "5000",
+    ]);
+    let v: serde_json::Value = serde_json::from_str(&stdout(&o)).unwrap();
+    assert!(v["hausdorff"].as_f64().unwrap() < 1e-12);
+}
+
+#[test]
+fn demo_writes_an_example_and_its_level_of_detail() {
+    let dir = tempfile::tempdir().unwrap();
+    let o = wildlod(&["demo", "--out", s(dir.path())]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let input = wildlod_io::read(dir.path().join("demo_input.obj")).unwrap();
+    let lod = wildlod_io::read(dir.path().join("demo_lod.obj")).unwrap();
+    let (a, b) = (
+        input.scene.meshes[0].triangle_count(),
+        lod.scene.meshes[0].triangle_count(),
+    );
+    assert!(b.abs_diff(a / 10) <= 1, "{a} -> {b}");
+    assert!(stdout(&o).contains("table:"));
+}
+
+#[test]
+fn help_teaches_the_commands() {
+    let o = wildlod(&["--help"]);
+    assert!(o.status.success());
+    let h = stdout(&o);
+    for c in ["simplify", "info", "compare", "demo"] {
+        assert!(h.contains(c), "{h}");
+    }
+    let h = stdout(&wildlod(&["simplify", "--help"]));
+    assert!(
+        h.contains("--ratio") && h.contains("--faces") && h.contains("--error"),
+        "{h}"
+    );
+}
