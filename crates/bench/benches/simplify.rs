@@ -1,0 +1,179 @@
+//! wildlod against meshoptimizer (`simplify` and `simplify_with_update`,
+//! crate `meshopt`) in the same run, on corpus meshes including the 871k
+//! triangle dragon, at 10% and 1%.
+//!
+//! `cargo bench -p wildlod-bench` prints criterion's timings (with
+//! throughput in input triangles per second) and then a table of the ratio
+//! of wildlod's time to meshoptimizer's. Under `cargo test` the benchmark
+//! runs once on a small generated mesh, so that it keeps compiling and
+//! working.
+
+use std::path::{Path, PathBuf};
+use std::time::Duration;
+
+use criterion::{BenchmarkId, Criterion, Throughput};
+use wildlod_bench::methods::{flatten, meshopt_simplify, meshopt_simplify_with_update};
+use wildlod_mesh::{shapes, Scene};
+use wildlod_simplify::{simplify_triangles, Options, Target};
+
+/// One input: its name, flattened triangles.
+struct Case {
+    name: String,
+    positions: Vec<[f32; 3]>,
+    indices: Vec<u32>,
+}
+
+fn corpus_cases(root: &Path) -> Vec<Case> {
+    [
+        "manifold/bunny.obj",
+        "manifold/armadillo.obj",
+        "manifold/nefertiti_lowres.obj",
+        "wild/plane_holes.obj",
+        "wild/chair_model.obj",
+        "large/dragon_vrip.glb",
+    ]
+    .iter()
+    .filter_map(|rel| {
+        let doc = wildlod_io::read(root.join(rel)).ok()?;
+        let (positions, indices) = flatten(&doc.scene);
+        Some(Case {
+            name: rel.rsplit('/').next().unwrap_or(rel).to_string(),
+            positions,
+            indices,
+        })
+    })
+    .collect()
+}
+
+fn generated_case() -> Case {
+    let (positions, indices) = flatten(&Scene::from_mesh(shapes::triangulate(&shapes::torus(
+        40, 20, 1.0, 0.3,
+    ))));
+    Case {
+        name: "generated torus".into(),
+        positions,
+        indices,
+    }
+}
+
+fn wildlod(case: &Case, ratio: f64) -> usize {
+    let options = Options {
+        target: Target {
+            ratio: Some(ratio),
+            ..Target::default()
+        },
+        ..Options::default()
+    };
+    simplify_triangles(&case.positions, &case.indices, &options)
+        .map(|s| s.report.output_triangles)
+        .unwrap_or(0)
+}
+
+fn main() {
+    let bench_mode = std::env::args().any(|a| a == "--bench");
+    let corpus = std::env::var_os("WILDLOD_CORPUS")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/corpus"));
+    let (cases, ratios): (Vec<Case>, &[f64]) = if bench_mode {
+        let c = corpus_cases(&corpus);
+        if c.is_empty() {
+            eprintln!(
+                "corpus not found at {}: benchmarking a generated mesh",
+                corpus.display()
+            );
+            (vec![generated_case()], &[0.1, 0.01])
+        } else {
+            (c, &[0.1, 0.01])
+        }
+    } else {
+        (vec![generated_case()], &[0.1])
+    };
+    let mut c = Criterion::default().configure_from_args();
+    for case in &cases {
+        let tris = case.indices.len() / 3;
+        let mut group = c.benchmark_group(case.name.as_str());
+        group.throughput(Throughput::Elements(tris as u64));
+        // Large inputs take seconds per run: ten samples are plenty.
+        group.sample_size(10);
+        group.measurement_time(Duration::from_secs(if tris > 200_000 { 60 } else { 5 }));
+        for &ratio in ratios {
+            let target = ((tris as f64) * ratio).round() as usize;
+            let label = format!("{}%", ratio * 100.0);
+            group.bench_with_input(BenchmarkId::new("wildlod", &label), &ratio, |b, &r| {
+                b.iter(|| wildlod(case, r))
+            });
+            group.bench_with_input(
+                BenchmarkId::new("meshopt simplify", &label),
+                &target,
+                |b, &t| b.iter(|| meshopt_simplify(&case.positions, &case.indices, t).len()),
+            );
+            group.bench_with_input(
+                BenchmarkId::new("meshopt simplify_with_update", &label),
+                &target,
+                |b, &t| {
+                    b.iter(|| {
+                        let mut p = case.positions.clone();
+                        meshopt_simplify_with_update(&mut p, &case.indices, t).len()
+                    })
+                },
+            );
+        }
+        group.finish();
+    }
+    c.final_summary();
+    if bench_mode {
+        print_ratios(&cases, ratios);
+    }
+}
+
+/// Mean time of a benchmark from criterion's saved estimates, in seconds.
+fn mean_seconds(group: &str, function: &str, param: &str) -> Option<f64> {
+    let dir = std::env::var_os("CARGO_TARGET_DIR")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| Path::new(env!("CARGO_MANIFEST_DIR")).join("../../target"));
+    let safe = |s: &str| s.replace(['/', ' ', '%'], "_");
+    let path = dir
+        .join("criterion")
+        .join(safe(group))
+        .join(safe(function))
+        .join(safe(param))
+        .join("new/estimates.json");
+    let text = std::fs::read_to_string(path).ok()?;
+    let key = "\"mean\":{\"confidence_interval\":";
+    let rest = &text[text.find(key)?..];
+    let pe = "\"point_estimate\":";
+    let start = rest.find(pe)? + pe.len();
+    let end = rest[start..].find([',', '}'])? + start;
+    rest[start..end].parse::<f64>().ok().map(|ns| ns * 1e-9)
+}
+
+/// The table the issue asks for: triangles per second and the ratio of
+/// wildlod's time to meshoptimizer's, measured in this run.
+fn print_ratios(cases: &[Case], ratios: &[f64]) {
+    println!("\n| mesh | triangles | ratio | wildlod | tris/s | meshopt simplify | wildlod ÷ meshopt | simplify_with_update | wildlod ÷ with_update |");
+    println!("|---|---|---|---|---|---|---|---|---|");
+    for case in cases {
+        let tris = case.indices.len() / 3;
+        for &r in ratios {
+            let label = format!("{}%", r * 100.0);
+            let w = mean_seconds(&case.name, "wildlod", &label);
+            let m = mean_seconds(&case.name, "meshopt simplify", &label);
+            let u = mean_seconds(&case.name, "meshopt simplify_with_update", &label);
+            let f = |x: Option<f64>| x.map_or("?".into(), |s| format!("{:.1} ms", s * 1e3));
+            let q = |a: Option<f64>, b: Option<f64>| match (a, b) {
+                (Some(a), Some(b)) if b > 0.0 => format!("{:.2}×", a / b),
+                _ => "?".into(),
+            };
+            println!(
+                "| {} | {tris} | {label} | {} | {} | {} | {} | {} | {} |",
+                case.name,
+                f(w),
+                w.map_or("?".into(), |s| format!("{:.2} M", tris as f64 / s / 1e6)),
+                f(m),
+                q(w, m),
+                f(u),
+                q(w, u)
+            );
+        }
+    }
+}

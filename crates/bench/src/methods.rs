@@ -1,0 +1,170 @@
+//! The simplifiers being compared, on the same input: wildlod (default and
+//! classic-QEM settings) and meshoptimizer (`simplify`, which keeps vertex
+//! positions, and `simplify_with_update`, which moves them).
+
+use std::time::Instant;
+
+use wildlod_mesh::{shapes, transform, Faces, Mesh, Scene};
+use wildlod_simplify::{simplify_mesh, Options, Target};
+
+/// A simplifier under test.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Method {
+    /// wildlod with default options.
+    Wildlod,
+    /// wildlod's engine with `Options::classic_qem()` (Garland & Heckbert
+    /// 1997: no virtual edges, no area term).
+    ClassicQem,
+    /// meshoptimizer `simplify`, no error limit.
+    Meshopt,
+    /// meshoptimizer `simplify_with_update`, no error limit.
+    MeshoptUpdate,
+}
+
+impl Method {
+    /// Every method, in report order.
+    pub const ALL: [Method; 4] = [
+        Method::Wildlod,
+        Method::ClassicQem,
+        Method::Meshopt,
+        Method::MeshoptUpdate,
+    ];
+
+    /// Name used in reports.
+    pub fn name(self) -> &'static str {
+        match self {
+            Method::Wildlod => "wildlod",
+            Method::ClassicQem => "wildlod classic QEM",
+            Method::Meshopt => "meshopt simplify",
+            Method::MeshoptUpdate => "meshopt simplify_with_update",
+        }
+    }
+}
+
+/// The result of one run: the simplified scene (or flattened mesh) and the
+/// time the simplifier took, excluding I/O.
+pub struct Run {
+    /// The result, in the input's scene structure (wildlod) or flattened to
+    /// world space (meshoptimizer, which takes one index buffer).
+    pub scene: Scene,
+    /// Seconds spent simplifying.
+    pub seconds: f64,
+    /// Triangles of the result, counted per instance like the input.
+    pub triangles: usize,
+}
+
+/// All instances of a scene as one world-space triangle mesh: the input
+/// meshoptimizer sees.
+pub fn flatten(scene: &Scene) -> (Vec<[f32; 3]>, Vec<u32>) {
+    let mut positions = Vec::new();
+    let mut indices = Vec::new();
+    for (m, world) in scene.instances() {
+        let mesh = shapes::triangulate(&transform::transformed(&scene.meshes[m as usize], &world));
+        let base = positions.len() as u32;
+        positions.extend_from_slice(&mesh.positions);
+        indices.extend(mesh.faces.indices.iter().map(|&v| v + base));
+    }
+    (positions, indices)
+}
+
+/// Triangles of a scene counted per instance.
+pub fn instanced_triangles(scene: &Scene) -> usize {
+    scene
+        .instances()
+        .iter()
+        .map(|(m, _)| scene.meshes[*m as usize].triangle_count())
+        .sum()
+}
+
+/// Runs `method` on `scene` at `ratio` of its (instanced) triangles.
+pub fn run(method: Method, scene: &Scene, ratio: f64) -> Result<Run, wildlod_simplify::Error> {
+    match method {
+        Method::Wildlod | Method::ClassicQem => {
+            let base = if method == Method::Wildlod {
+                Options::default()
+            } else {
+                Options::classic_qem()
+            };
+            let options = Options {
+                target: Target {
+                    ratio: Some(ratio),
+                    ..Target::default()
+                },
+                ..base
+            };
+            let mut out = scene.clone();
+            let t = Instant::now();
+            for mesh in &mut out.meshes {
+                if mesh.faces.is_empty() {
+                    continue;
+                }
+                *mesh = simplify_mesh(mesh, &options)?.0;
+            }
+            let seconds = t.elapsed().as_secs_f64();
+            let triangles = instanced_triangles(&out);
+            Ok(Run {
+                scene: out,
+                seconds,
+                triangles,
+            })
+        }
+        Method::Meshopt | Method::MeshoptUpdate => {
+            let (mut positions, indices) = flatten(scene);
+            let target = ((indices.len() / 3) as f64 * ratio).round().max(1.0) as usize;
+            let t = Instant::now();
+            let out = if method == Method::Meshopt {
+                meshopt_simplify(&positions, &indices, target)
+            } else {
+                meshopt_simplify_with_update(&mut positions, &indices, target)
+            };
+            let seconds = t.elapsed().as_secs_f64();
+            let triangles = out.len() / 3;
+            let mesh = Mesh::from_polygons(positions, Faces::from_triangles(&out));
+            Ok(Run {
+                scene: Scene::from_mesh(mesh),
+                seconds,
+                triangles,
+            })
+        }
+    }
+}
+
+/// meshoptimizer `simplify` to `target` triangles with no error limit.
+pub fn meshopt_simplify(positions: &[[f32; 3]], indices: &[u32], target: usize) -> Vec<u32> {
+    let bytes: &[u8] = meshopt::typed_to_bytes(positions);
+    match meshopt::VertexDataAdapter::new(bytes, 12, 0) {
+        Ok(adapter) => meshopt::simplify(
+            indices,
+            &adapter,
+            target * 3,
+            f32::MAX,
+            meshopt::SimplifyOptions::None,
+            None,
+        ),
+        Err(_) => indices.to_vec(),
+    }
+}
+
+/// meshoptimizer `simplify_with_update` (moves vertices to better
+/// positions) to `target` triangles with no error limit; updates `positions`.
+pub fn meshopt_simplify_with_update(
+    positions: &mut [[f32; 3]],
+    indices: &[u32],
+    target: usize,
+) -> Vec<u32> {
+    let mut out = indices.to_vec();
+    let n = meshopt::simplify_with_update(
+        &mut out,
+        positions,
+        &mut [],
+        &[],
+        0,
+        None,
+        target * 3,
+        f32::MAX,
+        meshopt::SimplifyOptions::None,
+        None,
+    );
+    out.truncate(n);
+    out
+}
