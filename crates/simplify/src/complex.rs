@@ -43,6 +43,8 @@ pub(crate) struct Complex {
     vmark: Vec<u32>,
     fmark: Vec<u32>,
     stamp: u32,
+    /// Edges the last collapse killed (collapsed or merged away).
+    pub killed: Vec<u32>,
     /// Scratch of `collapse`.
     touched: Vec<u32>,
     j_corners: Vec<u32>,
@@ -50,7 +52,7 @@ pub(crate) struct Complex {
 
 /// Per-edge state, packed in 16 bytes: the collapse loop touches an edge's
 /// endpoints, generation and flags together, at random, so they share one
-/// cache line instead of five arrays' worth of misses.
+/// cache line instead of an array's worth of misses each.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(crate) struct Edge {
     /// Endpoints.
@@ -60,7 +62,7 @@ pub(crate) struct Edge {
     pub gen: u32,
     /// False once the edge was collapsed or merged into another.
     pub alive: bool,
-    /// The collapse loop's mark: the edge has an entry in the queue.
+    /// The collapse loop's mark: the edge has an entry in a queue.
     pub queued: bool,
     /// The collapse loop's mark: a guard refused the edge.
     pub refused: bool,
@@ -121,6 +123,7 @@ impl Complex {
             vmark: vec![0; nv],
             fmark: vec![0; nf],
             stamp: 0,
+            killed: Vec::new(),
             touched: Vec::new(),
             j_corners: Vec::new(),
             pos,
@@ -504,14 +507,17 @@ impl Complex {
         let [a, b] = self.edges[e as usize].ends;
         let (i, j) = if keep == a { (a, b) } else { (b, a) };
         let mut out = CollapseOutcome::default();
+        self.killed.clear();
         self.pos[i as usize] = x;
 
-        // Faces: move j's faces to i.
+        // Faces: move j's faces to i. Only a face that held both endpoints
+        // can now repeat a vertex; the others just change a corner.
         let j_faces = std::mem::take(&mut self.vert_faces[j as usize]);
         let mut touched = std::mem::take(&mut self.touched);
         let mut j_corners = std::mem::take(&mut self.j_corners);
         touched.clear();
         j_corners.clear();
+        let mut shared: SmallVec<[u32; 4]> = SmallVec::new();
         for &f in &j_faces {
             let s = self.faces[f as usize].start as usize;
             let n = self.faces[f as usize].len as usize;
@@ -524,14 +530,31 @@ impl Complex {
                     had_i = true;
                 }
             }
-            if !had_i {
+            if had_i {
+                shared.push(f);
+            } else {
                 self.vert_faces[i as usize].push(f);
             }
             touched.push(f);
         }
-        j_corners.sort_unstable();
-        for &f in &touched {
+        if shared.len() > 1 || shared.iter().any(|&f| self.faces[f as usize].len > 3) {
+            j_corners.sort_unstable();
+        }
+        for &f in &shared {
             let old = self.faces[f as usize].len as usize;
+            if old == 3 {
+                // A triangle on the edge: it dies, its third vertex loses it.
+                let s = self.faces[f as usize].start as usize;
+                for k in s..s + 3 {
+                    let v = self.slot_vertex[k];
+                    if v != i {
+                        remove_item(&mut self.vert_faces[v as usize], f);
+                    }
+                }
+                self.faces[f as usize].len = 0;
+                out.removed_triangles += 1;
+                continue;
+            }
             let prefer = |c: u32| j_corners.binary_search(&c).is_ok() == prefer_removed;
             let dropped = self.normalize_face(f, Some(&prefer));
             let new = self.faces[f as usize].len as usize;
@@ -555,14 +578,29 @@ impl Complex {
 
         // Duplicate faces: only a face that changed can have become equal to
         // another face around i (same cycle, same orientation). The higher
-        // id goes, as when cleaning the input.
+        // id goes, as when cleaning the input. A vertex-set signature rules
+        // out almost every pair before the cycle comparison.
+        let signature = |c: &Complex, f: u32| -> (u32, u32, u32) {
+            let face = c.face(f);
+            let (mut sum, mut x) = (0u32, 0u32);
+            for &v in face {
+                sum = sum.wrapping_add(v);
+                x ^= v.wrapping_mul(0x9E37_79B9);
+            }
+            (face.len() as u32, sum, x)
+        };
         for &f in &touched {
             if self.faces[f as usize].len == 0 {
                 continue;
             }
+            let sf = signature(self, f);
             let mut twin = None;
             for &g in &self.vert_faces[i as usize] {
-                if g != f && self.faces[g as usize].len > 0 && self.same_cycle(f, g, i) {
+                if g != f
+                    && self.faces[g as usize].len > 0
+                    && signature(self, g) == sf
+                    && self.same_cycle(f, g, i)
+                {
                     twin = Some(g);
                     break;
                 }
@@ -647,6 +685,7 @@ impl Complex {
     }
 
     fn kill_edge(&mut self, e: u32) {
+        self.killed.push(e);
         self.edges[e as usize].alive = false;
         self.edges[e as usize].gen = self.edges[e as usize].gen.wrapping_add(1);
     }

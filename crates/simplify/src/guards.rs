@@ -20,15 +20,35 @@ pub(crate) fn flips_a_face(
     let mut old_p: smallvec::SmallVec<[DVec3; 8]> = smallvec::SmallVec::new();
     let mut new_p: smallvec::SmallVec<[DVec3; 8]> = smallvec::SmallVec::new();
     for &f in star {
-        old_p.clear();
-        new_p.clear();
-        for &v in c.face(f) {
-            let p = c.pos[v as usize];
-            old_p.push(p);
-            new_p.push(if v == i || v == j { x } else { p });
-        }
-        let old = polygon_normal(&old_p);
-        let new = polygon_normal(&new_p);
+        let face = c.face(f);
+        let (old, new) = if let [a, b, d] = *face {
+            // A triangle holding both endpoints vanishes: nothing to judge.
+            let has = |v: u32| a == v || b == v || d == v;
+            if has(i) && has(j) {
+                continue;
+            }
+            let p = |v: u32| c.pos[v as usize];
+            let m = |v: u32| {
+                if v == i || v == j {
+                    x
+                } else {
+                    c.pos[v as usize]
+                }
+            };
+            (
+                (p(b) - p(a)).cross(p(d) - p(a)),
+                (m(b) - m(a)).cross(m(d) - m(a)),
+            )
+        } else {
+            old_p.clear();
+            new_p.clear();
+            for &v in face {
+                let p = c.pos[v as usize];
+                old_p.push(p);
+                new_p.push(if v == i || v == j { x } else { p });
+            }
+            (polygon_normal(&old_p), polygon_normal(&new_p))
+        };
         let (lo, ln) = (old.length_squared(), new.length_squared());
         // Areas below ~1e-15 of the unit-diagonal mesh are numerical dust.
         if lo <= 1e-30 || ln <= 1e-30 {

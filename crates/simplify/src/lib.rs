@@ -36,6 +36,7 @@ mod mesh;
 mod options;
 mod quadric;
 mod report;
+mod run;
 mod simplify;
 mod tangent;
 mod virtual_edges;

@@ -1,0 +1,482 @@
+//! One simplification run: the greedy collapse loop (W §4, App. C.1) over
+//! the prepared complex, and the assembly of its result.
+
+use glam::DVec3;
+use rayon::prelude::*;
+use wildlod_mesh::Faces;
+
+use crate::cost::{distance, vertex_quadrics, CostModel, Evaluation, Scratch};
+use crate::guards::{flips_a_face, keeps_topology, removed_triangles};
+use crate::heap::{CollapseQueue, Entry};
+use crate::history::HistoryRecorder;
+use crate::options::Options;
+use crate::quadric::Quadric;
+use crate::report::{Report, StopReason};
+use crate::simplify::{Prepared, Simplified};
+use crate::virtual_edges::add_virtual_edges;
+
+/// Near the target, the exact number of triangles a collapse removes is
+/// computed before making it, so that the target is met to ±1 triangle.
+/// Further away the prediction is skipped: no collapse removes this many.
+const EXACT_COUNT_WINDOW: usize = 256;
+
+/// State of one simplification run.
+pub(crate) struct Run<'o> {
+    p: Prepared,
+    options: &'o Options,
+    model: CostModel,
+    quadrics: Vec<Quadric>,
+    /// Candidate collapses by cost, at most one entry per edge; an entry is
+    /// stale when its generation differs from the edge's.
+    queue: CollapseQueue,
+    /// Cost of the last collapse popped: the key under which an edge that
+    /// left the queue is put back to be evaluated again soon.
+    last_cost: f64,
+    /// Refused edges around each vertex, so that finding them near a
+    /// collapse costs nothing in the usual case of none.
+    refused_around: Vec<u32>,
+    /// Vertices on a boundary edge (kept only when a term needs them).
+    border: Vec<bool>,
+    track_border: bool,
+    moved: Vec<bool>,
+    /// The vertex each vertex was merged into (itself while alive).
+    merged_into: Vec<u32>,
+    target: usize,
+    report: Report,
+    history: Option<HistoryRecorder>,
+    scratch: Scratch,
+    star: Vec<u32>,
+    star_verts: Vec<u32>,
+    changed: Vec<u32>,
+    nbrs: Vec<u32>,
+}
+
+impl<'o> Run<'o> {
+    /// Virtual edges, vertex quadrics, initial costs (in parallel; the
+    /// results do not depend on the thread count).
+    pub fn new(mut p: Prepared, options: &'o Options) -> Self {
+        let virtual_edges = if options.virtual_edge_radius > 0.0 && !options.guards.keep_topology {
+            add_virtual_edges(&mut p.complex, 2.0 * options.virtual_edge_radius)
+        } else {
+            0
+        };
+        let quadrics = vertex_quadrics(&p.complex, &options.metric, &p.weights);
+        let model = CostModel {
+            metric: options.metric,
+            lock_borders: options.guards.lock_borders,
+        };
+        let track_border = model.needs_border();
+        let c = &p.complex;
+        let border: Vec<bool> = if track_border {
+            (0..c.pos.len() as u32)
+                .into_par_iter()
+                .map_init(Vec::new, |buf, v| {
+                    buf.clear();
+                    c.boundary_neighbors(v, buf);
+                    !buf.is_empty()
+                })
+                .collect()
+        } else {
+            Vec::new()
+        };
+        let entries: Vec<Entry> = (0..c.edges.len() as u32)
+            .into_par_iter()
+            .map_init(Scratch::default, |s, e| {
+                model.evaluate(c, &quadrics, &border, e, s).map(|ev| Entry {
+                    cost: ev.cost,
+                    edge: e,
+                    gen: 0,
+                })
+            })
+            .flatten_iter()
+            .collect();
+        for en in &entries {
+            p.complex.edges[en.edge as usize].queued = true;
+        }
+        let queue = CollapseQueue::from_entries(entries);
+        let c = &p.complex;
+        let target = options.target.triangles_for(p.input_triangles);
+        let report = Report {
+            input_triangles: p.input_triangles,
+            target_triangles: target,
+            cleaned_faces: p.cleaned,
+            virtual_edges,
+            ..Report::default()
+        };
+        let nv = c.pos.len();
+        Run {
+            history: options
+                .record_history
+                .then(|| HistoryRecorder::new(p.center, p.scale)),
+            p,
+            options,
+            model,
+            quadrics,
+            queue,
+            last_cost: 0.0,
+            refused_around: vec![0; nv],
+            border,
+            track_border,
+            moved: vec![false; nv],
+            merged_into: (0..nv as u32).collect(),
+            target,
+            report,
+            scratch: Scratch::default(),
+            star: Vec::new(),
+            star_verts: Vec::new(),
+            changed: Vec::new(),
+            nbrs: Vec::new(),
+        }
+    }
+
+    /// Greedy: always the cheapest valid collapse (W §4, App. C.1).
+    ///
+    /// Re-evaluation is lazy: a collapse only bumps the generation of the
+    /// edges whose cost it changed; a stale edge is evaluated again when it
+    /// reaches the top and re-keyed in place. Plane quadrics only accumulate
+    /// (memory), so a cost can only grow: the stale key is a lower bound and
+    /// the order is exactly greedy, while edges that never come near the top
+    /// are never re-evaluated.
+    pub fn collapse_loop(&mut self, progress: &dyn Fn(f64)) {
+        let min_cos = self
+            .options
+            .guards
+            .max_normal_turn_degrees
+            .map(|d| d.to_radians().cos());
+        let max_error = self.options.target.error;
+        if self.p.complex.triangles <= self.target && max_error.is_none() {
+            self.report.stop = Some(StopReason::NothingToDo);
+            return;
+        }
+        let mut error_limited = false;
+        let start = self.p.complex.triangles;
+        let span = start.saturating_sub(self.target).max(1);
+        let step = (span / 100).max(1);
+        let mut next_report = start.saturating_sub(step);
+        loop {
+            if self.p.complex.triangles <= next_report {
+                progress((start - self.p.complex.triangles) as f64 / span as f64);
+                next_report = self.p.complex.triangles.saturating_sub(step);
+            }
+            if self.p.complex.triangles <= self.target {
+                self.report.stop = Some(StopReason::TargetReached);
+                break;
+            }
+            let Some((e, cost, known)) = self.next_current() else {
+                self.report.stop = Some(if error_limited {
+                    StopReason::ErrorLimit
+                } else {
+                    StopReason::NoCollapsibleEdges
+                });
+                break;
+            };
+            self.last_cost = cost;
+            // The entry is current, so evaluating again gives its cost back,
+            // now with the position (cheaper than storing one per edge),
+            // unless it was just evaluated on its way to the top.
+            let c = &self.p.complex;
+            let Some(ev) = known.or_else(|| {
+                self.model
+                    .evaluate(c, &self.quadrics, &self.border, e, &mut self.scratch)
+            }) else {
+                continue;
+            };
+            let [a, b] = c.edges[e as usize].ends;
+            let dist = distance(&self.quadrics, a, b, ev.position);
+            if let Some(limit) = max_error {
+                if dist > limit {
+                    self.report.rejected.error_limit += 1;
+                    error_limited = true;
+                    continue;
+                }
+            }
+            // Keep the endpoint with the larger star: fewer lists to move.
+            let (fa, fb) = (
+                c.vert_faces[a as usize].len(),
+                c.vert_faces[b as usize].len(),
+            );
+            let (i, j) = if fa > fb || (fa == fb && a < b) {
+                (a, b)
+            } else {
+                (b, a)
+            };
+            if !self.allowed(i, j, ev.position, min_cos) {
+                let edge = &mut self.p.complex.edges[e as usize];
+                if !edge.refused {
+                    edge.refused = true;
+                    self.refused_around[a as usize] += 1;
+                    self.refused_around[b as usize] += 1;
+                }
+                continue;
+            }
+            self.collapse(e, i, j, ev);
+            self.report.error = self.report.error.max(dist);
+        }
+        self.report.output_triangles = self.p.complex.triangles;
+    }
+
+    /// Pops the cheapest current edge and its cost, with its evaluation when
+    /// it was just computed. Entries of dead edges are dropped; a stale
+    /// entry is evaluated again and re-keyed in place (one sift-down instead
+    /// of a pop and a push).
+    fn next_current(&mut self) -> Option<(u32, f64, Option<Evaluation>)> {
+        let mut last: Option<(u32, u32, Evaluation)> = None;
+        loop {
+            let top = self.queue.peek()?;
+            let e = top.edge as usize;
+            let edge = self.p.complex.edges[e];
+            if !edge.alive {
+                self.queue.pop();
+                self.p.complex.edges[e].queued = false;
+                continue;
+            }
+            if top.gen == edge.gen {
+                self.p.complex.edges[e].queued = false;
+                self.queue.pop();
+                let known = last
+                    .filter(|&(le, lg, _)| le == top.edge && lg == edge.gen)
+                    .map(|l| l.2);
+                return Some((top.edge, top.cost, known));
+            }
+            let c = &self.p.complex;
+            let ev =
+                self.model
+                    .evaluate(c, &self.quadrics, &self.border, top.edge, &mut self.scratch);
+            match ev {
+                Some(ev) => {
+                    last = Some((top.edge, edge.gen, ev));
+                    self.queue.replace_top(Entry {
+                        cost: ev.cost,
+                        edge: top.edge,
+                        gen: edge.gen,
+                    })
+                }
+                None => {
+                    self.queue.pop();
+                    self.p.complex.edges[e].queued = false;
+                }
+            }
+        }
+    }
+
+    /// The guards, cheapest first.
+    fn allowed(&mut self, i: u32, j: u32, x: DVec3, min_cos: Option<f64>) -> bool {
+        let c = &mut self.p.complex;
+        c.star_faces(i, j, &mut self.star);
+        let c = &self.p.complex;
+        let left = c.triangles - self.target;
+        if left <= EXACT_COUNT_WINDOW {
+            let removed = removed_triangles(c, &self.star, i, j);
+            // Within one triangle of the target, and never empty a mesh
+            // that was asked to keep something.
+            let floor = if self.target > 0 { 1 } else { 0 };
+            if removed > left + 1 || c.triangles - removed.min(c.triangles) < floor {
+                self.report.rejected.overshoot += 1;
+                return false;
+            }
+        }
+        if self.options.guards.keep_topology && !keeps_topology(c, i, j, &mut self.nbrs) {
+            self.report.rejected.topology += 1;
+            return false;
+        }
+        if let Some(mc) = min_cos {
+            if flips_a_face(c, &self.star, i, j, x, mc) {
+                self.report.rejected.normal_flip += 1;
+                return false;
+            }
+        }
+        true
+    }
+
+    fn collapse(&mut self, e: u32, i: u32, j: u32, ev: Evaluation) {
+        // Which vertices' faces change: those of the star. Only when one of
+        // them is on a border can border flags change (see below), so the
+        // usual interior collapse just scans the flags.
+        let mut star_had_border = false;
+        if self.track_border {
+            let c = &self.p.complex;
+            star_had_border = self
+                .star
+                .iter()
+                .any(|&f| c.face(f).iter().any(|&v| self.border[v as usize]));
+            self.star_verts.clear();
+            if star_had_border {
+                for &f in &self.star {
+                    self.star_verts.extend_from_slice(c.face(f));
+                }
+            }
+        }
+        let c = &mut self.p.complex;
+        let (pi, pj) = (c.pos[i as usize], c.pos[j as usize]);
+        if let Some(h) = &mut self.history {
+            h.before(c, &self.star, i, j);
+        }
+        let prefer_removed = pj.distance_squared(ev.position) < pi.distance_squared(ev.position);
+        let outcome = c.collapse(e, i, ev.position, prefer_removed, &mut self.changed);
+        for &k in &c.killed {
+            let edge = &mut c.edges[k as usize];
+            if edge.refused {
+                edge.refused = false;
+                for v in edge.ends {
+                    self.refused_around[v as usize] -= 1;
+                }
+            }
+        }
+        self.moved[i as usize] = true;
+        self.merged_into[j as usize] = i;
+        self.quadrics[i as usize] = self.quadrics[i as usize] + self.quadrics[j as usize];
+        if let Some(h) = &mut self.history {
+            h.after(c, i, j);
+        }
+        self.report.collapses += 1;
+        // A collapse inside a closed region keeps it closed unless something
+        // irregular happened (see `CollapseOutcome::irregular`), so border
+        // flags need no update there: the common case on most meshes.
+        let border_changes = star_had_border || outcome.irregular;
+        if border_changes && self.star_verts.is_empty() {
+            // Irregular collapse in a border-free region: the star's vertices
+            // are the new vertex's ring now.
+            let c = &self.p.complex;
+            self.star_verts.push(i);
+            for &f in &c.vert_faces[i as usize] {
+                self.star_verts.extend_from_slice(c.face(f));
+            }
+        }
+        self.star_verts.sort_unstable();
+        self.star_verts.dedup();
+        self.invalidate_around(i, j, border_changes);
+    }
+
+    /// Marks stale the edges whose cost or validity the collapse changed:
+    /// those of the new vertex; with the memoryless area term, those of
+    /// vertices whose boundary edges moved or whose border status changed;
+    /// and refused edges one ring out, whose guards may now pass.
+    fn invalidate_around(&mut self, i: u32, j: u32, border_changes: bool) {
+        let c = &self.p.complex;
+        let mut todo = std::mem::take(&mut self.changed);
+        if self.track_border && border_changes {
+            for &v in &self.star_verts {
+                if v == j {
+                    continue;
+                }
+                self.nbrs.clear();
+                c.boundary_neighbors(v, &mut self.nbrs);
+                let now = !self.nbrs.is_empty();
+                // i moved: its border neighbours' area terms changed too.
+                let touches_i = v != i && self.nbrs.contains(&i);
+                if now != self.border[v as usize] || touches_i || (v == i && now) {
+                    todo.extend_from_slice(&c.vert_edges[v as usize]);
+                }
+                self.border[v as usize] = now;
+            }
+            self.border[j as usize] = false;
+        }
+        for &ei in &c.vert_edges[i as usize] {
+            let k = c.other(ei, i);
+            if self.refused_around[k as usize] > 0 {
+                for &ek in &c.vert_edges[k as usize] {
+                    if c.edges[ek as usize].refused {
+                        todo.push(ek);
+                    }
+                }
+            }
+        }
+        todo.sort_unstable();
+        todo.dedup();
+        let c = &mut self.p.complex;
+        for &ed in &todo {
+            let k = ed as usize;
+            if !c.edges[k].alive {
+                continue;
+            }
+            let edge = &mut c.edges[k];
+            edge.gen = edge.gen.wrapping_add(1);
+            if edge.refused {
+                edge.refused = false;
+                for v in edge.ends {
+                    self.refused_around[v as usize] -= 1;
+                }
+            }
+            if !edge.queued {
+                // Not in the queue (refused, or not collapsible before): put
+                // it back, stale, under the cost of the last collapse so
+                // that it is evaluated again right away.
+                edge.queued = true;
+                self.queue.push(Entry {
+                    cost: self.last_cost,
+                    edge: ed,
+                    gen: edge.gen.wrapping_sub(1),
+                });
+            }
+        }
+        todo.clear();
+        self.changed = todo;
+    }
+
+    /// The live faces in input order, positions de-normalized (untouched
+    /// vertices keep their input bits), and the maps back to the input.
+    pub fn assemble(self) -> Simplified {
+        let c = &self.p.complex;
+        let nv = c.pos.len();
+        let mut out_id = vec![u32::MAX; nv];
+        let mut used = vec![false; nv];
+        for f in c.live_faces() {
+            for &v in c.face(f) {
+                used[v as usize] = true;
+            }
+        }
+        let mut positions = Vec::new();
+        for v in 0..nv {
+            if !used[v] {
+                continue;
+            }
+            out_id[v] = positions.len() as u32;
+            positions.push(if self.moved[v] {
+                let p = c.pos[v] * self.p.scale + self.p.center;
+                [p.x as f32, p.y as f32, p.z as f32]
+            } else {
+                // Untouched vertices keep their input bits exactly.
+                self.p.input[v]
+            });
+        }
+        let mut faces = Faces::with_capacity(c.faces.len(), c.slot_vertex.len());
+        let mut face_origin = Vec::new();
+        let mut corner_origin = Vec::new();
+        let mut buf = Vec::new();
+        for f in c.live_faces() {
+            buf.clear();
+            buf.extend(c.face(f).iter().map(|&v| out_id[v as usize]));
+            faces.push(&buf);
+            face_origin.push(f);
+            let s = c.faces[f as usize].start as usize;
+            corner_origin.extend_from_slice(&c.slot_corner[s..s + buf.len()]);
+        }
+        // Where each welded vertex went: follow the collapse forest, which
+        // only points from removed to kept vertices, so it has no cycle.
+        let mut root = self.merged_into.clone();
+        for v in 0..nv {
+            let mut r = v as u32;
+            while root[r as usize] != r {
+                r = root[r as usize];
+            }
+            root[v] = r;
+        }
+        let vertex_map = self
+            .p
+            .weld
+            .iter()
+            .map(|&w| out_id[root[w as usize] as usize])
+            .collect();
+        let mut report = self.report;
+        report.output_triangles = c.triangles;
+        Simplified {
+            positions,
+            faces,
+            face_origin,
+            corner_origin,
+            vertex_map,
+            report,
+            history: self.history.map(HistoryRecorder::finish),
+        }
+    }
+}
