@@ -244,6 +244,14 @@ pub(crate) fn v_to_f32(v: f32) -> f32 {
         .unwrap_or(t)
 }
 
+/// Whether a 32-bit file v can give back exactly `v` ([`v_to_f32`] finds
+/// one). It cannot for most v below 0.5 or outside [0, 1] that did not come
+/// from a 32-bit file: their 1 − v needs more bits than `f32` has. The exact 64-bit `1 − v`
+/// can for every v but nonzero |v| < 2⁻²⁹, as OBJ text can.
+pub(crate) fn v_fits_f32(v: f32) -> bool {
+    v_from_file(v_to_f32(v) as f64).to_bits() == v.to_bits()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -299,6 +307,21 @@ mod tests {
             );
         }
         assert_eq!(v_to_text(0.25), "0.75");
+    }
+
+    #[test]
+    fn v_below_one_half_from_text_needs_a_64_bit_file_v() {
+        // An OBJ `vt` v of 0.876543 reads as the f32 nearest 0.123457; no
+        // f32 t gives it back, the exact f64 1 − v does.
+        let v = v_from_file(0.876_543);
+        assert!(!v_fits_f32(v));
+        assert_eq!(v_from_file(1.0 - v as f64).to_bits(), v.to_bits());
+        for v in [0.0f32, 0.5, 0.75, 1.0, 1.5, v_from_file(0.3f32 as f64)] {
+            assert!(v_fits_f32(v), "{v}");
+        }
+        for v in [2f32.powi(-29), -(2f32.powi(-29)), 0.123_456_79, 7e5, -3.1] {
+            assert_eq!(v_from_file(1.0 - v as f64).to_bits(), v.to_bits(), "{v}");
+        }
     }
 
     #[test]

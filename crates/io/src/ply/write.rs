@@ -5,7 +5,8 @@
 //! the corners use. When every stream is already indexed like the positions
 //! (a mesh read from PLY, or one without attributes) the positions are
 //! written as stored, unused ones included. Texture v goes back to PLY's
-//! bottom-left origin.
+//! bottom-left origin bit-exactly: `t` is a 32-bit float when that can give
+//! every written v back, else a 64-bit one (see `v_fits_f32`).
 
 use std::collections::{BTreeSet, HashMap};
 use std::hash::BuildHasherDefault;
@@ -15,7 +16,7 @@ use wildlod_mesh::transform::transformed;
 use wildlod_mesh::weld::PositionHasher;
 use wildlod_mesh::{Attribute, ComponentFormat, Mesh, Scene, Semantic, ABSENT};
 
-use crate::obj::text::v_to_f32;
+use crate::obj::text::{v_fits_f32, v_to_f32};
 use crate::{ErrorKind, OutputFiles};
 
 /// The streams PLY vertices can carry, in key order.
@@ -133,6 +134,16 @@ pub(crate) fn write(scene: &Scene, path: &Path, files: &mut OutputFiles) -> Resu
         .all(|a| a.format == ComponentFormat::U8Norm);
 
     let maps: Vec<VertexMap> = meshes.iter().map(vertex_map).collect();
+    // Most v below 0.5 (or outside [0, 1]) read from OBJ text or glTF have
+    // no 32-bit t = 1 − v that gives them back; the exact 64-bit one does.
+    let t_f64 = meshes.iter().zip(&maps).any(|(m, map)| {
+        streams(m)[UV].is_some_and(|a| {
+            map.vertices
+                .iter()
+                .filter(|k| k[UV] != ABSENT)
+                .any(|k| a.value(k[UV]).get(1).is_some_and(|&v| !v_fits_f32(v)))
+        })
+    });
     let vertex_total: u64 = maps.iter().map(|m| m.vertices.len() as u64).sum();
     let face_total: u64 = meshes.iter().map(|m| m.faces.len() as u64).sum();
     if vertex_total > u32::MAX as u64 {
@@ -156,7 +167,12 @@ pub(crate) fn write(scene: &Scene, path: &Path, files: &mut OutputFiles) -> Resu
         head += "property float nx\nproperty float ny\nproperty float nz\n";
     }
     if has_uv {
-        head += "property float s\nproperty float t\n";
+        head += "property float s\n";
+        head += if t_f64 {
+            "property double t\n"
+        } else {
+            "property float t\n"
+        };
     }
     let color_type = if color_u8 { "uchar" } else { "float" };
     if has_color {
@@ -195,6 +211,10 @@ pub(crate) fn write(scene: &Scene, path: &Path, files: &mut OutputFiles) -> Resu
                     let default = if k == COLOR && i == 3 { 1.0 } else { 0.0 };
                     let mut x = v.and_then(|v| v.get(i).copied()).unwrap_or(default);
                     if k == UV && i == 1 {
+                        if t_f64 {
+                            out.extend_from_slice(&(1.0 - x as f64).to_le_bytes());
+                            continue;
+                        }
                         x = v_to_f32(x);
                     }
                     if as_u8 {
