@@ -341,6 +341,59 @@ mod tests {
     }
 
     #[test]
+    fn introduced_error_subtracts_what_the_endpoints_already_carry() {
+        // Knodt Eq. 5 on the two-quad hinge: quads (0,1,2,3) in z = 0 and
+        // (1,0,5,4) in y = 0, sharing the x axis from 0 to 1.
+        let pos = vec![
+            DVec3::new(0.0, 0.0, 0.0),
+            DVec3::new(1.0, 0.0, 0.0),
+            DVec3::new(1.0, 1.0, 0.0),
+            DVec3::new(0.0, 1.0, 0.0),
+            DVec3::new(1.0, 0.0, 1.0),
+            DVec3::new(0.0, 0.0, 1.0),
+        ];
+        let (c, _) = Complex::new(pos, &[0, 4, 8], &[0, 1, 2, 3, 1, 0, 5, 4]);
+        let base = Metric {
+            regularization: 0.0,
+            boundary_area: false,
+            ..Metric::default()
+        };
+        let mut q = vertex_quadrics(&c, &base, &[]);
+        // Give vertex 2 a history: as if an earlier collapse had left it
+        // 0.5 above its plane, Q2(p2) = (1/4)·0.25 with the z = 0 plane at
+        // weight 1/4 (quad area 1 over 4 corners).
+        let p2 = c.pos[2];
+        assert!((q[2].eval(p2)).abs() < 1e-15);
+        q[2] += Quadric::plane(DVec3::Z, p2 + DVec3::new(0.0, 0.0, 0.5), 0.25);
+        let carried = q[2].eval(p2);
+        assert!((carried - 0.0625).abs() < 1e-15);
+        let e = c.edge_between(1, 2).unwrap();
+        let plain = CostModel {
+            metric: base,
+            lock_borders: false,
+        }
+        .evaluate(&c, &q, &[], e, &mut Scratch::default())
+        .unwrap();
+        let eq5 = CostModel {
+            metric: Metric {
+                introduced_error: true,
+                ..base
+            },
+            lock_borders: false,
+        }
+        .evaluate(&c, &q, &[], e, &mut Scratch::default())
+        .unwrap();
+        // Same placement; the cost drops by exactly Q1(p1) + Q2(p2) = 0 + 1/16.
+        assert_eq!(plain.position, eq5.position);
+        assert!(
+            (plain.cost - eq5.cost - carried).abs() < 1e-12,
+            "{} {}",
+            plain.cost,
+            eq5.cost
+        );
+    }
+
+    #[test]
     fn gluing_charges_area_times_squared_travel_across_a_virtual_edge() {
         // Two unit right triangles in the plane z = 0, apart along x; a
         // virtual edge joins vertex 1 (1,0,0) and vertex 3 (3,0,0).

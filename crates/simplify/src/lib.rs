@@ -34,6 +34,7 @@ mod heap;
 mod history;
 mod mesh;
 mod options;
+mod ordering;
 mod quadric;
 mod report;
 mod run;
@@ -44,7 +45,7 @@ mod virtual_edges;
 pub use error::Error;
 pub use history::{CollapseRecord, History, RingFace};
 pub use mesh::{simplify_mesh, simplify_mesh_with_progress};
-pub use options::{Guards, Metric, Options, Target};
+pub use options::{Guards, Metric, Options, QuadMode, QuadSettings, Target};
 pub use quadric::{place, Placement, Quadric};
 pub use report::{Rejections, Report, StopReason};
 pub use simplify::{

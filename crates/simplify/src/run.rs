@@ -10,6 +10,7 @@ use crate::guards::{flips_a_face, keeps_topology, removed_triangles};
 use crate::heap::{CollapseQueue, Entry};
 use crate::history::HistoryRecorder;
 use crate::options::Options;
+use crate::ordering::TieOrder;
 use crate::quadric::Quadric;
 use crate::report::{Report, StopReason};
 use crate::simplify::{Prepared, Simplified};
@@ -20,6 +21,19 @@ use crate::virtual_edges::add_virtual_edges;
 /// Further away the prediction is skipped: no collapse removes this many.
 const EXACT_COUNT_WINDOW: usize = 256;
 
+/// Mean area per vertex that has faces: the quadrics' accumulated weights.
+fn mean_vertex_area(q: &[Quadric]) -> f64 {
+    let (sum, n) = q
+        .iter()
+        .filter(|q| q.weight > 0.0)
+        .fold((0.0, 0usize), |(s, n), q| (s + q.weight, n + 1));
+    if n == 0 {
+        0.0
+    } else {
+        sum / n as f64
+    }
+}
+
 /// State of one simplification run.
 pub(crate) struct Run<'o> {
     p: Prepared,
@@ -29,6 +43,8 @@ pub(crate) struct Run<'o> {
     /// Candidate collapses by cost, at most one entry per edge; an entry is
     /// stale when its generation differs from the edge's.
     queue: CollapseQueue,
+    /// Knodt's near-tie ordering, when quad mode is active.
+    ties: Option<TieOrder>,
     /// Cost of the last collapse popped: the key under which an edge that
     /// left the queue is put back to be evaluated again soon.
     last_cost: f64,
@@ -60,9 +76,12 @@ impl<'o> Run<'o> {
         } else {
             0
         };
-        let quadrics = vertex_quadrics(&p.complex, &options.metric, &p.weights);
+        let quads = p.complex.faces.iter().filter(|f| f.len == 4).count();
+        let quads_active = options.quads_active(quads);
+        let metric = options.effective_metric(quads_active);
+        let quadrics = vertex_quadrics(&p.complex, &metric, &p.weights);
         let model = CostModel {
-            metric: options.metric,
+            metric,
             lock_borders: options.guards.lock_borders,
         };
         let track_border = model.needs_border();
@@ -95,6 +114,18 @@ impl<'o> Run<'o> {
         }
         let queue = CollapseQueue::from_entries(entries);
         let c = &p.complex;
+        let ties = quads_active.then(|| {
+            // ε is a distance: costs are area-weighted squared distances,
+            // so the tolerance is ε² over an average vertex's area, the
+            // same deviation at any resolution.
+            let scale = mean_vertex_area(&quadrics);
+            TieOrder::new(
+                c.edges.len(),
+                options.quad.epsilon * options.quad.epsilon * scale,
+                options.quad.relative_epsilon,
+                options.quad.recency,
+            )
+        });
         let target = options.target.triangles_for(p.input_triangles);
         let report = Report {
             input_triangles: p.input_triangles,
@@ -113,6 +144,7 @@ impl<'o> Run<'o> {
             model,
             quadrics,
             queue,
+            ties,
             last_cost: 0.0,
             refused_around: vec![0; nv],
             border,
@@ -162,7 +194,7 @@ impl<'o> Run<'o> {
                 self.report.stop = Some(StopReason::TargetReached);
                 break;
             }
-            let Some((e, cost, known)) = self.next_current() else {
+            let Some((e, cost, known, recency)) = self.next_candidate() else {
                 self.report.stop = Some(if error_limited {
                     StopReason::ErrorLimit
                 } else {
@@ -200,6 +232,13 @@ impl<'o> Run<'o> {
             } else {
                 (b, a)
             };
+            // Quads this edge is a side of: their opposite sides get
+            // recency once the collapse is made (Alg. 1 line 22).
+            let opposite = if self.ties.is_some() {
+                self.opposite_sides(a, b)
+            } else {
+                Default::default()
+            };
             if !self.allowed(i, j, ev.position, min_cos) {
                 let edge = &mut self.p.complex.edges[e as usize];
                 if !edge.refused {
@@ -211,15 +250,53 @@ impl<'o> Run<'o> {
             }
             self.collapse(e, i, j, ev);
             self.report.error = self.report.error.max(dist);
+            if self.ties.is_some() {
+                self.after_tie_collapse(&opposite, recency);
+            }
         }
         self.report.output_triangles = self.p.complex.triangles;
     }
 
-    /// Pops the cheapest current edge and its cost, with its evaluation when
-    /// it was just computed. Entries of dead edges are dropped; a stale
-    /// entry is evaluated again and re-keyed in place (one sift-down instead
-    /// of a pop and a push).
-    fn next_current(&mut self) -> Option<(u32, f64, Option<Evaluation>)> {
+    /// The next collapse to try, with its cost, its evaluation when just
+    /// computed, and its recency: from the tie queue while the current class
+    /// lasts, else the cheapest current edge of the main queue, which starts
+    /// a new class.
+    fn next_candidate(&mut self) -> Option<(u32, f64, Option<Evaluation>, u32)> {
+        if let Some(ties) = &mut self.ties {
+            while let Some(t) = ties.pop() {
+                let edge = &mut self.p.complex.edges[t.edge as usize];
+                if !edge.alive {
+                    edge.queued = false;
+                    continue;
+                }
+                if t.gen != edge.gen {
+                    // Its cost changed since it joined: it leaves the class
+                    // (Alg. 1 line 24) and waits, stale, in the main queue.
+                    self.queue.push(Entry {
+                        cost: t.cost,
+                        edge: t.edge,
+                        gen: t.gen,
+                    });
+                    continue;
+                }
+                edge.queued = false;
+                return Some((t.edge, t.cost, None, t.recency));
+            }
+        }
+        let (e, cost, known) = self.settle()?;
+        self.queue.pop();
+        self.p.complex.edges[e as usize].queued = false;
+        if let Some(ties) = &mut self.ties {
+            ties.new_class(cost);
+        }
+        Some((e, cost, known, 0))
+    }
+
+    /// Brings a current entry to the top of the main queue and returns it
+    /// without popping it, with its evaluation when just computed. Entries
+    /// of dead edges are dropped; a stale entry is evaluated again and
+    /// re-keyed in place (one sift-down instead of a pop and a push).
+    fn settle(&mut self) -> Option<(u32, f64, Option<Evaluation>)> {
         let mut last: Option<(u32, u32, Evaluation)> = None;
         loop {
             let top = self.queue.peek()?;
@@ -231,8 +308,6 @@ impl<'o> Run<'o> {
                 continue;
             }
             if top.gen == edge.gen {
-                self.p.complex.edges[e].queued = false;
-                self.queue.pop();
                 let known = last
                     .filter(|&(le, lg, _)| le == top.edge && lg == edge.gen)
                     .map(|l| l.2);
@@ -256,6 +331,59 @@ impl<'o> Run<'o> {
                     self.p.complex.edges[e].queued = false;
                 }
             }
+        }
+    }
+
+    /// The sides opposite `a`–`b` in the quads it is a side of.
+    fn opposite_sides(&self, a: u32, b: u32) -> smallvec::SmallVec<[u32; 4]> {
+        let c = &self.p.complex;
+        let mut out = smallvec::SmallVec::new();
+        for &f in &c.vert_faces[a as usize] {
+            let face = c.face(f);
+            if face.len() != 4 {
+                continue;
+            }
+            let Some(k) = face.iter().position(|&v| v == a) else {
+                continue;
+            };
+            let (next, prev) = (face[(k + 1) % 4], face[(k + 3) % 4]);
+            let (c0, c1) = if next == b {
+                (face[(k + 2) % 4], face[(k + 3) % 4])
+            } else if prev == b {
+                (face[(k + 1) % 4], face[(k + 2) % 4])
+            } else {
+                continue;
+            };
+            if let Some(o) = c.edge_between(c0, c1) {
+                out.push(o);
+            }
+        }
+        out
+    }
+
+    /// After a collapse in quad mode: the opposite sides of its quads gain
+    /// recency (Alg. 1 line 23), and every edge the main queue now offers
+    /// within ε of the class joins the tie queue (lines 25–27).
+    fn after_tie_collapse(&mut self, opposite: &[u32], recency: u32) {
+        if let Some(ties) = &mut self.ties {
+            for &o in opposite {
+                let edge = &self.p.complex.edges[o as usize];
+                if edge.alive {
+                    ties.bump(o, recency + 1, edge.gen);
+                }
+            }
+        }
+        while let Some((e, cost, _)) = self.settle() {
+            let Some(ties) = &mut self.ties else {
+                return;
+            };
+            if !ties.same_class(cost) {
+                break;
+            }
+            self.queue.pop();
+            let gen = self.p.complex.edges[e as usize].gen;
+            // Still `queued`: it waits in the tie queue now.
+            ties.push(e, cost, gen);
         }
     }
 

@@ -1,0 +1,200 @@
+//! Near-tie ordering by recency (Knodt 2024 §3.2, Alg. 1).
+//!
+//! Greedy QEM imposes a total order on collapses whose costs are equal but
+//! for floating-point noise or negligible geometric differences, and in
+//! that essentially random order a quad mesh's edge flow is lost. Knodt
+//! treats costs within ε_abs as equal (Eq. 4) and, inside such a class,
+//! collapses the edge of highest *recency* first: a collapse adds its own
+//! recency plus one to the edges opposite it in its quads, so whole quad
+//! chords collapse one after the other.
+//!
+//! Two queues, as in Alg. 1: the main queue (by cost, in [`crate::run`]) and
+//! this tie queue (by recency, then cost, then edge id). A class starts
+//! when the tie queue is empty: its first edge comes from the main queue,
+//! recencies reset (an epoch counter makes that O(1)), and every edge the
+//! main queue offers within ε of that first cost joins the class. Classes
+//! are anchored at their first cost rather than at the last collapsed one,
+//! so a chain of near-equal costs cannot drift a class upward by ε per step.
+//!
+//! Entries are lazy like the main queue's: an edge whose cost changed
+//! (generation bumped) leaves the class when its entry comes up and goes
+//! back to the main queue; an edge whose recency grew gets a new entry, and
+//! the old one is recognized by its outdated recency.
+
+use std::cmp::Reverse;
+use std::collections::BinaryHeap;
+
+/// Key of the tie queue: highest recency first, then lowest cost, then
+/// edge id (a total, deterministic order).
+#[inline]
+fn tie_key(recency: u32, cost: f64, edge: u32) -> u128 {
+    let c = if cost > 0.0 { cost.to_bits() } else { 0 };
+    (((u32::MAX - recency) as u128) << 96) | ((c as u128) << 32) | edge as u128
+}
+
+/// A collapse candidate served by the tie queue.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct Tie {
+    /// The edge.
+    pub edge: u32,
+    /// Its cost when it joined the class.
+    pub cost: f64,
+    /// The edge generation it joined at.
+    pub gen: u32,
+    /// Its recency.
+    pub recency: u32,
+}
+
+/// The tie queue and recencies.
+#[derive(Clone, Debug)]
+pub(crate) struct TieOrder {
+    epsilon: f64,
+    relative: f64,
+    use_recency: bool,
+    queue: BinaryHeap<Reverse<(u128, u32)>>,
+    recency: Vec<u32>,
+    epoch_of: Vec<u32>,
+    epoch: u32,
+    cost: Vec<f64>,
+    in_tie: Vec<bool>,
+    class_cost: f64,
+}
+
+impl TieOrder {
+    /// For edges `0..edges`, with the absolute tolerance `epsilon` (in cost
+    /// units), ε_rel and recency on or off.
+    pub fn new(edges: usize, epsilon: f64, relative: f64, use_recency: bool) -> Self {
+        TieOrder {
+            epsilon,
+            relative,
+            use_recency,
+            queue: BinaryHeap::new(),
+            recency: vec![0; edges],
+            epoch_of: vec![0; edges],
+            epoch: 1,
+            cost: vec![0.0; edges],
+            in_tie: vec![false; edges],
+            class_cost: 0.0,
+        }
+    }
+
+    /// Recency of edge `e` in the current class.
+    #[inline]
+    pub fn recency(&self, e: u32) -> u32 {
+        if self.epoch_of[e as usize] == self.epoch {
+            self.recency[e as usize]
+        } else {
+            0
+        }
+    }
+
+    /// Starts a class at `cost`: every recency resets (Alg. 1 line 16).
+    pub fn new_class(&mut self, cost: f64) {
+        self.epoch = self.epoch.wrapping_add(1);
+        self.class_cost = cost;
+    }
+
+    /// Eq. 4, with Dawson's relative tolerance beside the absolute one
+    /// (the comparison Knodt cites, ablated there as ε_abs and ε_rel):
+    /// whether `cost` is approximately equal to the class's.
+    #[inline]
+    pub fn same_class(&self, cost: f64) -> bool {
+        let d = (cost - self.class_cost).abs();
+        d < self.epsilon || d <= self.relative * cost.max(self.class_cost)
+    }
+
+    /// Edge `e` joins the class with its cost and generation.
+    pub fn push(&mut self, e: u32, cost: f64, gen: u32) {
+        self.cost[e as usize] = cost;
+        self.in_tie[e as usize] = true;
+        let r = self.recency(e);
+        self.queue.push(Reverse((tie_key(r, cost, e), gen)));
+    }
+
+    /// Alg. 1 line 23: `recency(e) += by`; an edge waiting in the queue is
+    /// re-queued under its new recency.
+    pub fn bump(&mut self, e: u32, by: u32, gen: u32) {
+        if !self.use_recency {
+            return;
+        }
+        let r = self.recency(e).saturating_add(by);
+        self.recency[e as usize] = r;
+        self.epoch_of[e as usize] = self.epoch;
+        if self.in_tie[e as usize] {
+            let c = self.cost[e as usize];
+            self.queue.push(Reverse((tie_key(r, c, e), gen)));
+        }
+    }
+
+    /// The next entry, skipping those superseded by a recency change.
+    /// The caller checks the generation (a changed cost sends the edge back
+    /// to the main queue) and whether the edge is alive.
+    pub fn pop(&mut self) -> Option<Tie> {
+        while let Some(Reverse((key, gen))) = self.queue.pop() {
+            let e = key as u32;
+            if !self.in_tie[e as usize] {
+                continue;
+            }
+            let r = u32::MAX - (key >> 96) as u32;
+            if r != self.recency(e) {
+                continue;
+            }
+            self.in_tie[e as usize] = false;
+            return Some(Tie {
+                edge: e,
+                cost: self.cost[e as usize],
+                gen,
+                recency: r,
+            });
+        }
+        None
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn serves_highest_recency_then_lowest_cost() {
+        let mut t = TieOrder::new(5, 1e-3, 0.0, true);
+        t.new_class(1.0);
+        t.push(0, 1.0002, 0);
+        t.push(1, 1.0001, 0);
+        t.push(2, 1.0003, 0);
+        // Edge 2 becomes most recent: it jumps ahead.
+        t.bump(2, 3, 0);
+        let order: Vec<(u32, u32)> = std::iter::from_fn(|| t.pop())
+            .map(|x| (x.edge, x.recency))
+            .collect();
+        assert_eq!(order, vec![(2, 3), (1, 0), (0, 0)]);
+    }
+
+    #[test]
+    fn new_class_resets_recency_and_eq4_is_strict() {
+        let mut t = TieOrder::new(2, 0.5, 0.0, true);
+        t.new_class(2.0);
+        t.bump(1, 4, 0);
+        assert_eq!(t.recency(1), 4);
+        assert!(t.same_class(2.4) && t.same_class(1.6));
+        assert!(!t.same_class(2.5));
+        t.new_class(7.0);
+        assert_eq!(t.recency(1), 0);
+        // Relative tolerance: within 10% of the larger cost.
+        let mut r = TieOrder::new(1, 0.0, 0.1, true);
+        r.new_class(100.0);
+        assert!(r.same_class(109.0) && r.same_class(91.0));
+        assert!(!r.same_class(112.0) && !r.same_class(89.0));
+    }
+
+    #[test]
+    fn without_recency_the_class_is_served_by_cost() {
+        let mut t = TieOrder::new(3, 1.0, 0.0, false);
+        t.new_class(0.0);
+        t.push(0, 0.3, 0);
+        t.push(1, 0.1, 0);
+        t.bump(0, 9, 0);
+        let order: Vec<u32> = std::iter::from_fn(|| t.pop()).map(|x| x.edge).collect();
+        assert_eq!(order, vec![1, 0]);
+    }
+}

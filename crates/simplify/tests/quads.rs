@@ -1,0 +1,137 @@
+//! Quad-dominant reduction (Knodt 2024 §3) in the shared engine.
+#![allow(clippy::unwrap_used)] // test code
+
+mod common;
+
+use wildlod_mesh::{shapes, Mesh};
+use wildlod_simplify::{simplify_mesh, Options, QuadMode, QuadSettings, Target};
+
+fn arities(m: &Mesh) -> (usize, usize, usize) {
+    m.faces.arity_counts()
+}
+
+fn to(triangles: usize, mode: QuadMode, quad: QuadSettings) -> Options {
+    Options {
+        target: Target {
+            triangles: Some(triangles),
+            ..Target::default()
+        },
+        quad_mode: mode,
+        quad,
+        ..Options::default()
+    }
+}
+
+#[test]
+fn cube_of_quads_loses_a_whole_chord_and_stays_all_quads() {
+    // Knodt Fig. 5: a 4×4-per-side cube, 96 quads (192 triangles). One quad
+    // chord (a ring of 16 quads) removed leaves 80 quads = 160 triangles.
+    let cube = shapes::box_grid([0.0; 3], [1.0; 3], 4);
+    assert_eq!(arities(&cube), (0, 96, 0));
+    let (out, rep) =
+        simplify_mesh(&cube, &to(160, QuadMode::Auto, QuadSettings::default())).unwrap();
+    assert_eq!(rep.output_triangles, 160);
+    assert_eq!(arities(&out), (0, 80, 0), "every face stays a quad");
+    // Plain greedy order on the same costs does not manage that.
+    let (plain, _) =
+        simplify_mesh(&cube, &to(160, QuadMode::Never, QuadSettings::default())).unwrap();
+    assert!(
+        arities(&plain).0 > 0,
+        "plain order leaves triangles: {:?}",
+        arities(&plain)
+    );
+}
+
+#[test]
+fn quad_grid_collapses_whole_chords() {
+    // A regular torus of quads: edges of a ring cost the same up to
+    // rounding, and removing whole chords keeps every face a quad.
+    let torus = shapes::torus(32, 16, 1.0, 0.25);
+    let quads = 32 * 16;
+    let loose = QuadSettings {
+        epsilon: 1e-2,
+        ..QuadSettings::default()
+    };
+    for chords in [1, 4, 8] {
+        // A chord around the tube has 16 quads.
+        let target = 2 * (quads - 16 * chords);
+        let (out, rep) = simplify_mesh(&torus, &to(target, QuadMode::Auto, loose)).unwrap();
+        assert_eq!(rep.output_triangles, target);
+        let (t, q, _) = arities(&out);
+        assert!(t <= 2, "{chords} chords: {t} triangles, {q} quads");
+        // With the default tolerance the ordering still keeps far more
+        // quads than cost order alone.
+        let (on, _) =
+            simplify_mesh(&torus, &to(target, QuadMode::Auto, QuadSettings::default())).unwrap();
+        let (off, _) = simplify_mesh(
+            &torus,
+            &to(target, QuadMode::Never, QuadSettings::default()),
+        )
+        .unwrap();
+        assert!(
+            arities(&on).1 > arities(&off).1,
+            "{chords} chords: on {:?} off {:?}",
+            arities(&on),
+            arities(&off)
+        );
+    }
+}
+
+#[test]
+fn zero_epsilon_without_recency_is_plain_greedy_on_the_same_costs() {
+    let mesh = shapes::quad_sphere(8);
+    let quad = QuadSettings {
+        epsilon: 0.0,
+        recency: false,
+        ..QuadSettings::default()
+    };
+    let tied = to(150, QuadMode::Always, quad);
+    // The same metric, ordered by cost alone.
+    let mut plain = to(150, QuadMode::Never, quad);
+    plain.metric = tied.effective_metric(true);
+    let (a, _) = simplify_mesh(&mesh, &tied).unwrap();
+    let (b, _) = simplify_mesh(&mesh, &plain).unwrap();
+    assert_eq!(a, b);
+}
+
+#[test]
+fn recency_keeps_more_quads_than_cost_order_alone() {
+    let mesh = shapes::quad_sphere(12);
+    let with = to(600, QuadMode::Always, QuadSettings::default());
+    let without = to(
+        600,
+        QuadMode::Always,
+        QuadSettings {
+            recency: false,
+            ..QuadSettings::default()
+        },
+    );
+    let (a, _) = simplify_mesh(&mesh, &with).unwrap();
+    let (b, _) = simplify_mesh(&mesh, &without).unwrap();
+    assert!(
+        arities(&a).1 > arities(&b).1,
+        "{:?} vs {:?}",
+        arities(&a),
+        arities(&b)
+    );
+}
+
+#[test]
+fn triangle_meshes_are_untouched_by_auto_quad_mode() {
+    let mesh = common::bumpy_sphere(8);
+    let auto = Options {
+        target: Target {
+            ratio: Some(0.2),
+            ..Target::default()
+        },
+        ..Options::default()
+    };
+    let never = Options {
+        quad_mode: QuadMode::Never,
+        ..auto.clone()
+    };
+    assert_eq!(
+        simplify_mesh(&mesh, &auto).unwrap().0,
+        simplify_mesh(&mesh, &never).unwrap().0
+    );
+}
