@@ -95,6 +95,16 @@ pub struct SimplifyArgs {
     /// the flip guard off.
     #[arg(long, value_name = "DEG", default_value_t = 90.0)]
     pub max_normal_turn: f64,
+    /// Do not keep quads: plain cost order even when the input has quads.
+    /// (By default a mesh with quads is reduced by Knodt 2024's ordering,
+    /// which removes whole quad chords and keeps edge loops.)
+    #[arg(long)]
+    pub no_quads: bool,
+    /// Tolerance under which collapse costs count as equal and are ordered
+    /// to keep quads, as a distance relative to the diagonal. Larger keeps
+    /// more quads at some cost in accuracy.
+    #[arg(long, value_name = "E", default_value_t = wildlod_simplify::QuadSettings::default().epsilon)]
+    pub quad_epsilon: f64,
     /// Classic quadric error simplification (Garland & Heckbert 1997):
     /// no virtual edges, no area term. For comparisons.
     #[arg(long)]

@@ -106,6 +106,51 @@ fn simplify_with_faces_budget_and_error_limit() {
 }
 
 #[test]
+fn quads_are_kept_by_default_and_not_with_no_quads() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = torus_obj(dir.path());
+    let keep = dir.path().join("keep.obj");
+    let plain = dir.path().join("plain.obj");
+    assert!(wildlod(&[
+        "simplify",
+        s(&input),
+        "-o",
+        s(&keep),
+        "--ratio",
+        "0.5",
+        "-q"
+    ])
+    .status
+    .success());
+    assert!(wildlod(&[
+        "simplify",
+        s(&input),
+        "-o",
+        s(&plain),
+        "--ratio",
+        "0.5",
+        "-q",
+        "--no-quads"
+    ])
+    .status
+    .success());
+    let quads = |p: &Path| {
+        wildlod_io::read(p).unwrap().scene.meshes[0]
+            .faces
+            .arity_counts()
+            .1
+    };
+    assert!(
+        quads(&keep) > quads(&plain),
+        "{} vs {}",
+        quads(&keep),
+        quads(&plain)
+    );
+    let o = wildlod(&["simplify", s(&input), "-o", s(&keep), "--quad-epsilon=-1"]);
+    assert_eq!(o.status.code(), Some(1));
+}
+
+#[test]
 fn output_format_follows_the_output_extension() {
     let dir = tempfile::tempdir().unwrap();
     let input = torus_obj(dir.path());

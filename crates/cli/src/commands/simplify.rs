@@ -6,7 +6,9 @@ use std::time::Instant;
 use anyhow::{bail, Context};
 use wildlod_io::{Document, WriteOptions};
 use wildlod_mesh::Scene;
-use wildlod_simplify::{simplify_mesh_with_progress, Guards, Options, Report, StopReason, Target};
+use wildlod_simplify::{
+    simplify_mesh_with_progress, Guards, Options, QuadMode, Report, StopReason, Target,
+};
 
 use crate::args::SimplifyArgs;
 use crate::progress::Progress;
@@ -44,6 +46,12 @@ impl Config {
                 a.virtual_radius
             );
         }
+        if !(a.quad_epsilon.is_finite() && a.quad_epsilon >= 0.0) {
+            bail!(
+                "--quad-epsilon must be a non-negative number, got {}",
+                a.quad_epsilon
+            );
+        }
         if !(a.max_normal_turn > 0.0 && a.max_normal_turn <= 180.0) {
             bail!(
                 "--max-normal-turn must be in (0, 180], got {}",
@@ -62,6 +70,10 @@ impl Config {
                 ..Options::default()
             }
         };
+        if a.no_quads {
+            options.quad_mode = QuadMode::Never;
+        }
+        options.quad.epsilon = a.quad_epsilon;
         options.guards = Guards {
             max_normal_turn_degrees: (a.max_normal_turn < 180.0).then_some(a.max_normal_turn),
             keep_topology: a.keep_topology,
