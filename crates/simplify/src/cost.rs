@@ -16,7 +16,8 @@ use rayon::prelude::*;
 use crate::complex::Complex;
 use crate::options::Metric;
 use crate::quadric::{place, Quadric};
-use crate::tangent::{tangent_quadrics, EdgeImportance};
+use crate::tangent::tangent_quadrics;
+pub(crate) use crate::tangent::EdgeImportance;
 
 /// How far from an edge's midpoint, in edge lengths, the optimal point may
 /// land before the solve is distrusted. Generous: sharp corners can lie a
@@ -73,7 +74,12 @@ pub(crate) fn face_plane(c: &Complex, f: u32) -> Option<(DVec3, f64, DVec3)> {
 /// plane quadric (the barycentric share of W Eq. 9 extended to polygons),
 /// plus the regularization term, times the vertex's weight. Summed per
 /// vertex in face order, so the result does not depend on thread count.
-pub(crate) fn vertex_quadrics(c: &Complex, metric: &Metric, weights: &[f64]) -> Vec<Quadric> {
+pub(crate) fn vertex_quadrics(
+    c: &Complex,
+    metric: &Metric,
+    weights: &[f64],
+    importance: EdgeImportance<'_>,
+) -> Vec<Quadric> {
     let planes: Vec<Option<(DVec3, f64, DVec3)>> = (0..c.faces.len() as u32)
         .into_par_iter()
         .map(|f| {
@@ -86,12 +92,7 @@ pub(crate) fn vertex_quadrics(c: &Complex, metric: &Metric, weights: &[f64]) -> 
         .collect();
     let tangent = if metric.tangent_weight > 0.0 {
         let normals: Vec<Option<DVec3>> = planes.iter().map(|p| p.map(|p| p.0)).collect();
-        tangent_quadrics(
-            c,
-            &normals,
-            EdgeImportance::default(),
-            metric.tangent_weight,
-        )
+        tangent_quadrics(c, &normals, importance, metric.tangent_weight)
     } else {
         Vec::new()
     };
@@ -269,7 +270,7 @@ mod tests {
             regularization: 0.0,
             ..Metric::default()
         };
-        let q = vertex_quadrics(&c, &m, &[]);
+        let q = vertex_quadrics(&c, &m, &[], EdgeImportance::default());
         // Vertex 2 is only in face 0 (plane z = 0, area 1/2): share 1/6.
         // At (0,0,3): 1/6 · 9 = 1.5.
         assert!((q[2].eval(DVec3::new(0.0, 0.0, 3.0)) - 1.5).abs() < 1e-12);
@@ -277,7 +278,7 @@ mod tests {
         assert!((q[0].eval(DVec3::new(0.0, 2.0, 3.0)) - 13.0 / 6.0).abs() < 1e-12);
         assert!((q[0].weight - 1.0 / 3.0).abs() < 1e-15);
         // Weights scale the quadric.
-        let qw = vertex_quadrics(&c, &m, &[2.0, 1.0, 1.0, 1.0]);
+        let qw = vertex_quadrics(&c, &m, &[2.0, 1.0, 1.0, 1.0], EdgeImportance::default());
         assert!((qw[0].eval(DVec3::new(0.0, 2.0, 3.0)) - 13.0 / 3.0).abs() < 1e-12);
     }
 
@@ -291,7 +292,7 @@ mod tests {
             &[0, 2, 1, 0, 1, 3, 0, 3, 2, 1, 2, 3],
         );
         let metric = Metric::default();
-        let q = vertex_quadrics(&c, &metric, &[]);
+        let q = vertex_quadrics(&c, &metric, &[], EdgeImportance::default());
         let with = CostModel {
             metric,
             lock_borders: false,
@@ -320,7 +321,7 @@ mod tests {
             regularization: 0.0,
             ..Metric::default()
         };
-        let q = vertex_quadrics(&c, &metric, &[]);
+        let q = vertex_quadrics(&c, &metric, &[], EdgeImportance::default());
         let m = CostModel {
             metric,
             lock_borders: false,
@@ -358,7 +359,7 @@ mod tests {
             boundary_area: false,
             ..Metric::default()
         };
-        let mut q = vertex_quadrics(&c, &base, &[]);
+        let mut q = vertex_quadrics(&c, &base, &[], EdgeImportance::default());
         // Give vertex 2 a history: as if an earlier collapse had left it
         // 0.5 above its plane, Q2(p2) = (1/4)·0.25 with the z = 0 plane at
         // weight 1/4 (quad area 1 over 4 corners).
@@ -414,7 +415,7 @@ mod tests {
             gluing_weight: 2.0,
             ..Metric::default()
         };
-        let q = vertex_quadrics(&c, &metric, &[]);
+        let q = vertex_quadrics(&c, &metric, &[], EdgeImportance::default());
         let m = CostModel {
             metric,
             lock_borders: false,
@@ -444,7 +445,7 @@ mod tests {
     #[test]
     fn locked_borders_refuse_border_to_border_collapses() {
         let c = hinge();
-        let q = vertex_quadrics(&c, &Metric::default(), &[]);
+        let q = vertex_quadrics(&c, &Metric::default(), &[], EdgeImportance::default());
         let m = CostModel {
             metric: Metric::default(),
             lock_borders: true,

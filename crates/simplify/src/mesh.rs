@@ -26,7 +26,16 @@ pub fn simplify_mesh_with_progress(
 ) -> Result<(Mesh, Report), Error> {
     mesh.validate()
         .map_err(|e| Error::InvalidMesh(e.to_string()))?;
-    let s = simplify_polygons_with_progress(&mesh.positions, &mesh.faces, options, progress)?;
+    let joints = vertex_joints(mesh);
+    let s = if joints.is_empty() || !options.vertex_joints.is_empty() {
+        simplify_polygons_with_progress(&mesh.positions, &mesh.faces, options, progress)?
+    } else {
+        let options = Options {
+            vertex_joints: joints,
+            ..options.clone()
+        };
+        simplify_polygons_with_progress(&mesh.positions, &mesh.faces, &options, progress)?
+    };
     let mut out = Mesh {
         name: mesh.name.clone(),
         positions: s.positions,
@@ -56,4 +65,29 @@ pub fn simplify_mesh_with_progress(
     }
     out.compact();
     Ok((out, s.report))
+}
+
+/// Joint influences per vertex from the mesh's skinning (each vertex takes
+/// the entry of its first corner); empty when the mesh is not skinned.
+fn vertex_joints(mesh: &Mesh) -> Vec<Vec<(u32, f32)>> {
+    let Some(s) = &mesh.skinning else {
+        return Vec::new();
+    };
+    let mut out: Vec<Vec<(u32, f32)>> = vec![Vec::new(); mesh.positions.len()];
+    let mut seen = vec![false; mesh.positions.len()];
+    for (corner, &v) in mesh.faces.indices.iter().enumerate() {
+        let (v, entry) = (v as usize, s.indices[corner]);
+        if seen[v] || entry == wildlod_mesh::ABSENT {
+            continue;
+        }
+        seen[v] = true;
+        let (joints, weights) = s.entry(entry);
+        out[v] = joints
+            .iter()
+            .zip(weights)
+            .filter(|(_, &w)| w > 0.0)
+            .map(|(&j, &w)| (j as u32, w))
+            .collect();
+    }
+    out
 }

@@ -222,6 +222,13 @@ pub struct Options {
     /// vertex are multiplied by its weight, so heavier vertices survive
     /// longer (visibility-driven simplification, W Fig. 20). Empty: all 1.
     pub vertex_weights: Vec<f32>,
+    /// Joint influences of every input vertex, as sparse (joint, weight)
+    /// lists (empty: not skinned). They feed Knodt Eq. 2's λ_joint·d term
+    /// (d = ½ ℓ1 between an edge's endpoints, Eq. 3), which makes the
+    /// tangent quadrics of edges between differently skinned vertices
+    /// heavier, so joints keep their edges. `simplify_mesh` fills this from
+    /// the mesh's skinning.
+    pub vertex_joints: Vec<Vec<(u32, f32)>>,
     /// Record every collapse (edge one-ring before, vertex one-ring after)
     /// for successive mapping (W §4.3). Default off: it costs memory.
     pub record_history: bool,
@@ -240,6 +247,7 @@ impl Default for Options {
             quad_mode: QuadMode::Auto,
             quad: QuadSettings::default(),
             vertex_weights: Vec::new(),
+            vertex_joints: Vec::new(),
             record_history: false,
         }
     }

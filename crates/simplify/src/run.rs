@@ -5,21 +5,51 @@ use glam::DVec3;
 use rayon::prelude::*;
 use wildlod_mesh::Faces;
 
-use crate::cost::{distance, vertex_quadrics, CostModel, Evaluation, Scratch};
+use crate::cost::{distance, vertex_quadrics, CostModel, EdgeImportance, Evaluation, Scratch};
 use crate::guards::{flips_a_face, keeps_topology, removed_triangles};
 use crate::heap::{CollapseQueue, Entry};
 use crate::history::HistoryRecorder;
+use crate::options::Metric;
 use crate::options::Options;
 use crate::ordering::TieOrder;
 use crate::quadric::Quadric;
 use crate::report::{Report, StopReason};
 use crate::simplify::{Prepared, Simplified};
+use crate::tangent::joint_difference;
 use crate::virtual_edges::add_virtual_edges;
 
 /// Near the target, the exact number of triangles a collapse removes is
 /// computed before making it, so that the target is met to ±1 triangle.
 /// Further away the prediction is skipped: no collapse removes this many.
 const EXACT_COUNT_WINDOW: usize = 256;
+
+/// λ_joint · d per edge (Knodt Eq. 2–3) when the input is skinned and the
+/// tangent term is on; empty otherwise. A welded vertex takes the
+/// influences of its first input vertex.
+fn joint_importance(p: &Prepared, options: &Options, metric: &Metric) -> Vec<f64> {
+    let lambda = options.quad.joints;
+    if options.vertex_joints.is_empty() || metric.tangent_weight <= 0.0 || lambda <= 0.0 {
+        return Vec::new();
+    }
+    let mut rep = vec![u32::MAX; p.complex.pos.len()];
+    for (v, &w) in p.weld.iter().enumerate() {
+        if rep[w as usize] == u32::MAX {
+            rep[w as usize] = v as u32;
+        }
+    }
+    let none: Vec<(u32, f32)> = Vec::new();
+    let of = |w: u32| {
+        options
+            .vertex_joints
+            .get(rep[w as usize] as usize)
+            .unwrap_or(&none)
+    };
+    p.complex
+        .edges
+        .iter()
+        .map(|e| lambda * joint_difference(of(e.ends[0]), of(e.ends[1])))
+        .collect()
+}
 
 /// Mean area per vertex that has faces: the quadrics' accumulated weights.
 fn mean_vertex_area(q: &[Quadric]) -> f64 {
@@ -79,7 +109,12 @@ impl<'o> Run<'o> {
         let quads = p.complex.faces.iter().filter(|f| f.len == 4).count();
         let quads_active = options.quads_active(quads);
         let metric = options.effective_metric(quads_active);
-        let quadrics = vertex_quadrics(&p.complex, &metric, &p.weights);
+        let joints = joint_importance(&p, options, &metric);
+        let importance = EdgeImportance {
+            symmetry: &[],
+            joints: &joints,
+        };
+        let quadrics = vertex_quadrics(&p.complex, &metric, &p.weights, importance);
         let model = CostModel {
             metric,
             lock_borders: options.guards.lock_borders,

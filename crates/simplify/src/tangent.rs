@@ -32,6 +32,28 @@ pub(crate) struct EdgeImportance<'a> {
     pub joints: &'a [f64],
 }
 
+/// Knodt Eq. 3: half the ℓ1 distance between two joint-influence
+/// distributions given as sparse (joint, weight) lists; 0 for identical
+/// influences, 1 for disjoint ones (when each sums to 1).
+pub(crate) fn joint_difference(a: &[(u32, f32)], b: &[(u32, f32)]) -> f64 {
+    let weight = |list: &[(u32, f32)], j: u32| -> f64 {
+        list.iter()
+            .filter(|(k, _)| *k == j)
+            .map(|(_, w)| *w as f64)
+            .sum()
+    };
+    let mut sum = 0.0;
+    for &(j, w) in a {
+        sum += (w as f64 - weight(b, j)).abs();
+    }
+    for &(j, w) in b {
+        if !a.iter().any(|(k, _)| *k == j) {
+            sum += (w as f64).abs();
+        }
+    }
+    0.5 * sum
+}
+
 /// `w` of Eq. 2 for an edge whose faces have the given unit normals.
 pub(crate) fn edge_weight(normals: &[DVec3], extra: f64) -> f64 {
     let base = if normals.len() == 2 {
@@ -147,6 +169,47 @@ mod tests {
         // A border edge (one face): w = 1; importance can only raise it.
         assert_eq!(edge_weight(&[DVec3::Z], 0.0), 1.0);
         assert_eq!(edge_weight(&[DVec3::Z, DVec3::Z], 0.7), 0.7);
+    }
+
+    #[test]
+    fn joint_difference_follows_eq3() {
+        // Knodt Eq. 3: j0 = {a: α, b: 1−α}, j1 = {b: β, c: 1−β} gives
+        // ½(α + |(1−α) − β| + (1−β)). With α = 0.25, β = 0.5:
+        // ½(0.25 + 0.25 + 0.5) = 0.5.
+        let (a, b, c) = (0, 1, 2);
+        let d = joint_difference(&[(a, 0.25), (b, 0.75)], &[(b, 0.5), (c, 0.5)]);
+        assert!((d - 0.5).abs() < 1e-7);
+        assert_eq!(joint_difference(&[(3, 1.0)], &[(3, 1.0)]), 0.0);
+        assert_eq!(joint_difference(&[(3, 1.0)], &[(4, 1.0)]), 1.0);
+        assert_eq!(joint_difference(&[], &[]), 0.0);
+    }
+
+    #[test]
+    fn joint_importance_raises_the_weight_of_an_edge_between_bones() {
+        let c = hinge();
+        let normals: Vec<Option<DVec3>> = (0..2)
+            .map(|f| crate::cost::face_plane(&c, f).map(|p| p.0))
+            .collect();
+        let plain = tangent_quadrics(&c, &normals, EdgeImportance::default(), 1.0);
+        // Hinge edge 0–1 is edge 0 (edges are sorted by endpoints): give it
+        // λ_joint·d = 0.9, above its dihedral weight 1/2.
+        let e = c.edge_between(0, 1).unwrap() as usize;
+        let mut joints = vec![0.0; c.edges.len()];
+        joints[e] = 0.9;
+        let heavy = tangent_quadrics(
+            &c,
+            &normals,
+            EdgeImportance {
+                symmetry: &[],
+                joints: &joints,
+            },
+            1.0,
+        );
+        // At vertex 0 the hinge planes y = 0 and z = 0 now weigh 0.9 each.
+        let p = DVec3::new(0.3, 0.5, -0.7);
+        let expected = 0.9 * 0.25 + 0.9 * 0.49 + 2.0 * 0.09;
+        assert!((heavy[0].eval(p) - expected).abs() < 1e-12);
+        assert!(heavy[0].eval(p) > plain[0].eval(p));
     }
 
     #[test]

@@ -135,3 +135,50 @@ fn triangle_meshes_are_untouched_by_auto_quad_mode() {
         simplify_mesh(&mesh, &never).unwrap().0
     );
 }
+
+#[test]
+fn joint_weights_keep_edges_where_influences_change() {
+    // A quad sphere skinned to two bones that blend in the band |x| < 0.2:
+    // with λ_joint the band keeps more of its vertices (Knodt §3.1).
+    use wildlod_mesh::{ComponentFormat, Skinning};
+    let mut mesh = shapes::quad_sphere(12);
+    let n = mesh.positions.len();
+    let mut joints = Vec::new();
+    let mut weights = Vec::new();
+    for p in &mesh.positions {
+        let t = ((p[0] + 0.2) / 0.4).clamp(0.0, 1.0);
+        joints.extend_from_slice(&[0u16, 1, 0, 0]);
+        weights.extend_from_slice(&[1.0 - t, t, 0.0, 0.0]);
+    }
+    mesh.skinning = Some(Skinning {
+        influences: 4,
+        joints,
+        weights,
+        indices: mesh.faces.indices.clone(),
+        weight_format: ComponentFormat::F32,
+        joint_format: ComponentFormat::U16,
+    });
+    assert_eq!(n * 4, mesh.skinning.as_ref().unwrap().weights.len());
+    let run = |lambda: f64| {
+        let o = Options {
+            target: Target {
+                ratio: Some(0.2),
+                ..Target::default()
+            },
+            quad_mode: QuadMode::Always,
+            quad: QuadSettings {
+                tangent_weight: 1.0 / 3.0,
+                joints: lambda,
+                ..QuadSettings::default()
+            },
+            ..Options::default()
+        };
+        let (out, _) = simplify_mesh(&mesh, &o).unwrap();
+        out.positions.iter().filter(|p| p[0].abs() < 0.2).count()
+    };
+    let (with, without) = (run(1.0), run(0.0));
+    assert!(
+        with > without,
+        "band vertices: {with} with λ_joint, {without} without"
+    );
+}
