@@ -10,6 +10,15 @@ use wildlod_eval::{compare, CompareOptions, EvalMesh};
 
 use crate::methods::{instanced_triangles, run, Method};
 
+/// Whether a row's target is meshoptimizer's reached count rather than the
+/// ratio (its `target` is then that count).
+fn target_of(method: Method, ratio_target: usize, meshopt_count: Option<usize>) -> usize {
+    match (method, meshopt_count) {
+        (Method::WildlodAtMeshoptCount, Some(n)) => n,
+        _ => ratio_target,
+    }
+}
+
 /// What to evaluate.
 #[derive(Clone, Debug)]
 pub struct Config {
@@ -72,7 +81,9 @@ impl Row {
     /// Whether the run reached its target, allowing one triangle per mesh
     /// (each mesh's own target is rounded).
     pub fn reached(&self) -> bool {
-        self.failure.is_none() && self.triangles <= self.target + self.meshes
+        self.failure.is_none()
+            && self.triangles <= self.target + self.meshes
+            && self.triangles + self.meshes >= self.target
     }
 }
 
@@ -135,6 +146,7 @@ pub fn evaluate(cfg: &Config, mut each: impl FnMut(&Row)) -> anyhow::Result<Vec<
         let reference = EvalMesh::from_scene(&doc.scene, &[]);
         for &ratio in &cfg.ratios {
             let target = ((input_triangles as f64 * ratio).round() as usize).max(1);
+            let mut meshopt_count = None;
             for &method in &cfg.methods {
                 let mut row = Row {
                     file: file.clone(),
@@ -143,7 +155,7 @@ pub fn evaluate(cfg: &Config, mut each: impl FnMut(&Row)) -> anyhow::Result<Vec<
                     input_triangles,
                     ratio,
                     method,
-                    target,
+                    target: target_of(method, target, meshopt_count),
                     triangles: 0,
                     hausdorff: f64::NAN,
                     chamfer_mean: f64::NAN,
@@ -151,8 +163,15 @@ pub fn evaluate(cfg: &Config, mut each: impl FnMut(&Row)) -> anyhow::Result<Vec<
                     seconds: 0.0,
                     failure: None,
                 };
-                match run(method, &doc.scene, ratio) {
+                // Nothing to compare at an empty budget.
+                if method == Method::WildlodAtMeshoptCount && meshopt_count.unwrap_or(0) == 0 {
+                    continue;
+                }
+                match run(method, &doc.scene, ratio, meshopt_count) {
                     Ok(r) => {
+                        if method == Method::Meshopt {
+                            meshopt_count = Some(r.triangles);
+                        }
                         let cand = EvalMesh::from_scene(&r.scene, &[]);
                         let c = compare(&reference, &cand, &options);
                         row.triangles = r.triangles;
@@ -210,9 +229,11 @@ pub fn markdown(cfg: &Config, rows: &[Row], command: &str) -> String {
           whole scene flattened into one index buffer (it has no notion of meshes). A method \
           that stops short of its target keeps more triangles, so its errors are not \
           comparable with those that reached it: see the *reached* column.\n\n";
-    s += "## Summary\n\nMeans over the meshes of each category.\n\n";
-    s += "| category | ratio | method | reached | triangles / target | Hausdorff | Chamfer | Chamfer² | time (ms) |\n";
-    s += "|---|---|---|---|---|---|---|---|---|\n";
+    s += "## Summary\n\nMeans over the meshes of each category. *reached*: results within one \
+          triangle per mesh of the target; *empty*: results with no triangle left (their \
+          distances are infinite and left out of the means).\n\n";
+    s += "| category | ratio | method | reached | empty | triangles / target | Hausdorff | Chamfer | Chamfer² | time (ms) |\n";
+    s += "|---|---|---|---|---|---|---|---|---|---|\n";
     let mut cats: Vec<String> = rows.iter().map(|r| r.category.clone()).collect();
     cats.sort();
     cats.dedup();
@@ -226,13 +247,21 @@ pub fn markdown(cfg: &Config, rows: &[Row], command: &str) -> String {
                 if sel.is_empty() {
                     continue;
                 }
-                let ok: Vec<&&Row> = sel.iter().filter(|r| r.failure.is_none()).collect();
+                let ok: Vec<&&Row> = sel
+                    .iter()
+                    .filter(|r| r.failure.is_none() && r.triangles > 0)
+                    .collect();
+                let empty = sel
+                    .iter()
+                    .filter(|r| r.failure.is_none() && r.triangles == 0)
+                    .count();
                 s += &format!(
-                    "| {cat} | {} | {} | {}/{} | {:.3} | {:.5} | {:.6} | {:.3e} | {:.1} |\n",
+                    "| {cat} | {} | {} | {}/{} | {} | {:.3} | {:.5} | {:.6} | {:.3e} | {:.1} |\n",
                     pct(ratio),
                     m.name(),
                     sel.iter().filter(|r| r.reached()).count(),
                     sel.len(),
+                    empty,
                     mean(ok.iter().map(|r| r.triangles as f64 / r.target as f64)),
                     mean(ok.iter().map(|r| r.hausdorff)),
                     mean(ok.iter().map(|r| r.chamfer_mean)),

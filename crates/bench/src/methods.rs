@@ -19,15 +19,20 @@ pub enum Method {
     Meshopt,
     /// meshoptimizer `simplify_with_update`, no error limit.
     MeshoptUpdate,
+    /// wildlod with default options, asked for exactly the triangle count
+    /// meshoptimizer `simplify` reached: the comparison at equal budget when
+    /// meshoptimizer stops short of the target.
+    WildlodAtMeshoptCount,
 }
 
 impl Method {
     /// Every method, in report order.
-    pub const ALL: [Method; 4] = [
+    pub const ALL: [Method; 5] = [
         Method::Wildlod,
         Method::ClassicQem,
         Method::Meshopt,
         Method::MeshoptUpdate,
+        Method::WildlodAtMeshoptCount,
     ];
 
     /// Name used in reports.
@@ -37,6 +42,7 @@ impl Method {
             Method::ClassicQem => "wildlod classic QEM",
             Method::Meshopt => "meshopt simplify",
             Method::MeshoptUpdate => "meshopt simplify_with_update",
+            Method::WildlodAtMeshoptCount => "wildlod at meshopt's count",
         }
     }
 }
@@ -77,13 +83,27 @@ pub fn instanced_triangles(scene: &Scene) -> usize {
 }
 
 /// Runs `method` on `scene` at `ratio` of its (instanced) triangles.
-pub fn run(method: Method, scene: &Scene, ratio: f64) -> Result<Run, wildlod_simplify::Error> {
+/// [`Method::WildlodAtMeshoptCount`] needs meshoptimizer's result count,
+/// `meshopt_count`.
+pub fn run(
+    method: Method,
+    scene: &Scene,
+    ratio: f64,
+    meshopt_count: Option<usize>,
+) -> Result<Run, wildlod_simplify::Error> {
     match method {
-        Method::Wildlod | Method::ClassicQem => {
-            let base = if method == Method::Wildlod {
-                Options::default()
-            } else {
+        Method::Wildlod | Method::ClassicQem | Method::WildlodAtMeshoptCount => {
+            let base = if method == Method::ClassicQem {
                 Options::classic_qem()
+            } else {
+                Options::default()
+            };
+            // At meshoptimizer's count: the same ratio of every mesh, so
+            // that the instanced total matches.
+            let total = instanced_triangles(scene).max(1);
+            let ratio = match (method, meshopt_count) {
+                (Method::WildlodAtMeshoptCount, Some(n)) => (n as f64 / total as f64).min(1.0),
+                _ => ratio,
             };
             let options = Options {
                 target: Target {
@@ -109,6 +129,7 @@ pub fn run(method: Method, scene: &Scene, ratio: f64) -> Result<Run, wildlod_sim
             })
         }
         Method::Meshopt | Method::MeshoptUpdate => {
+            let _ = meshopt_count;
             let (mut positions, indices) = flatten(scene);
             let target = ((indices.len() / 3) as f64 * ratio).round().max(1.0) as usize;
             let t = Instant::now();

@@ -39,6 +39,16 @@ fn evaluation_runs_every_method_and_writes_the_report() {
     };
     let rows = evaluate(&cfg, |_| {}).unwrap();
     assert_eq!(rows.len(), 2 * Method::ALL.len());
+    // The equal-budget row asks for exactly what meshoptimizer reached.
+    for pair in rows.chunks(Method::ALL.len()) {
+        let m = pair.iter().find(|r| r.method == Method::Meshopt).unwrap();
+        let w = pair
+            .iter()
+            .find(|r| r.method == Method::WildlodAtMeshoptCount)
+            .unwrap();
+        assert_eq!(w.target, m.triangles);
+        assert!(w.triangles.abs_diff(m.triangles) <= 1, "{w:?} vs {m:?}");
+    }
     for r in &rows {
         assert!(r.failure.is_none(), "{r:?}");
         assert!(r.hausdorff.is_finite() && r.hausdorff >= 0.0, "{r:?}");
@@ -49,7 +59,10 @@ fn evaluation_runs_every_method_and_writes_the_report() {
         assert!(r.reached(), "{r:?}");
     }
     let md = markdown(&cfg, &rows, "test");
-    assert!(md.contains("| manifold | 50% | wildlod |"), "{md}");
+    assert!(
+        md.contains("| manifold | 50% | wildlod | 1/1 | 0 |"),
+        "{md}"
+    );
     assert!(md.contains("| wild | 50% | meshopt simplify |"), "{md}");
     assert!(md.contains("### wild/boxes.ply"), "{md}");
 }
