@@ -44,20 +44,54 @@ impl Entry {
 
 const ARITY: usize = 4;
 
+/// Four keys on one 64-byte cache line: with the root alone on the first
+/// line (three slots unused), the children of every node fill exactly one
+/// line, so a sift step reads one line, not two.
+#[derive(Clone, Copy, Default)]
+#[repr(C, align(64))]
+struct Line([u128; ARITY]);
+
+/// Slot of entry `i`: entries are stored three places on.
+const SKEW: usize = ARITY - 1;
+
 /// The queue of candidate collapses: a 4-ary min-heap of packed keys.
 #[derive(Default)]
 pub(crate) struct CollapseQueue {
-    heap: Vec<u128>,
+    lines: Vec<Line>,
+    len: usize,
 }
 
 impl CollapseQueue {
+    #[inline]
+    fn get(&self, i: usize) -> u128 {
+        let s = i + SKEW;
+        self.lines[s / ARITY].0[s % ARITY]
+    }
+
+    #[inline]
+    fn set(&mut self, i: usize, k: u128) {
+        let s = i + SKEW;
+        self.lines[s / ARITY].0[s % ARITY] = k;
+    }
+
+    fn push_key(&mut self, k: u128) {
+        let s = self.len + SKEW;
+        if s / ARITY >= self.lines.len() {
+            self.lines.push(Line::default());
+        }
+        self.len += 1;
+        self.set(self.len - 1, k);
+    }
+
     /// A queue built from initial entries in O(n).
     pub fn from_entries(entries: Vec<Entry>) -> Self {
-        let mut q = CollapseQueue {
-            heap: entries.into_iter().map(Entry::key).collect(),
-        };
-        if q.heap.len() > 1 {
-            for i in (0..=(q.heap.len() - 2) / ARITY).rev() {
+        let mut q = CollapseQueue::default();
+        q.lines.reserve((entries.len() + SKEW).div_ceil(ARITY));
+        for e in entries {
+            q.push_key(e.key());
+        }
+        if q.len > 1 {
+            for i in (0..=(q.len - 2) / ARITY).rev() {
                 q.sift_down(i);
             }
         }
@@ -67,24 +101,29 @@ impl CollapseQueue {
     /// Adds an entry.
     #[inline]
     pub fn push(&mut self, e: Entry) {
-        self.heap.push(e.key());
-        self.sift_up(self.heap.len() - 1);
+        self.push_key(e.key());
+        self.sift_up(self.len - 1);
     }
 
     /// The cheapest entry, without removing it.
     #[inline]
     pub fn peek(&self) -> Option<Entry> {
-        self.heap.first().map(|&k| Entry::from_key(k))
+        (self.len > 0).then(|| Entry::from_key(self.get(0)))
     }
 
     /// Removes and returns the cheapest entry.
     #[inline]
     pub fn pop(&mut self) -> Option<Entry> {
-        let last = self.heap.pop()?;
-        if self.heap.is_empty() {
+        if self.len == 0 {
+            return None;
+        }
+        let last = self.get(self.len - 1);
+        self.len -= 1;
+        if self.len == 0 {
             return Some(Entry::from_key(last));
         }
-        let top = std::mem::replace(&mut self.heap[0], last);
+        let top = self.get(0);
+        self.set(0, last);
         self.sift_down(0);
         Some(Entry::from_key(top))
     }
@@ -93,50 +132,62 @@ impl CollapseQueue {
     /// sift-down instead of a pop and a push.
     #[inline]
     pub fn replace_top(&mut self, e: Entry) {
-        match self.heap.first_mut() {
-            Some(top) => {
-                *top = e.key();
-                self.sift_down(0);
-            }
-            None => self.heap.push(e.key()),
+        if self.len == 0 {
+            self.push_key(e.key());
+        } else {
+            self.set(0, e.key());
+            self.sift_down(0);
         }
     }
 
     fn sift_up(&mut self, mut i: usize) {
-        let k = self.heap[i];
+        let k = self.get(i);
         while i > 0 {
             let p = (i - 1) / ARITY;
-            if self.heap[p] <= k {
+            let kp = self.get(p);
+            if kp <= k {
                 break;
             }
-            self.heap[i] = self.heap[p];
+            self.set(i, kp);
             i = p;
         }
-        self.heap[i] = k;
+        self.set(i, k);
     }
 
     fn sift_down(&mut self, mut i: usize) {
-        let n = self.heap.len();
-        let k = self.heap[i];
+        let n = self.len;
+        let k = self.get(i);
         loop {
             let first = ARITY * i + 1;
             if first >= n {
                 break;
             }
-            let last = (first + ARITY).min(n);
-            let mut best = first;
-            for c in first + 1..last {
-                if self.heap[c] < self.heap[best] {
-                    best = c;
+            let (best, kb) = if first + ARITY <= n {
+                // A full line: the children of i are line i + 1.
+                let line = &self.lines[i + 1].0;
+                let mut b = 0;
+                for c in 1..ARITY {
+                    if line[c] < line[b] {
+                        b = c;
+                    }
                 }
-            }
-            if self.heap[best] >= k {
+                (first + b, line[b])
+            } else {
+                let mut b = first;
+                for c in first + 1..n {
+                    if self.get(c) < self.get(b) {
+                        b = c;
+                    }
+                }
+                (b, self.get(b))
+            };
+            if kb >= k {
                 break;
             }
-            self.heap[i] = self.heap[best];
+            self.set(i, kb);
             i = best;
         }
-        self.heap[i] = k;
+        self.set(i, k);
     }
 }
 
