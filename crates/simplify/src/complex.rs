@@ -10,6 +10,7 @@
 //! attributes ride along.
 
 use glam::DVec3;
+use rayon::prelude::*;
 use smallvec::SmallVec;
 
 /// A star list: faces or edges around a vertex. Inline up to 8 (valence is
@@ -105,11 +106,20 @@ impl Complex {
     /// vertex cycle with the same orientation; opposite copies are kept:
     /// they are how wild meshes make a sheet double-sided).
     pub fn new(pos: Vec<DVec3>, offsets: &[u32], indices: &[u32]) -> (Complex, Cleaned) {
+        let (mut c, cleaned) = Complex::faces_only(pos, offsets, indices);
+        c.build_adjacency();
+        (c, cleaned)
+    }
+
+    /// [`Complex::new`] without the star lists and edges (empty) but with
+    /// the triangle count: what the partitioned path needs, which builds
+    /// them once at the end with [`Complex::build_adjacency`].
+    pub fn faces_only(pos: Vec<DVec3>, offsets: &[u32], indices: &[u32]) -> (Complex, Cleaned) {
         let nv = pos.len();
         let nf = offsets.len().saturating_sub(1);
         let mut c = Complex {
-            vert_faces: vec![Star::new(); nv],
-            vert_edges: vec![Star::new(); nv],
+            vert_faces: Vec::new(),
+            vert_edges: Vec::new(),
             edges: Vec::new(),
             faces: (0..nf)
                 .map(|f| FaceSlots {
@@ -138,10 +148,11 @@ impl Complex {
         // Exact duplicates: group faces by a hash of their canonical cycle,
         // then compare cycles within a group; the lowest face id stays.
         let mut keys: Vec<(u64, u32)> = (0..nf as u32)
+            .into_par_iter()
             .filter(|&f| c.faces[f as usize].len > 0)
             .map(|f| (c.cycle_hash(f), f))
             .collect();
-        keys.sort_unstable();
+        keys.par_sort_unstable();
         let mut g = 0;
         while g < keys.len() {
             let mut h = g + 1;
@@ -161,37 +172,91 @@ impl Complex {
             }
             g = h;
         }
-        for f in 0..nf as u32 {
-            let len = c.faces[f as usize].len as usize;
+        c.triangles = c
+            .faces
+            .iter()
+            .map(|f| (f.len as usize).saturating_sub(2))
+            .sum();
+        (c, cleaned)
+    }
+
+    /// Drops the star lists and edges (they went stale).
+    pub fn clear_adjacency(&mut self) {
+        self.vert_faces = Vec::new();
+        self.vert_edges = Vec::new();
+        self.edges.clear();
+    }
+
+    /// Whether the star lists and edges are built.
+    pub fn has_adjacency(&self) -> bool {
+        self.vert_faces.len() == self.pos.len()
+    }
+
+    /// A complex over faces that are already clean (no repeated vertex, no
+    /// duplicate): a chunk of the partitioned path. `slot_corner` carries
+    /// the input corners along.
+    pub fn from_clean_faces(
+        pos: Vec<DVec3>,
+        faces: Vec<FaceSlots>,
+        slot_vertex: Vec<u32>,
+        slot_corner: Vec<u32>,
+    ) -> Complex {
+        let mut c = Complex {
+            vert_faces: Vec::new(),
+            vert_edges: Vec::new(),
+            edges: Vec::new(),
+            faces,
+            slot_vertex,
+            slot_corner,
+            triangles: 0,
+            vmark: Vec::new(),
+            fmark: Vec::new(),
+            stamp: 0,
+            killed: Vec::new(),
+            touched: Vec::new(),
+            j_corners: Vec::new(),
+            pos,
+        };
+        c.build_adjacency();
+        c
+    }
+
+    /// (Re)builds the star lists, the physical edges and the triangle count
+    /// from the live faces. Used at construction and after faces were
+    /// changed from outside (the partitioned path writes chunk results back).
+    pub fn build_adjacency(&mut self) {
+        let nv = self.pos.len();
+        self.vert_faces.iter_mut().for_each(|s| s.clear());
+        self.vert_edges.iter_mut().for_each(|s| s.clear());
+        self.vert_faces.resize(nv, Star::new());
+        self.vert_edges.resize(nv, Star::new());
+        self.edges.clear();
+        self.triangles = 0;
+        let mut ek: Vec<u64> = Vec::with_capacity(self.slot_vertex.len());
+        for f in 0..self.faces.len() as u32 {
+            let len = self.faces[f as usize].len as usize;
             if len == 0 {
                 continue;
             }
-            c.triangles += len - 2;
-            let s = c.faces[f as usize].start as usize;
+            self.triangles += len - 2;
+            let s = self.faces[f as usize].start as usize;
             for k in 0..len {
-                let v = c.slot_vertex[s + k] as usize;
-                c.vert_faces[v].push(f);
-            }
-        }
-        // Physical edges: consecutive corners, deduplicated.
-        let mut ek: Vec<u64> = Vec::with_capacity(indices.len());
-        for f in 0..nf {
-            let len = c.faces[f].len as usize;
-            let s = c.faces[f].start as usize;
-            for k in 0..len {
-                let a = c.slot_vertex[s + k];
-                let b = c.slot_vertex[if k + 1 == len { s } else { s + k + 1 }];
+                let a = self.slot_vertex[s + k];
+                self.vert_faces[a as usize].push(f);
+                let b = self.slot_vertex[if k + 1 == len { s } else { s + k + 1 }];
                 ek.push(((a.min(b) as u64) << 32) | a.max(b) as u64);
             }
         }
-        ek.sort_unstable();
+        // Physical edges: consecutive corners, deduplicated.
+        ek.par_sort_unstable();
         ek.dedup();
-        c.edges.reserve(ek.len());
+        self.edges.reserve(ek.len());
         for k in ek {
             let (a, b) = ((k >> 32) as u32, k as u32);
-            c.push_edge(a, b, false);
+            self.push_edge(a, b, false);
         }
-        (c, cleaned)
+        self.fmark.resize(self.faces.len(), 0);
+        self.vmark.resize(nv, 0);
     }
 
     fn push_edge(&mut self, a: u32, b: u32, is_virtual: bool) -> u32 {
@@ -580,7 +645,8 @@ impl Complex {
         // another face around i (same cycle, same orientation). The higher
         // id goes, as when cleaning the input. A vertex-set signature rules
         // out almost every pair before the cycle comparison.
-        let signature = |c: &Complex, f: u32| -> (u32, u32, u32) {
+        type Signature = (u32, u32, u32);
+        let signature = |c: &Complex, f: u32| -> Signature {
             let face = c.face(f);
             let (mut sum, mut x) = (0u32, 0u32);
             for &v in face {
@@ -589,17 +655,20 @@ impl Complex {
             }
             (face.len() as u32, sum, x)
         };
+        // Each face around i is read once, not once per changed face.
+        let around: SmallVec<[(u32, Signature); 24]> = self.vert_faces[i as usize]
+            .iter()
+            .filter(|&&g| self.faces[g as usize].len > 0)
+            .map(|&g| (g, signature(self, g)))
+            .collect();
         for &f in &touched {
             if self.faces[f as usize].len == 0 {
                 continue;
             }
             let sf = signature(self, f);
             let mut twin = None;
-            for &g in &self.vert_faces[i as usize] {
-                if g != f
-                    && self.faces[g as usize].len > 0
-                    && signature(self, g) == sf
-                    && self.same_cycle(f, g, i)
+            for &(g, sg) in &around {
+                if g != f && sg == sf && self.faces[g as usize].len > 0 && self.same_cycle(f, g, i)
                 {
                     twin = Some(g);
                     break;

@@ -96,6 +96,41 @@ pub(crate) fn vertex_quadrics(
     } else {
         Vec::new()
     };
+    let finish = |v: usize, mut q: Quadric, area: f64| {
+        if metric.regularization > 0.0 && area > 0.0 {
+            q += Quadric::point(c.pos[v], metric.regularization * area);
+        }
+        if let Some(t) = tangent.get(v) {
+            // Tangent planes carry no area: keep the weight (which turns
+            // errors into distances) the faces' own.
+            q += Quadric { weight: 0.0, ..*t };
+        }
+        match weights.get(v) {
+            Some(&w) if w != 1.0 => q.scaled(w),
+            _ => q,
+        }
+    };
+    if !c.has_adjacency() {
+        // No star lists (the partitioned path defers them): a compact
+        // vertex → faces index, filled in face order like the star lists,
+        // so the sums are the same to the bit.
+        let (start, list) = vertex_face_index(c);
+        return (0..c.pos.len())
+            .into_par_iter()
+            .map(|v| {
+                let mut q = Quadric::ZERO;
+                let mut area = 0.0;
+                for &f in &list[start[v] as usize..start[v + 1] as usize] {
+                    if let Some((n, a, p)) = planes[f as usize] {
+                        let share = a / c.faces[f as usize].len as f64;
+                        q += Quadric::plane(n, p, share);
+                        area += share;
+                    }
+                }
+                finish(v, q, area)
+            })
+            .collect();
+    }
     (0..c.pos.len())
         .into_par_iter()
         .map(|v| {
@@ -108,20 +143,32 @@ pub(crate) fn vertex_quadrics(
                     area += share;
                 }
             }
-            if metric.regularization > 0.0 && area > 0.0 {
-                q += Quadric::point(c.pos[v], metric.regularization * area);
-            }
-            if let Some(t) = tangent.get(v) {
-                // Tangent planes carry no area: keep the weight (which turns
-                // errors into distances) the faces' own.
-                q += Quadric { weight: 0.0, ..*t };
-            }
-            match weights.get(v) {
-                Some(&w) if w != 1.0 => q.scaled(w),
-                _ => q,
-            }
+            finish(v, q, area)
         })
         .collect()
+}
+
+/// The faces of every vertex as one flat list in face order (offsets,
+/// faces): the star lists without their cost.
+fn vertex_face_index(c: &Complex) -> (Vec<u32>, Vec<u32>) {
+    let mut start = vec![0u32; c.pos.len() + 1];
+    for f in c.live_faces() {
+        for &v in c.face(f) {
+            start[v as usize + 1] += 1;
+        }
+    }
+    for v in 0..c.pos.len() {
+        start[v + 1] += start[v];
+    }
+    let mut fill = start.clone();
+    let mut list = vec![0u32; start[c.pos.len()] as usize];
+    for f in c.live_faces() {
+        for &v in c.face(f) {
+            list[fill[v as usize] as usize] = f;
+            fill[v as usize] += 1;
+        }
+    }
+    (start, list)
 }
 
 /// The result of evaluating a collapse.
@@ -170,6 +217,7 @@ impl CostModel {
         c: &Complex,
         q: &[Quadric],
         border: &[bool],
+        locked: &[bool],
         e: u32,
         s: &mut Scratch,
     ) -> Option<Evaluation> {
@@ -213,11 +261,15 @@ impl CostModel {
             total += Quadric::point(pi, g * q[i as usize].weight);
             total += Quadric::point(pj, g * q[j as usize].weight);
         }
-        let (position, cost) = if self.lock_borders && (bi || bj) {
-            if bi && bj {
+        // A fixed vertex (a locked border, or a chunk's edge in the
+        // partitioned path) does not move: the other one comes to it.
+        let fixed_i = (self.lock_borders && bi) || locked.get(i as usize).copied().unwrap_or(false);
+        let fixed_j = (self.lock_borders && bj) || locked.get(j as usize).copied().unwrap_or(false);
+        let (position, cost) = if fixed_i || fixed_j {
+            if fixed_i && fixed_j {
                 return None;
             }
-            let p = if bi { pi } else { pj };
+            let p = if fixed_i { pi } else { pj };
             (p, total.eval(p).max(0.0))
         } else {
             let pl = place(&total, pi, pj, REACH);
@@ -283,6 +335,26 @@ mod tests {
     }
 
     #[test]
+    fn quadrics_without_star_lists_are_the_same_to_the_bit() {
+        // A fan of five triangles and a quad around vertex 0, bumpy.
+        let mut pos = vec![DVec3::ZERO];
+        for k in 0..7 {
+            let a = k as f64;
+            pos.push(DVec3::new(a.cos(), a.sin(), 0.1 * (a * 3.0).sin()));
+        }
+        let idx = [0, 1, 2, 0, 2, 3, 0, 3, 4, 0, 4, 5, 0, 5, 6, 0, 6, 7, 1];
+        let offsets = [0, 3, 6, 9, 12, 15, 19];
+        let (with, _) = Complex::new(pos.clone(), &offsets, &idx);
+        let (without, _) = Complex::faces_only(pos, &offsets, &idx);
+        assert!(with.has_adjacency() && !without.has_adjacency());
+        let m = Metric::default();
+        let a = vertex_quadrics(&with, &m, &[], EdgeImportance::default());
+        let b = vertex_quadrics(&without, &m, &[], EdgeImportance::default());
+        assert_eq!(a, b);
+        assert!(a[0].weight > 0.0);
+    }
+
+    #[test]
     fn boundary_area_term_is_absent_without_boundary_edges() {
         // A closed tetrahedron: the metric is the plain quadric sum.
         let pos = vec![DVec3::ZERO, DVec3::X, DVec3::Y, DVec3::Z];
@@ -307,8 +379,8 @@ mod tests {
         let mut s = Scratch::default();
         for e in 0..c.edges.len() as u32 {
             assert_eq!(
-                with.evaluate(&c, &q, &[], e, &mut s),
-                without.evaluate(&c, &q, &[], e, &mut s)
+                with.evaluate(&c, &q, &[], &[], e, &mut s),
+                without.evaluate(&c, &q, &[], &[], e, &mut s)
             );
         }
     }
@@ -328,7 +400,7 @@ mod tests {
         };
         let mut s = Scratch::default();
         let e = c.edge_between(0, 2).unwrap();
-        let ev = m.evaluate(&c, &q, &[], e, &mut s).unwrap();
+        let ev = m.evaluate(&c, &q, &[], &[], e, &mut s).unwrap();
         let plain = CostModel {
             metric: Metric {
                 boundary_area: false,
@@ -336,7 +408,7 @@ mod tests {
             },
             lock_borders: false,
         }
-        .evaluate(&c, &q, &[], e, &mut s)
+        .evaluate(&c, &q, &[], &[], e, &mut s)
         .unwrap();
         assert!(ev.cost > plain.cost, "{ev:?} vs {plain:?}");
     }
@@ -373,7 +445,7 @@ mod tests {
             metric: base,
             lock_borders: false,
         }
-        .evaluate(&c, &q, &[], e, &mut Scratch::default())
+        .evaluate(&c, &q, &[], &[], e, &mut Scratch::default())
         .unwrap();
         let eq5 = CostModel {
             metric: Metric {
@@ -382,7 +454,7 @@ mod tests {
             },
             lock_borders: false,
         }
-        .evaluate(&c, &q, &[], e, &mut Scratch::default())
+        .evaluate(&c, &q, &[], &[], e, &mut Scratch::default())
         .unwrap();
         // Same placement; the cost drops by exactly Q1(p1) + Q2(p2) = 0 + 1/16.
         assert_eq!(plain.position, eq5.position);
@@ -420,7 +492,9 @@ mod tests {
             metric,
             lock_borders: false,
         };
-        let ev = m.evaluate(&c, &q, &[], e, &mut Scratch::default()).unwrap();
+        let ev = m
+            .evaluate(&c, &q, &[], &[], e, &mut Scratch::default())
+            .unwrap();
         // Each vertex has area share 1/6 and lies in z = 0: the planes are
         // indifferent within the plane, the gluing term 2·(1/6)·|x−p|² per
         // endpoint is least at the midpoint (2, 0, 0): 2·(1/6)·(1 + 1).
@@ -435,7 +509,7 @@ mod tests {
             lock_borders: false,
         };
         assert!(
-            free.evaluate(&c, &q, &[], e, &mut Scratch::default())
+            free.evaluate(&c, &q, &[], &[], e, &mut Scratch::default())
                 .unwrap()
                 .cost
                 < 1e-12
@@ -453,7 +527,7 @@ mod tests {
         let mut s = Scratch::default();
         // Every vertex of the hinge is on the border.
         for e in 0..c.edges.len() as u32 {
-            assert_eq!(m.evaluate(&c, &q, &[], e, &mut s), None);
+            assert_eq!(m.evaluate(&c, &q, &[], &[], e, &mut s), None);
         }
     }
 }

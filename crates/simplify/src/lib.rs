@@ -39,13 +39,14 @@ mod quadric;
 mod report;
 mod run;
 mod simplify;
+mod symmetry;
 mod tangent;
 mod virtual_edges;
 
 pub use error::Error;
 pub use history::{CollapseRecord, History, RingFace};
 pub use mesh::{simplify_mesh, simplify_mesh_with_progress};
-pub use options::{Guards, Metric, Options, QuadMode, QuadSettings, Target};
+pub use options::{Guards, Metric, Options, Partition, QuadMode, QuadSettings, Target};
 pub use quadric::{place, Placement, Quadric};
 pub use report::{Rejections, Report, StopReason};
 pub use simplify::{

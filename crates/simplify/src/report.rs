@@ -55,6 +55,11 @@ pub struct Report {
     pub cleaned_faces: usize,
     /// Collapses made.
     pub collapses: usize,
+    /// Of those, the ones the parallel first phase made (see
+    /// [`crate::Partition`]); 0 when it did not run.
+    pub parallel_collapses: usize,
+    /// Passes of the parallel first phase.
+    pub parallel_passes: usize,
     /// Virtual edges added between separate components (W §4.1.1).
     pub virtual_edges: usize,
     /// Largest error of a collapse made, as a distance relative to the

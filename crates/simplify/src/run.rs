@@ -16,7 +16,11 @@ use crate::quadric::Quadric;
 use crate::report::{Report, StopReason};
 use crate::simplify::{Prepared, Simplified};
 use crate::tangent::joint_difference;
-use crate::virtual_edges::add_virtual_edges;
+use crate::virtual_edges::{add_virtual_edges, find_virtual_edges};
+
+mod partition;
+
+pub(crate) use partition::may_partition;
 
 /// Near the target, the exact number of triangles a collapse removes is
 /// computed before making it, so that the target is met to ±1 triangle.
@@ -64,6 +68,17 @@ fn mean_vertex_area(q: &[Quadric]) -> f64 {
     }
 }
 
+/// What the loop takes next.
+enum Next {
+    /// An edge, with its cost, its evaluation when just computed, and its
+    /// recency.
+    Edge(u32, f64, Option<Evaluation>, u32),
+    /// The cheapest collapse left costs more than the cap.
+    AboveCap,
+    /// Nothing is left.
+    None,
+}
+
 /// State of one simplification run.
 pub(crate) struct Run<'o> {
     p: Prepared,
@@ -75,6 +90,12 @@ pub(crate) struct Run<'o> {
     queue: CollapseQueue,
     /// Knodt's near-tie ordering, when quad mode is active.
     ties: Option<TieOrder>,
+    quads_active: bool,
+    /// Knodt's ε as a cost difference (see `Run::new`).
+    tie_tolerance: f64,
+    /// The virtual edges added, as vertex pairs (the partitioned path adds
+    /// them back after rebuilding the complex).
+    virtual_pairs: Vec<(u32, u32)>,
     /// Cost of the last collapse popped: the key under which an edge that
     /// left the queue is put back to be evaluated again soon.
     last_cost: f64,
@@ -83,11 +104,18 @@ pub(crate) struct Run<'o> {
     refused_around: Vec<u32>,
     /// Vertices on a boundary edge (kept only when a term needs them).
     border: Vec<bool>,
+    /// Vertices that must not move or vanish (empty: none): a chunk's
+    /// vertices shared with other chunks, in the partitioned path.
+    locked: Vec<bool>,
     track_border: bool,
     moved: Vec<bool>,
     /// The vertex each vertex was merged into (itself while alive).
     merged_into: Vec<u32>,
     target: usize,
+    /// Triangles when the run started (progress is measured from there).
+    progress_start: usize,
+    /// A collapse was refused for exceeding the error limit.
+    error_limited: bool,
     report: Report,
     history: Option<HistoryRecorder>,
     scratch: Scratch,
@@ -100,15 +128,28 @@ pub(crate) struct Run<'o> {
 impl<'o> Run<'o> {
     /// Virtual edges, vertex quadrics, initial costs (in parallel; the
     /// results do not depend on the thread count).
+    ///
+    /// Without star lists (see [`Complex::faces_only`]) the virtual edges are
+    /// found but added only once the complex gets its adjacency, in
+    /// [`Run::start`].
     pub fn new(mut p: Prepared, options: &'o Options) -> Self {
-        let virtual_edges = if options.virtual_edge_radius > 0.0 && !options.guards.keep_topology {
-            add_virtual_edges(&mut p.complex, 2.0 * options.virtual_edge_radius)
-        } else {
-            0
-        };
         let quads = p.complex.faces.iter().filter(|f| f.len == 4).count();
         let quads_active = options.quads_active(quads);
         let metric = options.effective_metric(quads_active);
+        if metric.tangent_weight > 0.0 && !p.complex.has_adjacency() {
+            // Tangent quadrics are per edge.
+            p.complex.build_adjacency();
+        }
+        let virtual_pairs = if options.virtual_edge_radius > 0.0 && !options.guards.keep_topology {
+            let threshold = 2.0 * options.virtual_edge_radius;
+            if p.complex.has_adjacency() {
+                add_virtual_edges(&mut p.complex, threshold)
+            } else {
+                find_virtual_edges(&p.complex, threshold)
+            }
+        } else {
+            Vec::new()
+        };
         let joints = joint_importance(&p, options, &metric);
         let importance = EdgeImportance {
             symmetry: &[],
@@ -119,12 +160,147 @@ impl<'o> Run<'o> {
             metric,
             lock_borders: options.guards.lock_borders,
         };
-        let track_border = model.needs_border();
-        let c = &p.complex;
-        let border: Vec<bool> = if track_border {
+        let target = options.target.triangles_for(p.input_triangles);
+        let report = Report {
+            input_triangles: p.input_triangles,
+            target_triangles: target,
+            cleaned_faces: p.cleaned,
+            virtual_edges: virtual_pairs.len(),
+            ..Report::default()
+        };
+        let nv = p.complex.pos.len();
+        let mut run = Run {
+            history: options
+                .record_history
+                .then(|| HistoryRecorder::new(p.center, p.scale)),
+            p,
+            options,
+            model,
+            quadrics,
+            queue: CollapseQueue::default(),
+            ties: None,
+            quads_active,
+            tie_tolerance: 0.0,
+            virtual_pairs,
+            last_cost: 0.0,
+            refused_around: vec![0; nv],
+            border: Vec::new(),
+            locked: Vec::new(),
+            track_border: model.needs_border(),
+            moved: vec![false; nv],
+            merged_into: (0..nv as u32).collect(),
+            target,
+            progress_start: 0,
+            error_limited: false,
+            report,
+            scratch: Scratch::default(),
+            star: Vec::new(),
+            star_verts: Vec::new(),
+            changed: Vec::new(),
+            nbrs: Vec::new(),
+        };
+        run.progress_start = run.p.complex.triangles;
+        run.tie_tolerance = {
+            // ε is a distance: costs are area-weighted squared distances,
+            // so the tolerance is ε² over an average vertex's area, the
+            // same deviation at any resolution.
+            let eps = options.quad.epsilon;
+            eps * eps * mean_vertex_area(&run.quadrics)
+        };
+        run
+    }
+
+    /// A run over one chunk of the partitioned path: its own small complex
+    /// (local ids), the global quadrics of its vertices, the vertices it
+    /// shares with other chunks locked, and its share of the target.
+    pub fn chunk(
+        parent: &Run<'o>,
+        p: Prepared,
+        quadrics: Vec<Quadric>,
+        locked: Vec<bool>,
+        target: usize,
+    ) -> Self {
+        let nv = p.complex.pos.len();
+        let mut run = Run {
+            history: None,
+            p,
+            options: parent.options,
+            model: parent.model,
+            quadrics,
+            queue: CollapseQueue::default(),
+            ties: None,
+            quads_active: parent.quads_active,
+            tie_tolerance: parent.tie_tolerance,
+            virtual_pairs: Vec::new(),
+            last_cost: 0.0,
+            refused_around: vec![0; nv],
+            border: Vec::new(),
+            locked,
+            track_border: parent.model.needs_border(),
+            moved: vec![false; nv],
+            merged_into: (0..nv as u32).collect(),
+            target,
+            progress_start: 0,
+            error_limited: false,
+            report: Report {
+                target_triangles: target,
+                ..Report::default()
+            },
+            scratch: Scratch::default(),
+            star: Vec::new(),
+            star_verts: Vec::new(),
+            changed: Vec::new(),
+            nbrs: Vec::new(),
+        };
+        run.init_queue();
+        run
+    }
+
+    /// Everything before the global loop: the partitioned phase when it
+    /// applies (see [`crate::Partition`]), then the queue.
+    pub fn start(&mut self, progress: &dyn Fn(f64)) {
+        if partition::applies(self) {
+            partition::presimplify(self, progress);
+        }
+        self.ensure_adjacency();
+        self.init_queue();
+    }
+
+    /// Builds the star lists and edges if the complex has none (deferred by
+    /// the partitioned path, or stale after it), with the virtual edges
+    /// between the vertices their ends became.
+    fn ensure_adjacency(&mut self) {
+        let c = &mut self.p.complex;
+        if c.has_adjacency() {
+            return;
+        }
+        c.build_adjacency();
+        let root = |mut v: u32| {
+            while self.merged_into[v as usize] != v {
+                v = self.merged_into[v as usize];
+            }
+            v
+        };
+        for &(a, b) in &self.virtual_pairs {
+            c.add_edge(root(a), root(b));
+        }
+    }
+
+    /// Border flags, the cost of every edge, the queues.
+    pub fn init_queue(&mut self) {
+        let c = &self.p.complex;
+        let locked = &self.locked;
+        // A locked vertex's border status does not matter: it stays where it
+        // is, where its boundary edges sweep no area, and it is not on the
+        // border it seems to be on (a cut) anyway. Leaving it unflagged keeps
+        // collapses next to a cut on the fast path.
+        self.border = if self.track_border {
             (0..c.pos.len() as u32)
                 .into_par_iter()
                 .map_init(Vec::new, |buf, v| {
+                    if locked.get(v as usize).copied().unwrap_or(false) {
+                        return false;
+                    }
                     buf.clear();
                     c.boundary_neighbors(v, buf);
                     !buf.is_empty()
@@ -133,67 +309,37 @@ impl<'o> Run<'o> {
         } else {
             Vec::new()
         };
+        let (model, quadrics, border, locked) =
+            (&self.model, &self.quadrics, &self.border, &self.locked);
         let entries: Vec<Entry> = (0..c.edges.len() as u32)
             .into_par_iter()
             .map_init(Scratch::default, |s, e| {
-                model.evaluate(c, &quadrics, &border, e, s).map(|ev| Entry {
-                    cost: ev.cost,
-                    edge: e,
-                    gen: 0,
-                })
+                if !c.edges[e as usize].alive {
+                    return None;
+                }
+                model
+                    .evaluate(c, quadrics, border, locked, e, s)
+                    .map(|ev| Entry {
+                        cost: ev.cost,
+                        edge: e,
+                        gen: c.edges[e as usize].gen,
+                    })
             })
             .flatten_iter()
             .collect();
         for en in &entries {
-            p.complex.edges[en.edge as usize].queued = true;
+            self.p.complex.edges[en.edge as usize].queued = true;
         }
-        let queue = CollapseQueue::from_entries(entries);
-        let c = &p.complex;
-        let ties = quads_active.then(|| {
-            // ε is a distance: costs are area-weighted squared distances,
-            // so the tolerance is ε² over an average vertex's area, the
-            // same deviation at any resolution.
-            let scale = mean_vertex_area(&quadrics);
+        self.queue = CollapseQueue::from_entries(entries);
+        let options = self.options;
+        self.ties = self.quads_active.then(|| {
             TieOrder::new(
-                c.edges.len(),
-                options.quad.epsilon * options.quad.epsilon * scale,
+                self.p.complex.edges.len(),
+                self.tie_tolerance,
                 options.quad.relative_epsilon,
                 options.quad.recency,
             )
         });
-        let target = options.target.triangles_for(p.input_triangles);
-        let report = Report {
-            input_triangles: p.input_triangles,
-            target_triangles: target,
-            cleaned_faces: p.cleaned,
-            virtual_edges,
-            ..Report::default()
-        };
-        let nv = c.pos.len();
-        Run {
-            history: options
-                .record_history
-                .then(|| HistoryRecorder::new(p.center, p.scale)),
-            p,
-            options,
-            model,
-            quadrics,
-            queue,
-            ties,
-            last_cost: 0.0,
-            refused_around: vec![0; nv],
-            border,
-            track_border,
-            moved: vec![false; nv],
-            merged_into: (0..nv as u32).collect(),
-            target,
-            report,
-            scratch: Scratch::default(),
-            star: Vec::new(),
-            star_verts: Vec::new(),
-            changed: Vec::new(),
-            nbrs: Vec::new(),
-        }
     }
 
     /// Greedy: always the cheapest valid collapse (W §4, App. C.1).
@@ -205,37 +351,51 @@ impl<'o> Run<'o> {
     /// the order is exactly greedy, while edges that never come near the top
     /// are never re-evaluated.
     pub fn collapse_loop(&mut self, progress: &dyn Fn(f64)) {
+        if self.p.complex.triangles <= self.target && self.options.target.error.is_none() {
+            self.report.stop = Some(StopReason::NothingToDo);
+            return;
+        }
+        self.collapse_until(f64::INFINITY, progress);
+    }
+
+    /// The greedy loop, paused before the first collapse that costs more
+    /// than `cap` (the partitioned path's rounds). Returns whether it paused
+    /// there, with collapses left to make under a higher cap; otherwise
+    /// `report.stop` says why it ended.
+    pub fn collapse_until(&mut self, cap: f64, progress: &dyn Fn(f64)) -> bool {
         let min_cos = self
             .options
             .guards
             .max_normal_turn_degrees
             .map(|d| d.to_radians().cos());
         let max_error = self.options.target.error;
-        if self.p.complex.triangles <= self.target && max_error.is_none() {
-            self.report.stop = Some(StopReason::NothingToDo);
-            return;
-        }
-        let mut error_limited = false;
-        let start = self.p.complex.triangles;
+        let start = self.progress_start;
         let span = start.saturating_sub(self.target).max(1);
         let step = (span / 100).max(1);
-        let mut next_report = start.saturating_sub(step);
+        let mut next_report = self.p.complex.triangles.saturating_sub(step);
         loop {
             if self.p.complex.triangles <= next_report {
-                progress((start - self.p.complex.triangles) as f64 / span as f64);
+                progress(start.saturating_sub(self.p.complex.triangles) as f64 / span as f64);
                 next_report = self.p.complex.triangles.saturating_sub(step);
             }
             if self.p.complex.triangles <= self.target {
                 self.report.stop = Some(StopReason::TargetReached);
                 break;
             }
-            let Some((e, cost, known, recency)) = self.next_candidate() else {
-                self.report.stop = Some(if error_limited {
-                    StopReason::ErrorLimit
-                } else {
-                    StopReason::NoCollapsibleEdges
-                });
-                break;
+            let (e, cost, known, recency) = match self.next_candidate(cap) {
+                Next::Edge(e, cost, known, recency) => (e, cost, known, recency),
+                Next::AboveCap => {
+                    self.report.output_triangles = self.p.complex.triangles;
+                    return true;
+                }
+                Next::None => {
+                    self.report.stop = Some(if self.error_limited {
+                        StopReason::ErrorLimit
+                    } else {
+                        StopReason::NoCollapsibleEdges
+                    });
+                    break;
+                }
             };
             self.last_cost = cost;
             // The entry is current, so evaluating again gives its cost back,
@@ -243,8 +403,14 @@ impl<'o> Run<'o> {
             // unless it was just evaluated on its way to the top.
             let c = &self.p.complex;
             let Some(ev) = known.or_else(|| {
-                self.model
-                    .evaluate(c, &self.quadrics, &self.border, e, &mut self.scratch)
+                self.model.evaluate(
+                    c,
+                    &self.quadrics,
+                    &self.border,
+                    &self.locked,
+                    e,
+                    &mut self.scratch,
+                )
             }) else {
                 continue;
             };
@@ -253,20 +419,24 @@ impl<'o> Run<'o> {
             if let Some(limit) = max_error {
                 if dist > limit {
                     self.report.rejected.error_limit += 1;
-                    error_limited = true;
+                    self.error_limited = true;
                     continue;
                 }
             }
-            // Keep the endpoint with the larger star: fewer lists to move.
+            // Keep the endpoint with the larger star: fewer lists to move;
+            // but a locked vertex (which does not move) always stays, since
+            // other chunks refer to it.
             let (fa, fb) = (
                 c.vert_faces[a as usize].len(),
                 c.vert_faces[b as usize].len(),
             );
-            let (i, j) = if fa > fb || (fa == fb && a < b) {
-                (a, b)
+            let is_locked = |v: u32| self.locked.get(v as usize).copied().unwrap_or(false);
+            let keep_a = if is_locked(a) != is_locked(b) {
+                is_locked(a)
             } else {
-                (b, a)
+                fa > fb || (fa == fb && a < b)
             };
+            let (i, j) = if keep_a { (a, b) } else { (b, a) };
             // Quads this edge is a side of: their opposite sides get
             // recency once the collapse is made (Alg. 1 line 22).
             let opposite = if self.ties.is_some() {
@@ -290,13 +460,20 @@ impl<'o> Run<'o> {
             }
         }
         self.report.output_triangles = self.p.complex.triangles;
+        false
+    }
+
+    /// The cost of the cheapest collapse left, if any (current, so exact).
+    /// A paused run's tie queue is empty: pauses happen between classes.
+    pub fn next_cost(&mut self) -> Option<f64> {
+        self.settle().map(|(_, cost, _)| cost)
     }
 
     /// The next collapse to try, with its cost, its evaluation when just
     /// computed, and its recency: from the tie queue while the current class
     /// lasts, else the cheapest current edge of the main queue, which starts
     /// a new class.
-    fn next_candidate(&mut self) -> Option<(u32, f64, Option<Evaluation>, u32)> {
+    fn next_candidate(&mut self, cap: f64) -> Next {
         if let Some(ties) = &mut self.ties {
             while let Some(t) = ties.pop() {
                 let edge = &mut self.p.complex.edges[t.edge as usize];
@@ -315,16 +492,21 @@ impl<'o> Run<'o> {
                     continue;
                 }
                 edge.queued = false;
-                return Some((t.edge, t.cost, None, t.recency));
+                return Next::Edge(t.edge, t.cost, None, t.recency);
             }
         }
-        let (e, cost, known) = self.settle()?;
+        let Some((e, cost, known)) = self.settle() else {
+            return Next::None;
+        };
+        if cost > cap {
+            return Next::AboveCap;
+        }
         self.queue.pop();
         self.p.complex.edges[e as usize].queued = false;
         if let Some(ties) = &mut self.ties {
             ties.new_class(cost);
         }
-        Some((e, cost, known, 0))
+        Next::Edge(e, cost, known, 0)
     }
 
     /// Brings a current entry to the top of the main queue and returns it
@@ -349,9 +531,14 @@ impl<'o> Run<'o> {
                 return Some((top.edge, top.cost, known));
             }
             let c = &self.p.complex;
-            let ev =
-                self.model
-                    .evaluate(c, &self.quadrics, &self.border, top.edge, &mut self.scratch);
+            let ev = self.model.evaluate(
+                c,
+                &self.quadrics,
+                &self.border,
+                &self.locked,
+                top.edge,
+                &mut self.scratch,
+            );
             match ev {
                 Some(ev) => {
                     last = Some((top.edge, edge.gen, ev));
@@ -519,7 +706,7 @@ impl<'o> Run<'o> {
         let mut todo = std::mem::take(&mut self.changed);
         if self.track_border && border_changes {
             for &v in &self.star_verts {
-                if v == j {
+                if v == j || self.locked.get(v as usize).copied().unwrap_or(false) {
                     continue;
                 }
                 self.nbrs.clear();

@@ -65,6 +65,7 @@ pub fn simplify_polygons_with_progress(
     check_input(positions, faces, options)?;
     let prepared = prepare(positions, faces, options);
     let mut run = Run::new(prepared, options);
+    run.start(progress);
     run.collapse_loop(progress);
     progress(1.0);
     Ok(run.assemble())
@@ -196,7 +197,13 @@ pub(crate) fn prepare(positions: &[[f32; 3]], faces: &Faces, options: &Options) 
         .map(|&v| (DVec3::from(positions[v as usize].map(f64::from)) - center) / scale)
         .collect();
     let indices: Vec<u32> = faces.indices.iter().map(|&v| weld[v as usize]).collect();
-    let (complex, cleaned) = Complex::new(pos, &faces.offsets, &indices);
+    // The partitioned path works on faces alone until its last pass: the
+    // star lists would be built for nothing.
+    let (complex, cleaned) = if crate::run::may_partition(faces, options) {
+        Complex::faces_only(pos, &faces.offsets, &indices)
+    } else {
+        Complex::new(pos, &faces.offsets, &indices)
+    };
     let mut weights = Vec::new();
     if !options.vertex_weights.is_empty() {
         // A welded vertex is as important as its most important copy.

@@ -20,16 +20,11 @@ use wildlod_mesh::disjoint_sets::DisjointSets;
 use crate::complex::Complex;
 
 /// Adds a virtual edge for every pair of triangles of different components
-/// within `threshold` (= 2r, normalized units). Returns how many were added.
-pub(crate) fn add_virtual_edges(c: &mut Complex, threshold: f64) -> usize {
-    let edges = find_virtual_edges(c, threshold);
-    let mut added = 0;
-    for (a, b) in edges {
-        if c.add_edge(a, b) {
-            added += 1;
-        }
-    }
-    added
+/// within `threshold` (= 2r, normalized units). Returns the pairs added.
+pub(crate) fn add_virtual_edges(c: &mut Complex, threshold: f64) -> Vec<(u32, u32)> {
+    let mut edges = find_virtual_edges(c, threshold);
+    edges.retain(|&(a, b)| c.add_edge(a, b));
+    edges
 }
 
 /// The virtual edges as sorted, unique vertex pairs `(a < b)`.
@@ -105,10 +100,18 @@ pub(crate) fn find_virtual_edges(c: &Complex, threshold: f64) -> Vec<(u32, u32)>
                 let ta = &tris[ra.start + i as usize].1;
                 let tb = &tris[rb.start + j as usize].1;
                 let (pa, pb) = (corners(ta), corners(tb));
-                if triangle_triangle_distance(&pa, &pb) < t2 {
-                    out.push(closest_vertex_pair(ta, &pa, tb, &pb));
+                // Two triangles are at most as far apart as any two of their
+                // vertices: when the closest vertex pair is within reach, the
+                // exact distance need not be computed (parts in contact:
+                // most pairs).
+                let (d2, pair) = closest_vertex_pair(ta, &pa, tb, &pb);
+                if d2 < t2 * t2 || triangle_triangle_distance(&pa, &pb) < t2 {
+                    out.push(pair);
                 }
             });
+            // Many triangle pairs of two parts share their closest vertices.
+            out.sort_unstable();
+            out.dedup();
             out
         })
         .collect();
@@ -118,13 +121,14 @@ pub(crate) fn find_virtual_edges(c: &Complex, threshold: f64) -> Vec<(u32, u32)>
 }
 
 /// The closest pair among the 3 × 3 vertex pairs of two triangles, as
-/// `(min, max)` ids; ties go to the first pair in index order.
+/// `(min, max)` ids, with its squared distance; ties go to the first pair in
+/// index order.
 fn closest_vertex_pair(
     ta: &[u32; 3],
     pa: &[DVec3; 3],
     tb: &[u32; 3],
     pb: &[DVec3; 3],
-) -> (u32, u32) {
+) -> (f64, (u32, u32)) {
     let mut best = (f64::INFINITY, 0u32, 0u32);
     for (x, p) in ta.iter().zip(pa) {
         for (y, q) in tb.iter().zip(pb) {
@@ -134,7 +138,7 @@ fn closest_vertex_pair(
             }
         }
     }
-    (best.1.min(best.2), best.1.max(best.2))
+    (best.0, (best.1.min(best.2), best.1.max(best.2)))
 }
 
 #[cfg(test)]
