@@ -5,13 +5,16 @@
 use std::time::Instant;
 
 use wildlod_mesh::{shapes, transform, Faces, Mesh, Scene};
-use wildlod_simplify::{simplify_mesh, Options, Target};
+use wildlod_simplify::{simplify_mesh, Options, Partition, Target};
 
 /// A simplifier under test.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Method {
     /// wildlod with default options.
     Wildlod,
+    /// wildlod with default options but one global greedy loop
+    /// (`Partition::OFF`): what the parallel first phase costs in quality.
+    WildlodGlobal,
     /// wildlod's engine with `Options::classic_qem()` (Garland & Heckbert
     /// 1997: no virtual edges, no area term).
     ClassicQem,
@@ -27,8 +30,9 @@ pub enum Method {
 
 impl Method {
     /// Every method, in report order.
-    pub const ALL: [Method; 5] = [
+    pub const ALL: [Method; 6] = [
         Method::Wildlod,
+        Method::WildlodGlobal,
         Method::ClassicQem,
         Method::Meshopt,
         Method::MeshoptUpdate,
@@ -39,11 +43,29 @@ impl Method {
     pub fn name(self) -> &'static str {
         match self {
             Method::Wildlod => "wildlod",
+            Method::WildlodGlobal => "wildlod, one global loop",
             Method::ClassicQem => "wildlod classic QEM",
             Method::Meshopt => "meshopt simplify",
             Method::MeshoptUpdate => "meshopt simplify_with_update",
             Method::WildlodAtMeshoptCount => "wildlod at meshopt's count",
         }
+    }
+
+    /// Short name for command lines.
+    pub fn key(self) -> &'static str {
+        match self {
+            Method::Wildlod => "wildlod",
+            Method::WildlodGlobal => "global",
+            Method::ClassicQem => "classic",
+            Method::Meshopt => "meshopt",
+            Method::MeshoptUpdate => "meshopt-update",
+            Method::WildlodAtMeshoptCount => "at-meshopt-count",
+        }
+    }
+
+    /// The method whose [`Method::key`] is `key`.
+    pub fn from_key(key: &str) -> Option<Method> {
+        Method::ALL.into_iter().find(|m| m.key() == key)
     }
 }
 
@@ -92,11 +114,17 @@ pub fn run(
     meshopt_count: Option<usize>,
 ) -> Result<Run, wildlod_simplify::Error> {
     match method {
-        Method::Wildlod | Method::ClassicQem | Method::WildlodAtMeshoptCount => {
-            let base = if method == Method::ClassicQem {
-                Options::classic_qem()
-            } else {
-                Options::default()
+        Method::Wildlod
+        | Method::WildlodGlobal
+        | Method::ClassicQem
+        | Method::WildlodAtMeshoptCount => {
+            let base = match method {
+                Method::ClassicQem => Options::classic_qem(),
+                Method::WildlodGlobal => Options {
+                    partition: Partition::OFF,
+                    ..Options::default()
+                },
+                _ => Options::default(),
             };
             // At meshoptimizer's count: the same ratio of every mesh, so
             // that the instanced total matches.

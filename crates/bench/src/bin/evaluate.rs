@@ -12,6 +12,7 @@ use std::process::ExitCode;
 
 use clap::Parser;
 use wildlod_bench::evaluation::{evaluate, markdown, Config};
+use wildlod_bench::methods::Method;
 
 /// Corpus evaluation of wildlod against meshoptimizer.
 #[derive(Parser, Debug)]
@@ -28,6 +29,10 @@ struct Args {
     /// Categories to include, comma separated (default: all).
     #[arg(long, value_delimiter = ',')]
     categories: Vec<String>,
+    /// Methods, comma separated (default: all): wildlod, global, classic,
+    /// meshopt, meshopt-update, at-meshopt-count.
+    #[arg(long, value_delimiter = ',')]
+    methods: Vec<String>,
     /// Sample points per surface.
     #[arg(long, default_value_t = 50_000)]
     samples: usize,
@@ -35,12 +40,25 @@ struct Args {
 
 fn main() -> ExitCode {
     let a = Args::parse();
+    let mut methods = Vec::new();
+    for key in &a.methods {
+        match Method::from_key(key) {
+            Some(m) => methods.push(m),
+            None => {
+                eprintln!("error: unknown method {key:?}");
+                return ExitCode::FAILURE;
+            }
+        }
+    }
+    if methods.is_empty() {
+        methods = Method::ALL.to_vec();
+    }
     let cfg = Config {
+        methods,
         corpus: a.corpus.clone(),
         categories: a.categories.clone(),
         ratios: a.ratios.clone(),
         samples: a.samples,
-        ..Config::default()
     };
     let rows = match evaluate(&cfg, |r| {
         eprintln!(
@@ -69,6 +87,9 @@ fn main() -> ExitCode {
     );
     if !a.categories.is_empty() {
         command += &format!(" --categories {}", a.categories.join(","));
+    }
+    if !a.methods.is_empty() {
+        command += &format!(" --methods {}", a.methods.join(","));
     }
     let md = markdown(&cfg, &rows, &command);
     if let Err(e) = std::fs::write(&a.out, md) {
