@@ -105,6 +105,19 @@ pub struct SimplifyArgs {
     /// more quads at some cost in accuracy.
     #[arg(long, value_name = "E", default_value_t = wildlod_simplify::QuadSettings::default().epsilon)]
     pub quad_epsilon: f64,
+    /// Weight of Knodt 2024's tangent edge quadrics against the face planes
+    /// (his balance: 0.33). They hold edges in place along creases and keep
+    /// edge flow and thin parts; off by default because on the quad corpus
+    /// they raised the mean distance without keeping more quads.
+    #[arg(long, value_name = "W", default_value_t = 0.0)]
+    pub tangent_weight: f64,
+    /// Soft symmetry λ_sym (Knodt 2024 §3.1): edges on planes that mirror
+    /// the model onto itself weigh more, so symmetry lines survive. Works
+    /// through the tangent quadrics: turns them on at 0.33 unless
+    /// --tangent-weight is given. Costs time on large meshes (capped at
+    /// about ten seconds).
+    #[arg(long, value_name = "L", default_value_t = 0.0)]
+    pub symmetry: f64,
     /// Classic quadric error simplification (Garland & Heckbert 1997):
     /// no virtual edges, no area term. For comparisons.
     #[arg(long)]

@@ -151,6 +151,47 @@ fn quads_are_kept_by_default_and_not_with_no_quads() {
 }
 
 #[test]
+fn symmetry_turns_on_the_tangent_quadrics_it_works_through() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = torus_obj(dir.path());
+    let run = |name: &str, extra: &[&str]| {
+        let out = dir.path().join(name);
+        let mut args = vec![
+            "simplify",
+            s(&input),
+            "-o",
+            s(&out),
+            "--ratio",
+            "0.25",
+            "-q",
+        ];
+        args.extend_from_slice(extra);
+        let o = wildlod(&args);
+        assert!(o.status.success(), "{}", stderr(&o));
+        std::fs::read(&out).unwrap()
+    };
+    let plain = run("plain.obj", &[]);
+    let sym = run("sym.obj", &["--symmetry", "1"]);
+    let explicit = run(
+        "explicit.obj",
+        &["--symmetry", "1", "--tangent-weight", "0.3333333333333333"],
+    );
+    assert_ne!(plain, sym, "--symmetry changed nothing");
+    assert_eq!(sym, explicit, "--symmetry alone implies tangent weight 1/3");
+    let tangent = run("tangent.obj", &["--tangent-weight", "0.3333333333333333"]);
+    assert_ne!(tangent, sym, "the symmetry term itself changed nothing");
+    let o = wildlod(&[
+        "simplify",
+        s(&input),
+        "-o",
+        s(&dir.path().join("x.obj")),
+        "--symmetry=-1",
+    ]);
+    assert_eq!(o.status.code(), Some(1));
+    assert!(stderr(&o).contains("--symmetry"), "{}", stderr(&o));
+}
+
+#[test]
 fn output_format_follows_the_output_extension() {
     let dir = tempfile::tempdir().unwrap();
     let input = torus_obj(dir.path());

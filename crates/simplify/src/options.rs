@@ -177,9 +177,18 @@ pub struct QuadSettings {
     /// with the ordering it raised the Chamfer distance at 50% (+19%) and
     /// kept fewer quads at 10%.
     pub introduced_error: bool,
-    /// λ_sym of Eq. 2: weight of the soft symmetry term; 0 disables it
-    /// (default: it is O(|V| |E|)).
+    /// λ_sym of Eq. 2: weight of the soft symmetry term (Knodt §3.1,
+    /// Alg. 2): edges whose plane mirrors much of the model onto itself
+    /// weigh more in the tangent quadrics, so symmetry lines and their
+    /// mirrored edge loops are kept. Acts through the tangent quadrics
+    /// only, so it needs a positive tangent weight. Default 0 (off): the
+    /// weights cost O(|V|) per distinct edge plane, capped at about ten
+    /// seconds (see [`Report::symmetry_truncated`](crate::Report)).
     pub symmetry: f64,
+    /// δ of Alg. 2: how close a vertex's mirror image must come to another
+    /// vertex to count as its partner, relative to the bounding-box
+    /// diagonal. Default 1e-3.
+    pub symmetry_distance: f64,
     /// λ_joint of Eq. 2: weight of the joint-influence difference of an
     /// edge's endpoints, on skinned meshes. Default 1 (Knodt §4).
     pub joints: f64,
@@ -194,6 +203,7 @@ impl Default for QuadSettings {
             tangent_weight: 0.0,
             introduced_error: false,
             symmetry: 0.0,
+            symmetry_distance: 1e-3,
             joints: 1.0,
         }
     }

@@ -66,6 +66,9 @@ pub struct Report {
     /// bounding-box diagonal (root mean square distance to the planes the
     /// collapsed vertex accumulated).
     pub error: f64,
+    /// The soft symmetry weights ran into their work cap: edges past it
+    /// got no symmetry weight (see [`crate::QuadSettings::symmetry`]).
+    pub symmetry_truncated: bool,
     /// Why the run stopped.
     pub stop: Option<StopReason>,
     /// Collapses refused, by guard.

@@ -5,7 +5,9 @@ use glam::DVec3;
 use rayon::prelude::*;
 use wildlod_mesh::Faces;
 
-use crate::cost::{distance, vertex_quadrics, CostModel, EdgeImportance, Evaluation, Scratch};
+use crate::cost::{
+    distance, face_plane, vertex_quadrics, CostModel, EdgeImportance, Evaluation, Scratch,
+};
 use crate::guards::{flips_a_face, keeps_topology, removed_triangles};
 use crate::heap::{CollapseQueue, Entry};
 use crate::history::HistoryRecorder;
@@ -15,7 +17,8 @@ use crate::ordering::TieOrder;
 use crate::quadric::Quadric;
 use crate::report::{Report, StopReason};
 use crate::simplify::{Prepared, Simplified};
-use crate::tangent::joint_difference;
+use crate::symmetry::{edge_symmetry_weights, EdgeNormals, SymmetryInput, SymmetryOptions};
+use crate::tangent::{joint_difference, side_normals};
 use crate::virtual_edges::{add_virtual_edges, find_virtual_edges};
 
 mod partition;
@@ -53,6 +56,51 @@ fn joint_importance(p: &Prepared, options: &Options, metric: &Metric) -> Vec<f64
         .iter()
         .map(|e| lambda * joint_difference(of(e.ends[0]), of(e.ends[1])))
         .collect()
+}
+
+/// λ_sym · s per edge (Knodt §3.1, Alg. 2) when the tangent term is on and
+/// λ_sym > 0, and whether the work cap cut it short; empty otherwise.
+fn symmetry_importance(p: &Prepared, options: &Options, metric: &Metric) -> (Vec<f64>, bool) {
+    let lambda = options.quad.symmetry;
+    if metric.tangent_weight <= 0.0 || lambda <= 0.0 || !p.complex.has_adjacency() {
+        return (Vec::new(), false);
+    }
+    let c = &p.complex;
+    let normals: Vec<Option<DVec3>> = (0..c.faces.len() as u32)
+        .into_par_iter()
+        .map(|f| {
+            if c.faces[f as usize].len == 0 {
+                None
+            } else {
+                face_plane(c, f).map(|p| p.0)
+            }
+        })
+        .collect();
+    let edge_normals: Vec<EdgeNormals> = c
+        .edges
+        .par_iter()
+        .map_init(Vec::new, |buf, e| {
+            side_normals(c, &normals, e.ends[0], e.ends[1], buf);
+            EdgeNormals::from_faces(buf)
+        })
+        .collect();
+    let edges: Vec<[u32; 2]> = c.edges.iter().map(|e| e.ends).collect();
+    let result = edge_symmetry_weights(
+        &SymmetryInput {
+            positions: &c.pos,
+            edges: &edges,
+            edge_normals: &edge_normals,
+        },
+        &SymmetryOptions {
+            delta: options.quad.symmetry_distance,
+            // Below this, λ_sym · s cannot beat the floor 0.01 of Eq. 2 and
+            // changes nothing: such planes may be skipped on a sample.
+            min_weight: 0.01 / lambda,
+            ..SymmetryOptions::default()
+        },
+    );
+    let weights = result.weights.iter().map(|s| lambda * s).collect();
+    (weights, result.truncated)
 }
 
 /// Mean area per vertex that has faces: the quadrics' accumulated weights.
@@ -151,8 +199,9 @@ impl<'o> Run<'o> {
             Vec::new()
         };
         let joints = joint_importance(&p, options, &metric);
+        let (symmetry, symmetry_truncated) = symmetry_importance(&p, options, &metric);
         let importance = EdgeImportance {
-            symmetry: &[],
+            symmetry: &symmetry,
             joints: &joints,
         };
         let quadrics = vertex_quadrics(&p.complex, &metric, &p.weights, importance);
@@ -166,6 +215,7 @@ impl<'o> Run<'o> {
             target_triangles: target,
             cleaned_faces: p.cleaned,
             virtual_edges: virtual_pairs.len(),
+            symmetry_truncated,
             ..Report::default()
         };
         let nv = p.complex.pos.len();

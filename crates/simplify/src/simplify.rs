@@ -130,8 +130,24 @@ fn check_input(positions: &[[f32; 3]], faces: &Faces, options: &Options) -> Resu
     if !(o.metric.regularization >= 0.0 && o.metric.regularization.is_finite()) {
         return bad("regularization", o.metric.regularization);
     }
-    if !(o.metric.boundary_area_weight >= 0.0 && o.metric.boundary_area_weight.is_finite()) {
-        return bad("boundary_area_weight", o.metric.boundary_area_weight);
+    let non_negative = [
+        ("boundary_area_weight", o.metric.boundary_area_weight),
+        ("gluing_weight", o.metric.gluing_weight),
+        ("tangent_weight", o.metric.tangent_weight),
+        ("quad.epsilon", o.quad.epsilon),
+        ("quad.relative_epsilon", o.quad.relative_epsilon),
+        ("quad.tangent_weight", o.quad.tangent_weight),
+        ("quad.symmetry", o.quad.symmetry),
+        ("quad.joints", o.quad.joints),
+        ("partition.handoff", o.partition.handoff),
+    ];
+    for (name, value) in non_negative {
+        if !(value >= 0.0 && value.is_finite()) {
+            return bad(name, value);
+        }
+    }
+    if !(o.quad.symmetry_distance > 0.0 && o.quad.symmetry_distance.is_finite()) {
+        return bad("quad.symmetry_distance", o.quad.symmetry_distance);
     }
     if !o.vertex_weights.is_empty() {
         if o.vertex_weights.len() != n {

@@ -72,10 +72,6 @@
 //! ([`BATCH`]); which planes are kept depends only on the plane order and
 //! each plane's own work, never on the thread count.
 
-// Nothing outside the tests calls this module until the lead wires the
-// weights into the tangent quadrics; the items are `pub(crate)` API.
-#![cfg_attr(not(test), allow(dead_code))]
-
 use glam::DVec3;
 use rayon::prelude::*;
 

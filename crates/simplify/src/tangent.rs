@@ -81,6 +81,32 @@ pub(crate) fn tangent_plane(e0: DVec3, e1: DVec3, n: DVec3) -> Option<Quadric> {
     Some(Quadric::plane(t / tl, e0, 1.0))
 }
 
+/// The unit normals of the faces that use `v`–`k` as a side (faces without
+/// area are left out), into `out` (cleared first).
+pub(crate) fn side_normals(
+    c: &Complex,
+    normals: &[Option<DVec3>],
+    v: u32,
+    k: u32,
+    out: &mut Vec<DVec3>,
+) {
+    out.clear();
+    for &f in &c.vert_faces[v as usize] {
+        let face = c.face(f);
+        let n = face.len();
+        let at = face.iter().position(|&x| x == v);
+        let side = at.is_some_and(|p| {
+            face[if p + 1 == n { 0 } else { p + 1 }] == k
+                || face[if p == 0 { n - 1 } else { p - 1 }] == k
+        });
+        if side {
+            if let Some(nf) = normals[f as usize] {
+                out.push(nf);
+            }
+        }
+    }
+}
+
 /// Sum over the edges of each vertex of its tangent quadrics, times
 /// `scale`: the per-vertex addition of this term. `normals[f]` is the unit
 /// normal of face `f` (None for faces without area). Summed per vertex in
@@ -97,22 +123,7 @@ pub(crate) fn tangent_quadrics(
             let mut q = Quadric::ZERO;
             for &e in &c.vert_edges[v as usize] {
                 let k = c.other(e, v);
-                faces.clear();
-                // Faces using v–k as a side.
-                for &f in &c.vert_faces[v as usize] {
-                    let face = c.face(f);
-                    let n = face.len();
-                    let at = face.iter().position(|&x| x == v);
-                    let side = at.is_some_and(|p| {
-                        face[if p + 1 == n { 0 } else { p + 1 }] == k
-                            || face[if p == 0 { n - 1 } else { p - 1 }] == k
-                    });
-                    if side {
-                        if let Some(nf) = normals[f as usize] {
-                            faces.push(nf);
-                        }
-                    }
-                }
+                side_normals(c, normals, v, k, faces);
                 if faces.is_empty() {
                     continue;
                 }

@@ -182,3 +182,64 @@ fn joint_weights_keep_edges_where_influences_change() {
         "band vertices: {with} with λ_joint, {without} without"
     );
 }
+
+/// A quad sphere pushed in and out by a hash of (|x|, y, z): bumpy, and a
+/// mirror image of itself across x = 0.
+fn mirrored_bumpy_sphere(n: usize) -> Mesh {
+    let mut m = shapes::quad_sphere(n);
+    for p in &mut m.positions {
+        let key = [p[0].abs(), p[1], p[2]].map(|c| (c * 1000.0).round() as i64);
+        let h = (key[0].wrapping_mul(73_856_093)
+            ^ key[1].wrapping_mul(19_349_663)
+            ^ key[2].wrapping_mul(83_492_791)) as u64;
+        let u = (h.wrapping_mul(0x9E37_79B9_7F4A_7C15) >> 40) as f32 / (1u64 << 24) as f32;
+        let s = 1.0 + 0.08 * (u - 0.5);
+        *p = p.map(|c| c * s);
+    }
+    m
+}
+
+/// Mean distance from each vertex's mirror image (x → −x) to the nearest
+/// vertex: 0 for a mirror-symmetric vertex set.
+fn mirror_distance(m: &Mesh) -> f64 {
+    let sum: f64 = m
+        .positions
+        .iter()
+        .map(|p| {
+            m.positions
+                .iter()
+                .map(|q| {
+                    let d = [q[0] + p[0], q[1] - p[1], q[2] - p[2]];
+                    (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]) as f64
+                })
+                .fold(f64::INFINITY, f64::min)
+                .sqrt()
+        })
+        .sum();
+    sum / m.positions.len() as f64
+}
+
+#[test]
+fn soft_symmetry_keeps_a_mirror_symmetric_mesh_symmetric() {
+    // Knodt §3.1: edges whose plane mirrors the model onto itself weigh
+    // more in the tangent quadrics, so the reduction stays symmetric.
+    let mesh = mirrored_bumpy_sphere(16); // 1536 quads
+    let run = |symmetry: f64| {
+        let quad = QuadSettings {
+            tangent_weight: 1.0 / 3.0,
+            symmetry,
+            ..QuadSettings::default()
+        };
+        let (out, rep) = simplify_mesh(&mesh, &to(768, QuadMode::Auto, quad)).unwrap();
+        assert!(!rep.symmetry_truncated);
+        let on_plane = out.positions.iter().filter(|p| p[0].abs() < 1e-6).count();
+        (mirror_distance(&out), on_plane)
+    };
+    let (plain, plain_on) = run(0.0);
+    let (sym, sym_on) = run(1.0);
+    assert!(sym < 0.5 * plain, "mirror distance {sym} vs {plain}");
+    assert!(
+        sym_on > plain_on,
+        "vertices on the plane {sym_on} vs {plain_on}"
+    );
+}

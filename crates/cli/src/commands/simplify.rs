@@ -52,6 +52,14 @@ impl Config {
                 a.quad_epsilon
             );
         }
+        for (flag, value) in [
+            ("--tangent-weight", a.tangent_weight),
+            ("--symmetry", a.symmetry),
+        ] {
+            if !(value.is_finite() && value >= 0.0) {
+                bail!("{flag} must be a non-negative number, got {value}");
+            }
+        }
         if !(a.max_normal_turn > 0.0 && a.max_normal_turn <= 180.0) {
             bail!(
                 "--max-normal-turn must be in (0, 180], got {}",
@@ -74,6 +82,16 @@ impl Config {
             options.quad_mode = QuadMode::Never;
         }
         options.quad.epsilon = a.quad_epsilon;
+        // Knodt's balance of tangent planes against face planes, when only
+        // the symmetry term asks for them.
+        let tangent = if a.tangent_weight == 0.0 && a.symmetry > 0.0 {
+            1.0 / 3.0
+        } else {
+            a.tangent_weight
+        };
+        options.metric.tangent_weight = tangent;
+        options.quad.tangent_weight = tangent;
+        options.quad.symmetry = a.symmetry;
         options.guards = Guards {
             max_normal_turn_degrees: (a.max_normal_turn < 180.0).then_some(a.max_normal_turn),
             keep_topology: a.keep_topology,
