@@ -131,7 +131,9 @@ fn mean_seconds(group: &str, function: &str, param: &str) -> Option<f64> {
     let dir = std::env::var_os("CARGO_TARGET_DIR")
         .map(PathBuf::from)
         .unwrap_or_else(|| Path::new(env!("CARGO_MANIFEST_DIR")).join("../../target"));
-    let safe = |s: &str| s.replace(['/', ' ', '%'], "_");
+    // Criterion keeps spaces and '%' in its directory names and replaces
+    // the characters file systems reject.
+    let safe = |s: &str| s.replace(['?', '"', '/', '\\', '*', '<', '>', ':', '|', '^'], "_");
     let path = dir
         .join("criterion")
         .join(safe(group))

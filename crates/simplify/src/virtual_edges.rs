@@ -105,7 +105,11 @@ pub(crate) fn find_virtual_edges(c: &Complex, threshold: f64) -> Vec<(u32, u32)>
                 // exact distance need not be computed (parts in contact:
                 // most pairs).
                 let (d2, pair) = closest_vertex_pair(ta, &pa, tb, &pb);
-                if d2 < t2 * t2 || triangle_triangle_distance(&pa, &pb) < t2 {
+                if d2 < t2 * t2
+                    || (!beyond_plane(&pa, &pb, t2)
+                        && !beyond_plane(&pb, &pa, t2)
+                        && triangle_triangle_distance(&pa, &pb) < t2)
+                {
                     out.push(pair);
                 }
             });
@@ -118,6 +122,19 @@ pub(crate) fn find_virtual_edges(c: &Complex, threshold: f64) -> Vec<(u32, u32)>
     edges.sort_unstable();
     edges.dedup();
     edges
+}
+
+/// Whether all of `b` lies farther than `t` on one side of `a`'s plane: then
+/// the triangles are farther apart than `t` (a cheap test that rejects most
+/// pairs of parts whose boxes overlap, before the exact distance).
+fn beyond_plane(a: &[DVec3; 3], b: &[DVec3; 3], t: f64) -> bool {
+    let n = (a[1] - a[0]).cross(a[2] - a[0]);
+    let len = n.length();
+    if !(len > 0.0) {
+        return false;
+    }
+    let d = b.map(|p| n.dot(p - a[0]) / len);
+    d.iter().all(|&x| x > t) || d.iter().all(|&x| x < -t)
 }
 
 /// The closest pair among the 3 × 3 vertex pairs of two triangles, as
@@ -202,5 +219,33 @@ mod tests {
         // The closest of the nine vertex pairs: 5 = (0,1,3) and 2 = (0,10,0),
         // |(0,9,-3)| = 9.49, closer than the tip to 2 (10.0).
         assert_eq!(e, vec![(2, 5)]);
+    }
+
+    #[test]
+    fn a_triangle_wholly_beyond_the_plane_is_rejected_cheaply() {
+        let a = [DVec3::ZERO, DVec3::X, DVec3::Y]; // the plane z = 0
+        let up = |z: f64| {
+            [
+                DVec3::new(5.0, 5.0, z),
+                DVec3::new(6.0, 5.0, z + 1.0),
+                DVec3::new(5.0, 6.0, z),
+            ]
+        };
+        assert!(beyond_plane(&a, &up(0.2), 0.1));
+        assert!(beyond_plane(&a, &up(-2.0), 0.1)); // all below -0.1
+        assert!(!beyond_plane(&a, &up(0.05), 0.1)); // a corner within reach
+                                                    // Straddling the plane: no conclusion.
+        let across = [
+            DVec3::new(0.0, 0.0, -1.0),
+            DVec3::new(1.0, 0.0, 1.0),
+            DVec3::Y,
+        ];
+        assert!(!beyond_plane(&a, &across, 0.1));
+        // A degenerate plane proves nothing.
+        assert!(!beyond_plane(
+            &[DVec3::ZERO, DVec3::X, DVec3::X],
+            &up(9.0),
+            0.1
+        ));
     }
 }
