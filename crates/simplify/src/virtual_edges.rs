@@ -130,7 +130,7 @@ pub(crate) fn find_virtual_edges(c: &Complex, threshold: f64) -> Vec<(u32, u32)>
 fn beyond_plane(a: &[DVec3; 3], b: &[DVec3; 3], t: f64) -> bool {
     let n = (a[1] - a[0]).cross(a[2] - a[0]);
     let len = n.length();
-    if !(len > 0.0) {
+    if len.is_nan() || len <= 0.0 {
         return false;
     }
     let d = b.map(|p| n.dot(p - a[0]) / len);
