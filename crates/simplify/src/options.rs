@@ -147,17 +147,19 @@ pub enum QuadMode {
 pub struct QuadSettings {
     /// ε_abs of Knodt Eq. 4, as a distance relative to the bounding-box
     /// diagonal: collapses whose costs differ from the first of their class
-    /// by less than ε² times the mesh's mean vertex area (the cost of
-    /// moving an average vertex by ε) are treated as equal and ordered by
-    /// recency. Knodt gives ε_abs in raw cost units (5e-6 on his meshes);
-    /// wildlod's costs are area-weighted, so a raw tolerance would mean a
-    /// different deviation on every mesh resolution.
+    /// by less than the cost of moving an average vertex by ε (ε² times the
+    /// area an average vertex carries at that point of the run) are treated
+    /// as equal and ordered by recency. Knodt gives ε_abs in raw cost units
+    /// (5e-6 on his meshes); wildlod's costs are area-weighted and grow as
+    /// vertices take over their neighbours' area, so a raw tolerance would
+    /// mean a different deviation on every mesh and at every stage.
     ///
-    /// Default 3e-3, by measurement on `corpus/quad` (see
-    /// `docs/evaluation.md`): median quad ratio 0.99 / 0.82 / 0.40 at
+    /// Default 6e-3, by measurement on `corpus/quad` (see
+    /// `docs/evaluation.md`): median quad ratio 0.99 / 0.98 / 0.50 at
     /// 50% / 25% / 10% against 0.70 / 0.46 / 0.10 without the ordering, for
-    /// at most 6.5% more Chamfer distance. Larger values keep more quads at
-    /// a growing cost in distance (1e-2: 0.99 / 0.99 / 0.58, +23–51%).
+    /// at most 9.5% more Chamfer distance. Larger values keep more quads at
+    /// a growing cost in distance (7e-3: 0.99 / 0.99 / 0.73 for +19% / +16%
+    /// / +9%).
     pub epsilon: f64,
     /// ε_rel: costs within this fraction of the larger one are also ties
     /// (Dawson's relative comparison, which Knodt cites and ablates beside
@@ -197,7 +199,7 @@ pub struct QuadSettings {
 impl Default for QuadSettings {
     fn default() -> Self {
         QuadSettings {
-            epsilon: 3e-3,
+            epsilon: 6e-3,
             relative_epsilon: 0.0,
             recency: true,
             tangent_weight: 0.0,

@@ -61,11 +61,11 @@ pub(crate) struct TieOrder {
 }
 
 impl TieOrder {
-    /// For edges `0..edges`, with the absolute tolerance `epsilon` (in cost
-    /// units), ε_rel and recency on or off.
-    pub fn new(edges: usize, epsilon: f64, relative: f64, use_recency: bool) -> Self {
+    /// For edges `0..edges`, with ε_rel and recency on or off (ε_abs comes
+    /// with each class).
+    pub fn new(edges: usize, relative: f64, use_recency: bool) -> Self {
         TieOrder {
-            epsilon,
+            epsilon: 0.0,
             relative,
             use_recency,
             queue: BinaryHeap::new(),
@@ -88,10 +88,12 @@ impl TieOrder {
         }
     }
 
-    /// Starts a class at `cost`: every recency resets (Alg. 1 line 16).
-    pub fn new_class(&mut self, cost: f64) {
+    /// Starts a class at `cost`, with the absolute tolerance `epsilon` (cost
+    /// units) for it: every recency resets (Alg. 1 line 16).
+    pub fn new_class(&mut self, cost: f64, epsilon: f64) {
         self.epoch = self.epoch.wrapping_add(1);
         self.class_cost = cost;
+        self.epsilon = epsilon;
     }
 
     /// Eq. 4, with Dawson's relative tolerance beside the absolute one
@@ -157,8 +159,8 @@ mod tests {
 
     #[test]
     fn serves_highest_recency_then_lowest_cost() {
-        let mut t = TieOrder::new(5, 1e-3, 0.0, true);
-        t.new_class(1.0);
+        let mut t = TieOrder::new(5, 0.0, true);
+        t.new_class(1.0, 1e-3);
         t.push(0, 1.0002, 0);
         t.push(1, 1.0001, 0);
         t.push(2, 1.0003, 0);
@@ -172,25 +174,27 @@ mod tests {
 
     #[test]
     fn new_class_resets_recency_and_eq4_is_strict() {
-        let mut t = TieOrder::new(2, 0.5, 0.0, true);
-        t.new_class(2.0);
+        let mut t = TieOrder::new(2, 0.0, true);
+        t.new_class(2.0, 0.5);
         t.bump(1, 4, 0);
         assert_eq!(t.recency(1), 4);
         assert!(t.same_class(2.4) && t.same_class(1.6));
         assert!(!t.same_class(2.5));
-        t.new_class(7.0);
+        // Each class brings its own tolerance.
+        t.new_class(7.0, 0.1);
         assert_eq!(t.recency(1), 0);
+        assert!(t.same_class(7.09) && !t.same_class(7.2));
         // Relative tolerance: within 10% of the larger cost.
-        let mut r = TieOrder::new(1, 0.0, 0.1, true);
-        r.new_class(100.0);
+        let mut r = TieOrder::new(1, 0.1, true);
+        r.new_class(100.0, 0.0);
         assert!(r.same_class(109.0) && r.same_class(91.0));
         assert!(!r.same_class(112.0) && !r.same_class(89.0));
     }
 
     #[test]
     fn without_recency_the_class_is_served_by_cost() {
-        let mut t = TieOrder::new(3, 1.0, 0.0, false);
-        t.new_class(0.0);
+        let mut t = TieOrder::new(3, 0.0, false);
+        t.new_class(0.0, 1.0);
         t.push(0, 0.3, 0);
         t.push(1, 0.1, 0);
         t.bump(0, 9, 0);

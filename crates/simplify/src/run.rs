@@ -103,17 +103,12 @@ fn symmetry_importance(p: &Prepared, options: &Options, metric: &Metric) -> (Vec
     (weights, result.truncated)
 }
 
-/// Mean area per vertex that has faces: the quadrics' accumulated weights.
-fn mean_vertex_area(q: &[Quadric]) -> f64 {
-    let (sum, n) = q
-        .iter()
+/// Total area the vertex quadrics carry (their weights), and how many
+/// vertices carry some.
+fn carried_area(q: &[Quadric]) -> (f64, usize) {
+    q.iter()
         .filter(|q| q.weight > 0.0)
-        .fold((0.0, 0usize), |(s, n), q| (s + q.weight, n + 1));
-    if n == 0 {
-        0.0
-    } else {
-        sum / n as f64
-    }
+        .fold((0.0, 0usize), |(s, n), q| (s + q.weight, n + 1))
 }
 
 /// What the loop takes next.
@@ -139,8 +134,10 @@ pub(crate) struct Run<'o> {
     /// Knodt's near-tie ordering, when quad mode is active.
     ties: Option<TieOrder>,
     quads_active: bool,
-    /// Knodt's ε as a cost difference (see `Run::new`).
-    tie_tolerance: f64,
+    /// Total area the quadrics carry and the vertices carrying it at the
+    /// start (for Knodt's ε as a cost difference, see `Run::tie_tolerance`).
+    area: f64,
+    area_vertices: usize,
     /// The virtual edges added, as vertex pairs (the partitioned path adds
     /// them back after rebuilding the complex).
     virtual_pairs: Vec<(u32, u32)>,
@@ -230,7 +227,8 @@ impl<'o> Run<'o> {
             queue: CollapseQueue::default(),
             ties: None,
             quads_active,
-            tie_tolerance: 0.0,
+            area: 0.0,
+            area_vertices: 0,
             virtual_pairs,
             last_cost: 0.0,
             refused_around: vec![0; nv],
@@ -250,13 +248,7 @@ impl<'o> Run<'o> {
             nbrs: Vec::new(),
         };
         run.progress_start = run.p.complex.triangles;
-        run.tie_tolerance = {
-            // ε is a distance: costs are area-weighted squared distances,
-            // so the tolerance is ε² over an average vertex's area, the
-            // same deviation at any resolution.
-            let eps = options.quad.epsilon;
-            eps * eps * mean_vertex_area(&run.quadrics)
-        };
+        (run.area, run.area_vertices) = carried_area(&run.quadrics);
         run
     }
 
@@ -280,7 +272,8 @@ impl<'o> Run<'o> {
             queue: CollapseQueue::default(),
             ties: None,
             quads_active: parent.quads_active,
-            tie_tolerance: parent.tie_tolerance,
+            area: parent.area,
+            area_vertices: parent.area_vertices,
             virtual_pairs: Vec::new(),
             last_cost: 0.0,
             refused_around: vec![0; nv],
@@ -385,7 +378,6 @@ impl<'o> Run<'o> {
         self.ties = self.quads_active.then(|| {
             TieOrder::new(
                 self.p.complex.edges.len(),
-                self.tie_tolerance,
                 options.quad.relative_epsilon,
                 options.quad.recency,
             )
@@ -553,10 +545,26 @@ impl<'o> Run<'o> {
         }
         self.queue.pop();
         self.p.complex.edges[e as usize].queued = false;
+        let tolerance = self.tie_tolerance();
         if let Some(ties) = &mut self.ties {
-            ties.new_class(cost);
+            ties.new_class(cost, tolerance);
         }
         Next::Edge(e, cost, known, 0)
+    }
+
+    /// Knodt's ε_abs as a cost difference. ε is a distance; costs are
+    /// area-weighted squared distances, and every collapse hands its area to
+    /// the vertex it keeps, so moving a vertex by ε costs ε² times the area
+    /// an average vertex now carries: the whole area over the vertices
+    /// left. The same deviation at every stage of the run, on every
+    /// resolution.
+    fn tie_tolerance(&self) -> f64 {
+        let eps = self.options.quad.epsilon;
+        let left = self
+            .area_vertices
+            .saturating_sub(self.report.collapses)
+            .max(1);
+        eps * eps * self.area / left as f64
     }
 
     /// Brings a current entry to the top of the main queue and returns it
