@@ -4,7 +4,8 @@
 //!
 //! `cargo bench -p wildlod-bench` prints criterion's timings (with
 //! throughput in input triangles per second) and then a table of the ratio
-//! of wildlod's time to meshoptimizer's. Under `cargo test` the benchmark
+//! of wildlod's time to meshoptimizer's. Quad meshes are also run with the
+//! quad ordering off (`QuadMode::Never`), for the cost of the quad terms. Under `cargo test` the benchmark
 //! runs once on a small generated mesh, so that it keeps compiling and
 //! working.
 
@@ -13,14 +14,37 @@ use std::time::Duration;
 
 use criterion::{BenchmarkId, Criterion, Throughput};
 use wildlod_bench::methods::{flatten, meshopt_simplify, meshopt_simplify_with_update};
-use wildlod_mesh::{shapes, Scene};
-use wildlod_simplify::{simplify_triangles, Options, Target};
+use wildlod_mesh::{shapes, Faces, Scene};
+use wildlod_simplify::{simplify_polygons, Options, QuadMode, Target};
 
-/// One input: its name, flattened triangles.
+/// One input: its name, its faces as stored (polygons: wildlod keeps
+/// quads) and triangulated (what meshoptimizer takes).
 struct Case {
     name: String,
     positions: Vec<[f32; 3]>,
+    faces: Faces,
     indices: Vec<u32>,
+    has_quads: bool,
+}
+
+impl Case {
+    fn new(name: &str, scene: &Scene) -> Case {
+        let (positions, indices) = flatten(scene);
+        // One stored mesh without transforms keeps its polygons (the quad
+        // meshes); anything else is compared on the flattened triangles.
+        let polygons = match (&scene.meshes[..], scene.instances().len()) {
+            ([m], 1) if m.positions.len() == positions.len() => Some(m.faces.clone()),
+            _ => None,
+        };
+        let has_quads = polygons.as_ref().is_some_and(|f| f.arity_counts().1 > 0);
+        Case {
+            name: name.to_string(),
+            faces: polygons.unwrap_or_else(|| Faces::from_triangles(&indices)),
+            positions,
+            indices,
+            has_quads,
+        }
+    }
 }
 
 fn corpus_cases(root: &Path) -> Vec<Case> {
@@ -30,41 +54,39 @@ fn corpus_cases(root: &Path) -> Vec<Case> {
         "manifold/nefertiti_lowres.obj",
         "wild/plane_holes.obj",
         "wild/chair_model.obj",
+        "quad/spot_quadrangulated.obj",
+        "quad/quadknot.obj",
         "large/dragon_vrip.glb",
     ]
     .iter()
     .filter_map(|rel| {
         let doc = wildlod_io::read(root.join(rel)).ok()?;
-        let (positions, indices) = flatten(&doc.scene);
-        Some(Case {
-            name: rel.rsplit('/').next().unwrap_or(rel).to_string(),
-            positions,
-            indices,
-        })
+        Some(Case::new(rel.rsplit('/').next().unwrap_or(rel), &doc.scene))
     })
     .collect()
 }
 
 fn generated_case() -> Case {
-    let (positions, indices) = flatten(&Scene::from_mesh(shapes::triangulate(&shapes::torus(
-        40, 20, 1.0, 0.3,
-    ))));
-    Case {
-        name: "generated torus".into(),
-        positions,
-        indices,
-    }
+    Case::new(
+        "generated quad torus",
+        &Scene::from_mesh(shapes::torus(40, 20, 1.0, 0.3)),
+    )
 }
 
-fn wildlod(case: &Case, ratio: f64) -> usize {
+fn wildlod(case: &Case, ratio: f64, quads: bool) -> usize {
     let options = Options {
         target: Target {
             ratio: Some(ratio),
             ..Target::default()
         },
+        quad_mode: if quads {
+            QuadMode::Auto
+        } else {
+            QuadMode::Never
+        },
         ..Options::default()
     };
-    simplify_triangles(&case.positions, &case.indices, &options)
+    simplify_polygons(&case.positions, &case.faces, &options)
         .map(|s| s.report.output_triangles)
         .unwrap_or(0)
 }
@@ -100,8 +122,15 @@ fn main() {
             let target = ((tris as f64) * ratio).round() as usize;
             let label = format!("{}%", ratio * 100.0);
             group.bench_with_input(BenchmarkId::new("wildlod", &label), &ratio, |b, &r| {
-                b.iter(|| wildlod(case, r))
+                b.iter(|| wildlod(case, r, true))
             });
+            if case.has_quads {
+                group.bench_with_input(
+                    BenchmarkId::new("wildlod no quads", &label),
+                    &ratio,
+                    |b, &r| b.iter(|| wildlod(case, r, false)),
+                );
+            }
             group.bench_with_input(
                 BenchmarkId::new("meshopt simplify", &label),
                 &target,
@@ -149,8 +178,9 @@ fn mean_seconds(group: &str, function: &str, param: &str) -> Option<f64> {
     rest[start..end].parse::<f64>().ok().map(|ns| ns * 1e-9)
 }
 
-/// The table the issue asks for: triangles per second and the ratio of
-/// wildlod's time to meshoptimizer's, measured in this run.
+/// The tables the issues ask for: triangles per second and the ratio of
+/// wildlod's time to meshoptimizer's, and on quad meshes the ratio of the
+/// quad ordering's time to the same engine without it, measured in this run.
 fn print_ratios(cases: &[Case], ratios: &[f64]) {
     println!("\n| mesh | triangles | ratio | wildlod | tris/s | meshopt simplify | wildlod ÷ meshopt | simplify_with_update | wildlod ÷ with_update |");
     println!("|---|---|---|---|---|---|---|---|---|");
@@ -176,6 +206,29 @@ fn print_ratios(cases: &[Case], ratios: &[f64]) {
                 f(u),
                 q(w, u)
             );
+        }
+    }
+    if cases.iter().any(|c| c.has_quads) {
+        println!("\n| quad mesh | triangles | ratio | wildlod (quads kept) | wildlod (quads off) | quads ÷ off |");
+        println!("|---|---|---|---|---|---|");
+        for case in cases.iter().filter(|c| c.has_quads) {
+            let tris = case.indices.len() / 3;
+            for &r in ratios {
+                let label = format!("{}%", r * 100.0);
+                let w = mean_seconds(&case.name, "wildlod", &label);
+                let n = mean_seconds(&case.name, "wildlod no quads", &label);
+                let f = |x: Option<f64>| x.map_or("?".into(), |s| format!("{:.1} ms", s * 1e3));
+                let q = match (w, n) {
+                    (Some(a), Some(b)) if b > 0.0 => format!("{:.2}×", a / b),
+                    _ => "?".into(),
+                };
+                println!(
+                    "| {} | {tris} | {label} | {} | {} | {q} |",
+                    case.name,
+                    f(w),
+                    f(n)
+                );
+            }
         }
     }
 }
