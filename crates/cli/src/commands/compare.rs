@@ -5,6 +5,7 @@ use wildlod_eval::{compare, CompareOptions, Comparison, EvalMesh};
 use wildlod_mesh::Image;
 
 use crate::args::CompareArgs;
+use crate::stdout::emit;
 
 /// Decodes the textures a scene references; a texture that cannot be read
 /// is left out with a warning (the texture metric then says why).
@@ -42,11 +43,10 @@ pub fn run(a: &CompareArgs) -> anyhow::Result<()> {
     let result = compare(&r, &c, &options);
     if a.json {
         let json = serde_json::to_string_pretty(&result).context("serializing the comparison")?;
-        println!("{json}");
+        emit(&(json + "\n"))
     } else {
-        print!("{}", text(&result));
+        emit(&text(&result))
     }
-    Ok(())
 }
 
 /// The human-readable form.

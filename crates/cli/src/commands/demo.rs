@@ -14,6 +14,7 @@ use wildlod_simplify::{simplify_mesh, Options, Target};
 use crate::args::DemoArgs;
 use crate::commands::info::{describe, text};
 use crate::commands::simplify::summary;
+use crate::stdout::emit;
 
 /// The demo scene, as one mesh.
 pub fn example() -> Mesh {
@@ -66,14 +67,13 @@ pub fn run(a: &DemoArgs) -> anyhow::Result<()> {
     };
     let din = write(mesh, &input)?;
     let dout = write(lod, &output)?;
-    print!("{}", text(&describe(&din, &input.display().to_string())));
-    print!("{}", text(&describe(&dout, &output.display().to_string())));
-    println!("{}", summary("table", &report, secs));
-    println!(
-        "Wrote {} and {}; simplify your own: wildlod simplify IN -o OUT --ratio {}",
+    emit(&format!(
+        "{}{}{}\nWrote {} and {}; simplify your own: wildlod simplify IN -o OUT --ratio {}\n",
+        text(&describe(&din, &input.display().to_string())),
+        text(&describe(&dout, &output.display().to_string())),
+        summary("table", &report, secs),
         input.display(),
         output.display(),
         a.ratio
-    );
-    Ok(())
+    ))
 }

@@ -9,6 +9,7 @@ use wildlod_mesh::stats::topology;
 use wildlod_mesh::Semantic;
 
 use crate::args::InfoArgs;
+use crate::stdout::emit;
 
 /// Face counts by arity.
 #[derive(Serialize, Debug, Default, Clone, Copy, PartialEq, Eq)]
@@ -225,11 +226,10 @@ pub fn run(a: &InfoArgs) -> anyhow::Result<()> {
     let doc = wildlod_io::read(&a.file)?;
     let info = describe(&doc, &a.file.display().to_string());
     if a.json {
-        println!("{}", serde_json::to_string_pretty(&info)?);
+        emit(&(serde_json::to_string_pretty(&info)? + "\n"))
     } else {
-        print!("{}", text(&info));
+        emit(&text(&info))
     }
-    Ok(())
 }
 
 /// The human-readable form.

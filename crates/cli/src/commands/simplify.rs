@@ -12,6 +12,7 @@ use wildlod_simplify::{
 
 use crate::args::SimplifyArgs;
 use crate::progress::Progress;
+use crate::stdout::emit;
 
 /// Validated settings of one `simplify` run.
 #[derive(Debug)]
@@ -144,7 +145,7 @@ pub fn run(cfg: &Config) -> anyhow::Result<()> {
             .with_context(|| format!("{}: simplifying {name}", cfg.input.display()))?;
         progress.finish();
         if !cfg.quiet {
-            println!("{}", summary(&name, &report, t0.elapsed().as_secs_f64()));
+            emit(&(summary(&name, &report, t0.elapsed().as_secs_f64()) + "\n"))?;
         }
         doc.scene.meshes[m] = lod;
     }
