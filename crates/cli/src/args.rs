@@ -107,8 +107,9 @@ pub struct SimplifyArgs {
     pub quad_epsilon: f64,
     /// Weight of Knodt 2024's tangent edge quadrics against the face planes
     /// (his balance: 0.33). They hold edges in place along creases and keep
-    /// edge flow and thin parts; off by default because on the quad corpus
-    /// they raised the mean distance without keeping more quads.
+    /// edge flow and thin parts; off by default because they trade distance
+    /// for regularity and, on the quad corpus, kept fewer quads than the
+    /// ordering alone.
     #[arg(long, value_name = "W", default_value_t = 0.0)]
     pub tangent_weight: f64,
     /// Soft symmetry λ_sym (Knodt 2024 §3.1): edges on planes that mirror
