@@ -73,6 +73,9 @@ pub struct Row {
     pub chamfer_squared: f64,
     /// Seconds spent simplifying.
     pub seconds: f64,
+    /// Quad ratio as in Knodt 2024, (outQuads/outTris)/(inQuads/inTris);
+    /// `None` when the input has no quads.
+    pub quad_ratio: Option<f64>,
     /// Why the run failed, if it did.
     pub failure: Option<String>,
 }
@@ -161,6 +164,7 @@ pub fn evaluate(cfg: &Config, mut each: impl FnMut(&Row)) -> anyhow::Result<Vec<
                     chamfer_mean: f64::NAN,
                     chamfer_squared: f64::NAN,
                     seconds: 0.0,
+                    quad_ratio: None,
                     failure: None,
                 };
                 // Nothing to compare at an empty budget.
@@ -179,6 +183,7 @@ pub fn evaluate(cfg: &Config, mut each: impl FnMut(&Row)) -> anyhow::Result<Vec<
                         row.hausdorff = c.hausdorff;
                         row.chamfer_mean = c.chamfer_mean;
                         row.chamfer_squared = c.chamfer_squared;
+                        row.quad_ratio = c.quad_ratio;
                     }
                     Err(e) => row.failure = Some(e.to_string()),
                 }
@@ -197,6 +202,21 @@ fn mean(v: impl Iterator<Item = f64>) -> f64 {
     } else {
         s / n as f64
     }
+}
+
+/// Median, or `None` for no values.
+fn median(mut v: Vec<f64>) -> Option<f64> {
+    v.sort_by(f64::total_cmp);
+    let n = v.len();
+    match n {
+        0 => None,
+        _ if n % 2 == 1 => Some(v[n / 2]),
+        _ => Some(0.5 * (v[n / 2 - 1] + v[n / 2])),
+    }
+}
+
+fn quad_cell(q: Option<f64>) -> String {
+    q.map_or_else(|| "–".to_string(), |q| format!("{q:.3}"))
 }
 
 fn pct(r: f64) -> String {
@@ -219,7 +239,9 @@ pub fn markdown(cfg: &Config, rows: &[Row], command: &str) -> String {
           input by `wildlod-eval`: distances are normalized by the input's bounding-box \
           diagonal; **Hausdorff** is the larger of the two directed distances (maximum over \
           area samples and all vertices); **Chamfer** is the mean distance and **Chamfer²** the \
-          mean squared distance (W Table 1's), each averaged over both directions. ";
+          mean squared distance (W Table 1's), each averaged over both directions; \
+          **quad ratio** is Knodt 2024's (outQuads/outTris)/(inQuads/inTris), on inputs with \
+          quads. ";
     s += &format!(
         "{} area samples per surface. Times are simplification only (no I/O), on this machine, \
          one run each: compare ratios, not absolute values.\n\n",
@@ -231,9 +253,10 @@ pub fn markdown(cfg: &Config, rows: &[Row], command: &str) -> String {
           comparable with those that reached it: see the *reached* column.\n\n";
     s += "## Summary\n\nMeans over the meshes of each category. *reached*: results within one \
           triangle per mesh of the target; *empty*: results with no triangle left (their \
-          distances are infinite and left out of the means).\n\n";
-    s += "| category | ratio | method | reached | empty | triangles / target | Hausdorff | Chamfer | Chamfer² | time (ms) |\n";
-    s += "|---|---|---|---|---|---|---|---|---|---|\n";
+          distances are infinite and left out of the means); *quad ratio*: the median over \
+          the meshes that have quads.\n\n";
+    s += "| category | ratio | method | reached | empty | triangles / target | Hausdorff | Chamfer | Chamfer² | quad ratio | time (ms) |\n";
+    s += "|---|---|---|---|---|---|---|---|---|---|---|\n";
     let mut cats: Vec<String> = rows.iter().map(|r| r.category.clone()).collect();
     cats.sort();
     cats.dedup();
@@ -256,7 +279,7 @@ pub fn markdown(cfg: &Config, rows: &[Row], command: &str) -> String {
                     .filter(|r| r.failure.is_none() && r.triangles == 0)
                     .count();
                 s += &format!(
-                    "| {cat} | {} | {} | {}/{} | {} | {:.3} | {:.5} | {:.6} | {:.3e} | {:.1} |\n",
+                    "| {cat} | {} | {} | {}/{} | {} | {:.3} | {:.5} | {:.6} | {:.3e} | {} | {:.1} |\n",
                     pct(ratio),
                     m.name(),
                     sel.iter().filter(|r| r.reached()).count(),
@@ -266,6 +289,7 @@ pub fn markdown(cfg: &Config, rows: &[Row], command: &str) -> String {
                     mean(ok.iter().map(|r| r.hausdorff)),
                     mean(ok.iter().map(|r| r.chamfer_mean)),
                     mean(ok.iter().map(|r| r.chamfer_squared)),
+                    quad_cell(median(ok.iter().filter_map(|r| r.quad_ratio).collect())),
                     mean(ok.iter().map(|r| r.seconds * 1000.0)),
                 );
             }
@@ -279,20 +303,20 @@ pub fn markdown(cfg: &Config, rows: &[Row], command: &str) -> String {
     files.dedup();
     for (file, tris) in files {
         s += &format!("\n### {file} ({tris} triangles)\n\n");
-        s += "| ratio | method | triangles (target) | Hausdorff | Chamfer | Chamfer² | time (ms) |\n";
-        s += "|---|---|---|---|---|---|---|\n";
+        s += "| ratio | method | triangles (target) | Hausdorff | Chamfer | Chamfer² | quad ratio | time (ms) |\n";
+        s += "|---|---|---|---|---|---|---|---|\n";
         for r in rows.iter().filter(|r| r.file == file) {
             match &r.failure {
                 Some(f) => {
                     s += &format!(
-                        "| {} | {} | failed: {f} | | | | |\n",
+                        "| {} | {} | failed: {f} | | | | | |\n",
                         pct(r.ratio),
                         r.method.name()
                     )
                 }
                 None => {
                     s += &format!(
-                        "| {} | {} | {} ({}) | {:.5} | {:.6} | {:.3e} | {:.1} |\n",
+                        "| {} | {} | {} ({}) | {:.5} | {:.6} | {:.3e} | {} | {:.1} |\n",
                         pct(r.ratio),
                         r.method.name(),
                         r.triangles,
@@ -300,6 +324,7 @@ pub fn markdown(cfg: &Config, rows: &[Row], command: &str) -> String {
                         r.hausdorff,
                         r.chamfer_mean,
                         r.chamfer_squared,
+                        quad_cell(r.quad_ratio),
                         r.seconds * 1000.0
                     )
                 }

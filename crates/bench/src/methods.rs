@@ -5,7 +5,7 @@
 use std::time::Instant;
 
 use wildlod_mesh::{shapes, transform, Faces, Mesh, Scene};
-use wildlod_simplify::{simplify_mesh, Options, Partition, Target};
+use wildlod_simplify::{simplify_mesh, Options, Partition, QuadMode, Target};
 
 /// A simplifier under test.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -15,6 +15,11 @@ pub enum Method {
     /// wildlod with default options but one global greedy loop
     /// (`Partition::OFF`): what the parallel first phase costs in quality.
     WildlodGlobal,
+    /// wildlod with default options but the quad-preserving ordering off
+    /// (`QuadMode::Never`): what keeping quads costs. On inputs without
+    /// quads it is the default run again; it runs on them anyway so that
+    /// every method's means cover the same meshes.
+    WildlodNoQuads,
     /// wildlod's engine with `Options::classic_qem()` (Garland & Heckbert
     /// 1997: no virtual edges, no area term).
     ClassicQem,
@@ -30,9 +35,10 @@ pub enum Method {
 
 impl Method {
     /// Every method, in report order.
-    pub const ALL: [Method; 6] = [
+    pub const ALL: [Method; 7] = [
         Method::Wildlod,
         Method::WildlodGlobal,
+        Method::WildlodNoQuads,
         Method::ClassicQem,
         Method::Meshopt,
         Method::MeshoptUpdate,
@@ -44,6 +50,7 @@ impl Method {
         match self {
             Method::Wildlod => "wildlod",
             Method::WildlodGlobal => "wildlod, one global loop",
+            Method::WildlodNoQuads => "wildlod, quads off",
             Method::ClassicQem => "wildlod classic QEM",
             Method::Meshopt => "meshopt simplify",
             Method::MeshoptUpdate => "meshopt simplify_with_update",
@@ -56,6 +63,7 @@ impl Method {
         match self {
             Method::Wildlod => "wildlod",
             Method::WildlodGlobal => "global",
+            Method::WildlodNoQuads => "no-quads",
             Method::ClassicQem => "classic",
             Method::Meshopt => "meshopt",
             Method::MeshoptUpdate => "meshopt-update",
@@ -116,12 +124,17 @@ pub fn run(
     match method {
         Method::Wildlod
         | Method::WildlodGlobal
+        | Method::WildlodNoQuads
         | Method::ClassicQem
         | Method::WildlodAtMeshoptCount => {
             let base = match method {
                 Method::ClassicQem => Options::classic_qem(),
                 Method::WildlodGlobal => Options {
                     partition: Partition::OFF,
+                    ..Options::default()
+                },
+                Method::WildlodNoQuads => Options {
+                    quad_mode: QuadMode::Never,
                     ..Options::default()
                 },
                 _ => Options::default(),

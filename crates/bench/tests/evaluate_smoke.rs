@@ -38,11 +38,37 @@ fn evaluation_runs_every_method_and_writes_the_report() {
         ..Config::default()
     };
     let rows = evaluate(&cfg, |_| {}).unwrap();
-    assert_eq!(rows.len(), 2 * Method::ALL.len());
+    let of = |file: &str| -> Vec<_> { rows.iter().filter(|r| r.file.ends_with(file)).collect() };
+    assert_eq!(of("sphere.obj").len(), Method::ALL.len());
+    assert_eq!(of("boxes.ply").len(), Method::ALL.len());
+    // Without quads there is no quad ratio, and "quads off" is the default.
+    let sphere = |m| {
+        of("sphere.obj")
+            .into_iter()
+            .find(|r| r.method == m)
+            .unwrap()
+    };
+    assert_eq!(sphere(Method::Wildlod).quad_ratio, None);
+    assert_eq!(
+        sphere(Method::Wildlod).hausdorff,
+        sphere(Method::WildlodNoQuads).hausdorff
+    );
+    let quads = |m| {
+        of("boxes.ply")
+            .into_iter()
+            .find(|r| r.method == m)
+            .unwrap()
+            .quad_ratio
+    };
+    // Quad ordering keeps more quads than the same run with it off, and
+    // meshoptimizer (triangles only) keeps none.
+    assert!(quads(Method::Wildlod).unwrap() > quads(Method::WildlodNoQuads).unwrap());
+    assert_eq!(quads(Method::Meshopt), Some(0.0));
     // The equal-budget row asks for exactly what meshoptimizer reached.
-    for pair in rows.chunks(Method::ALL.len()) {
-        let m = pair.iter().find(|r| r.method == Method::Meshopt).unwrap();
-        let w = pair
+    for file in ["sphere.obj", "boxes.ply"] {
+        let sel = of(file);
+        let m = sel.iter().find(|r| r.method == Method::Meshopt).unwrap();
+        let w = sel
             .iter()
             .find(|r| r.method == Method::WildlodAtMeshoptCount)
             .unwrap();
