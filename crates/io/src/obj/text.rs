@@ -149,25 +149,25 @@ pub(crate) fn name(s: &[u8]) -> String {
 /// wrong with the token.
 #[inline]
 pub(crate) fn parse_f32(tok: &[u8]) -> Result<f32, String> {
-    let v: f32 = std::str::from_utf8(tok)
-        .ok()
-        .and_then(|s| s.parse().ok())
-        .ok_or_else(|| format!("'{}' is not a number", show(tok)))?;
-    if v.is_finite() {
-        Ok(v)
-    } else {
-        Err(format!("'{}' is not a finite number", show(tok)))
-    }
+    parse_finite(tok, f32::is_finite)
 }
 
 /// Like [`parse_f32`] for `f64`.
 #[inline]
 pub(crate) fn parse_f64(tok: &[u8]) -> Result<f64, String> {
-    let v: f64 = std::str::from_utf8(tok)
+    parse_finite(tok, f64::is_finite)
+}
+
+#[inline]
+fn parse_finite<T: std::str::FromStr + Copy>(
+    tok: &[u8],
+    finite: fn(T) -> bool,
+) -> Result<T, String> {
+    let v: T = std::str::from_utf8(tok)
         .ok()
         .and_then(|s| s.parse().ok())
         .ok_or_else(|| format!("'{}' is not a number", show(tok)))?;
-    if v.is_finite() {
+    if finite(v) {
         Ok(v)
     } else {
         Err(format!("'{}' is not a finite number", show(tok)))
