@@ -24,6 +24,27 @@
 use std::cmp::Reverse;
 use std::collections::BinaryHeap;
 
+/// Knodt's ε_abs (Eq. 4) as a cost difference, for a distance tolerance
+/// `epsilon` (relative to the diagonal) on a mesh of total quadric `area`
+/// that started with `start` vertices and has `left` now.
+///
+/// Costs are area-weighted squared distances, and every collapse hands its
+/// area to the vertex it keeps, so moving a vertex by d costs d² times the
+/// area an average vertex now carries: `area / left`.
+///
+/// The distance itself grows with the reduction factor `start / left`. On a
+/// smooth surface a collapse deviates by about κh²/8, and h² (the area per
+/// vertex) grows as `start / left`, so a fixed distance would be a large
+/// share of the typical collapse early on (whole chords swept across curved
+/// parts at 50%) and a vanishing one late (classes of one edge, no chords,
+/// at 10%). Scaled so, the tolerance stays a steady share of the error a
+/// collapse makes at every stage.
+pub(crate) fn tie_tolerance(epsilon: f64, area: f64, start: usize, left: usize) -> f64 {
+    let left = left.max(1) as f64;
+    let d = epsilon * start.max(1) as f64 / left;
+    d * d * area / left
+}
+
 /// Key of the tie queue: highest recency first, then lowest cost, then
 /// edge id (a total, deterministic order).
 #[inline]
@@ -156,6 +177,18 @@ impl TieOrder {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn tie_tolerance_is_a_growing_distance_over_the_area_per_vertex() {
+        // At the start: ε² × area per vertex = 1e-4 × 8 / 100.
+        assert!((tie_tolerance(1e-2, 8.0, 100, 100) - 8e-6).abs() < 1e-18);
+        // Half the vertices gone: the distance doubles (2e-2) and each
+        // vertex carries twice the area, 4e-4 × 8 / 50 = 6.4e-5.
+        assert!((tie_tolerance(1e-2, 8.0, 100, 50) - 6.4e-5).abs() < 1e-17);
+        // Nothing left is one vertex, not a division by zero.
+        assert!(tie_tolerance(1e-2, 8.0, 100, 0).is_finite());
+        assert_eq!(tie_tolerance(0.0, 8.0, 100, 10), 0.0);
+    }
 
     #[test]
     fn serves_highest_recency_then_lowest_cost() {

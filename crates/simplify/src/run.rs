@@ -13,7 +13,7 @@ use crate::heap::{CollapseQueue, Entry};
 use crate::history::HistoryRecorder;
 use crate::options::Metric;
 use crate::options::Options;
-use crate::ordering::TieOrder;
+use crate::ordering::{tie_tolerance, TieOrder};
 use crate::quadric::Quadric;
 use crate::report::{Report, StopReason};
 use crate::simplify::{Prepared, Simplified};
@@ -552,19 +552,16 @@ impl<'o> Run<'o> {
         Next::Edge(e, cost, known, 0)
     }
 
-    /// Knodt's ε_abs as a cost difference. ε is a distance; costs are
-    /// area-weighted squared distances, and every collapse hands its area to
-    /// the vertex it keeps, so moving a vertex by ε costs ε² times the area
-    /// an average vertex now carries: the whole area over the vertices
-    /// left. The same deviation at every stage of the run, on every
-    /// resolution.
+    /// Knodt's ε_abs in cost units at this point of the run (see
+    /// [`tie_tolerance`]).
     fn tie_tolerance(&self) -> f64 {
-        let eps = self.options.quad.epsilon;
-        let left = self
-            .area_vertices
-            .saturating_sub(self.report.collapses)
-            .max(1);
-        eps * eps * self.area / left as f64
+        let left = self.area_vertices.saturating_sub(self.report.collapses);
+        tie_tolerance(
+            self.options.quad.epsilon,
+            self.area,
+            self.area_vertices,
+            left,
+        )
     }
 
     /// Brings a current entry to the top of the main queue and returns it
