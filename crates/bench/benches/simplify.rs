@@ -5,9 +5,10 @@
 //! `cargo bench -p wildlod-bench` prints criterion's timings (with
 //! throughput in input triangles per second) and then a table of the ratio
 //! of wildlod's time to meshoptimizer's. Quad meshes are also run with the
-//! quad ordering off (`QuadMode::Never`), for the cost of the quad terms. Under `cargo test` the benchmark
-//! runs once on a small generated mesh, so that it keeps compiling and
-//! working.
+//! quad ordering off (`QuadMode::Never`), for the cost of the quad terms,
+//! and with soft symmetry on (Knodt's λ_sym = 1 with tangent quadrics at
+//! 1/3), for the cost of Alg. 2. Under `cargo test` the benchmark runs once
+//! on a small generated mesh, so that it keeps compiling and working.
 
 use std::path::{Path, PathBuf};
 use std::time::Duration;
@@ -15,7 +16,7 @@ use std::time::Duration;
 use criterion::{BenchmarkId, Criterion, Throughput};
 use wildlod_bench::methods::{flatten, meshopt_simplify, meshopt_simplify_with_update};
 use wildlod_mesh::{shapes, Faces, Scene};
-use wildlod_simplify::{simplify_polygons, Options, QuadMode, Target};
+use wildlod_simplify::{simplify_polygons, Options, QuadMode, QuadSettings, Target};
 
 /// One input: its name, its faces as stored (polygons: wildlod keeps
 /// quads) and triangulated (what meshoptimizer takes).
@@ -73,16 +74,46 @@ fn generated_case() -> Case {
     )
 }
 
-fn wildlod(case: &Case, ratio: f64, quads: bool) -> usize {
+/// How wildlod is run on a case.
+#[derive(Clone, Copy, PartialEq)]
+enum Variant {
+    /// Default options (quads kept when the input has them).
+    Default,
+    /// The same engine without the quad ordering (`--no-quads`).
+    NoQuads,
+    /// Quads kept, with soft symmetry (`--symmetry 1 --tangent-weight 0.33`).
+    Symmetry,
+}
+
+impl Variant {
+    fn name(self) -> &'static str {
+        match self {
+            Variant::Default => "wildlod",
+            Variant::NoQuads => "wildlod no quads",
+            Variant::Symmetry => "wildlod symmetry",
+        }
+    }
+}
+
+fn wildlod(case: &Case, ratio: f64, variant: Variant) -> usize {
     let options = Options {
         target: Target {
             ratio: Some(ratio),
             ..Target::default()
         },
-        quad_mode: if quads {
-            QuadMode::Auto
-        } else {
+        quad_mode: if variant == Variant::NoQuads {
             QuadMode::Never
+        } else {
+            QuadMode::Auto
+        },
+        quad: if variant == Variant::Symmetry {
+            QuadSettings {
+                symmetry: 1.0,
+                tangent_weight: 1.0 / 3.0,
+                ..QuadSettings::default()
+            }
+        } else {
+            QuadSettings::default()
         },
         ..Options::default()
     };
@@ -121,15 +152,15 @@ fn main() {
         for &ratio in ratios {
             let target = ((tris as f64) * ratio).round() as usize;
             let label = format!("{}%", ratio * 100.0);
-            group.bench_with_input(BenchmarkId::new("wildlod", &label), &ratio, |b, &r| {
-                b.iter(|| wildlod(case, r, true))
-            });
-            if case.has_quads {
-                group.bench_with_input(
-                    BenchmarkId::new("wildlod no quads", &label),
-                    &ratio,
-                    |b, &r| b.iter(|| wildlod(case, r, false)),
-                );
+            let variants: &[Variant] = if case.has_quads {
+                &[Variant::Default, Variant::NoQuads, Variant::Symmetry]
+            } else {
+                &[Variant::Default]
+            };
+            for &v in variants {
+                group.bench_with_input(BenchmarkId::new(v.name(), &label), &ratio, |b, &r| {
+                    b.iter(|| wildlod(case, r, v))
+                });
             }
             group.bench_with_input(
                 BenchmarkId::new("meshopt simplify", &label),
@@ -209,24 +240,31 @@ fn print_ratios(cases: &[Case], ratios: &[f64]) {
         }
     }
     if cases.iter().any(|c| c.has_quads) {
-        println!("\n| quad mesh | triangles | ratio | wildlod (quads kept) | wildlod (quads off) | quads ÷ off |");
-        println!("|---|---|---|---|---|---|");
+        println!("\n| quad mesh | triangles | ratio | wildlod (quads kept) | wildlod (quads off) | quads ÷ off | with symmetry | symmetry ÷ quads kept |");
+        println!("|---|---|---|---|---|---|---|---|");
         for case in cases.iter().filter(|c| c.has_quads) {
             let tris = case.indices.len() / 3;
             for &r in ratios {
                 let label = format!("{}%", r * 100.0);
-                let w = mean_seconds(&case.name, "wildlod", &label);
-                let n = mean_seconds(&case.name, "wildlod no quads", &label);
+                let time = |v: Variant| mean_seconds(&case.name, v.name(), &label);
+                let (w, n, s) = (
+                    time(Variant::Default),
+                    time(Variant::NoQuads),
+                    time(Variant::Symmetry),
+                );
                 let f = |x: Option<f64>| x.map_or("?".into(), |s| format!("{:.1} ms", s * 1e3));
-                let q = match (w, n) {
+                let q = |a: Option<f64>, b: Option<f64>| match (a, b) {
                     (Some(a), Some(b)) if b > 0.0 => format!("{:.2}×", a / b),
                     _ => "?".into(),
                 };
                 println!(
-                    "| {} | {tris} | {label} | {} | {} | {q} |",
+                    "| {} | {tris} | {label} | {} | {} | {} | {} | {} |",
                     case.name,
                     f(w),
-                    f(n)
+                    f(n),
+                    q(w, n),
+                    f(s),
+                    q(s, w)
                 );
             }
         }
