@@ -150,22 +150,24 @@ pub enum QuadMode {
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct QuadSettings {
     /// ε_abs of Knodt Eq. 4, as a distance relative to the bounding-box
-    /// diagonal at the input's resolution: collapses whose costs differ from
-    /// the first of their class by less than the cost of moving an average
-    /// vertex by ε·n₀/n (n₀ vertices at the start, n now) are treated as
+    /// diagonal at the input's resolution: a collapse whose cost differs
+    /// from the first of its class by less than the cost of moving its own
+    /// vertex by ε·n₀/n (n₀ vertices at the start, n now) is treated as
     /// equal and ordered by recency. Knodt gives ε_abs in raw cost units
     /// (5e-6 on his meshes); wildlod's costs are area-weighted and grow as
     /// vertices take over their neighbours' area, and the deviation of a
     /// typical collapse grows as n₀/n, so a raw or fixed tolerance would
-    /// mean a different share of the error on every mesh and at every
-    /// stage (too wide at 50%, too narrow at 10%).
+    /// mean a different share of the error on every mesh, in every part of
+    /// it, and at every stage (too wide at 50% and on finely tessellated
+    /// parts, too narrow at 10%).
     ///
-    /// Default 2.5e-3 (so 5e-3 once half the vertices are gone, 2.5e-2 at
+    /// Default 1.5e-3 (so 3e-3 once half the vertices are gone, 1.5e-2 at
     /// a tenth), by measurement on `corpus/quad` (see
-    /// `docs/evaluation-quads.md`): median quad ratio 0.98 / 0.83 / 0.75
+    /// `docs/evaluation-quads.md`): median quad ratio 0.98 / 0.96 / 0.83
     /// at 50% / 25% / 10% against 0.70 / 0.46 / 0.10 without the ordering,
-    /// for 5–7% more Chamfer distance. Smaller values trade quads for
-    /// distance (1.75e-3: 0.49 at 10%); larger ones keep more quads.
+    /// for 5–8% more mean Chamfer distance. 1.25e-3 keeps fewer quads at
+    /// 10% (0.55 on the median mesh); 2e-3 keeps more (0.96) for 10% more
+    /// Chamfer distance.
     pub epsilon: f64,
     /// ε_rel: costs within this fraction of the larger one are also ties
     /// (Dawson's relative comparison, which Knodt cites and ablates beside
@@ -178,13 +180,14 @@ pub struct QuadSettings {
     pub recency: bool,
     /// Tangent edge quadric weight used in quad mode (see
     /// [`Metric::tangent_weight`]). Default 0: on `corpus/quad`, 1/3
-    /// (Knodt's balance) left the Chamfer distance within −2%…+2% of the
-    /// ordering alone but kept fewer quads (median quad ratio 0.96 / 0.75 /
-    /// 0.39 against 0.98 / 0.83 / 0.75 at 50% / 25% / 10%).
+    /// (Knodt's balance) left the Chamfer distance within −5%…+4% of the
+    /// ordering alone but kept far fewer quads (median quad ratio 0.85 /
+    /// 0.58 / 0.22 against 0.98 / 0.96 / 0.83 at 50% / 25% / 10%).
     pub tangent_weight: f64,
     /// Rank by introduced error (Knodt Eq. 5) in quad mode. Default off:
-    /// with the ordering it raised the Chamfer distance at 50% by 20% (and
-    /// the Hausdorff distance by 60%) for about the same quads.
+    /// with the ordering it raised the Chamfer distance at 50% by 17% (and
+    /// the Hausdorff distance by 57%), though at 25% and 10% it kept a few
+    /// more quads (0.96 / 0.88) at about the same distance.
     pub introduced_error: bool,
     /// λ_sym of Eq. 2: weight of the soft symmetry term (Knodt §3.1,
     /// Alg. 2): edges whose plane mirrors much of the model onto itself
@@ -206,7 +209,7 @@ pub struct QuadSettings {
 impl Default for QuadSettings {
     fn default() -> Self {
         QuadSettings {
-            epsilon: 2.5e-3,
+            epsilon: 1.5e-3,
             relative_epsilon: 0.0,
             recency: true,
             tangent_weight: 0.0,

@@ -25,12 +25,16 @@ use std::cmp::Reverse;
 use std::collections::BinaryHeap;
 
 /// Knodt's ε_abs (Eq. 4) as a cost difference, for a distance tolerance
-/// `epsilon` (relative to the diagonal) on a mesh of total quadric `area`
-/// that started with `start` vertices and has `left` now.
+/// `epsilon` (relative to the diagonal), for a collapse whose endpoints
+/// carry `area` on average, on a mesh that started with `start` vertices
+/// and has `left` now.
 ///
 /// Costs are area-weighted squared distances, and every collapse hands its
-/// area to the vertex it keeps, so moving a vertex by d costs d² times the
-/// area an average vertex now carries: `area / left`.
+/// area to the vertex it keeps, so moving the vertex of a collapse by d
+/// costs up to d² times the area it carries. That area is the collapse's
+/// own, not the mesh's average: where the mesh is dense (small parts, fine
+/// detail) the same cost difference is a much larger distance, and an
+/// average would let ties sweep chords across them.
 ///
 /// The distance itself grows with the reduction factor `start / left`. On a
 /// smooth surface a collapse deviates by about κh²/8, and h² (the area per
@@ -40,9 +44,8 @@ use std::collections::BinaryHeap;
 /// at 10%). Scaled so, the tolerance stays a steady share of the error a
 /// collapse makes at every stage.
 pub(crate) fn tie_tolerance(epsilon: f64, area: f64, start: usize, left: usize) -> f64 {
-    let left = left.max(1) as f64;
-    let d = epsilon * start.max(1) as f64 / left;
-    d * d * area / left
+    let d = epsilon * start.max(1) as f64 / left.max(1) as f64;
+    d * d * area
 }
 
 /// Key of the tie queue: highest recency first, then lowest cost, then
@@ -69,7 +72,6 @@ pub(crate) struct Tie {
 /// The tie queue and recencies.
 #[derive(Clone, Debug)]
 pub(crate) struct TieOrder {
-    epsilon: f64,
     relative: f64,
     use_recency: bool,
     queue: BinaryHeap<Reverse<(u128, u32)>>,
@@ -83,10 +85,9 @@ pub(crate) struct TieOrder {
 
 impl TieOrder {
     /// For edges `0..edges`, with ε_rel and recency on or off (ε_abs comes
-    /// with each class).
+    /// with each candidate).
     pub fn new(edges: usize, relative: f64, use_recency: bool) -> Self {
         TieOrder {
-            epsilon: 0.0,
             relative,
             use_recency,
             queue: BinaryHeap::new(),
@@ -109,21 +110,21 @@ impl TieOrder {
         }
     }
 
-    /// Starts a class at `cost`, with the absolute tolerance `epsilon` (cost
-    /// units) for it: every recency resets (Alg. 1 line 16).
-    pub fn new_class(&mut self, cost: f64, epsilon: f64) {
+    /// Starts a class at `cost`: every recency resets (Alg. 1 line 16).
+    pub fn new_class(&mut self, cost: f64) {
         self.epoch = self.epoch.wrapping_add(1);
         self.class_cost = cost;
-        self.epsilon = epsilon;
     }
 
     /// Eq. 4, with Dawson's relative tolerance beside the absolute one
     /// (the comparison Knodt cites, ablated there as ε_abs and ε_rel):
-    /// whether `cost` is approximately equal to the class's.
+    /// whether `cost` is approximately equal to the class's, with the
+    /// absolute tolerance `epsilon` (cost units) of the collapse it is the
+    /// cost of (see [`tie_tolerance`]).
     #[inline]
-    pub fn same_class(&self, cost: f64) -> bool {
+    pub fn same_class(&self, cost: f64, epsilon: f64) -> bool {
         let d = (cost - self.class_cost).abs();
-        d < self.epsilon || d <= self.relative * cost.max(self.class_cost)
+        d < epsilon || d <= self.relative * cost.max(self.class_cost)
     }
 
     /// Edge `e` joins the class with its cost and generation.
@@ -179,13 +180,13 @@ mod tests {
     use super::*;
 
     #[test]
-    fn tie_tolerance_is_a_growing_distance_over_the_area_per_vertex() {
-        // At the start: ε² × area per vertex = 1e-4 × 8 / 100.
-        assert!((tie_tolerance(1e-2, 8.0, 100, 100) - 8e-6).abs() < 1e-18);
-        // Half the vertices gone: the distance doubles (2e-2) and each
-        // vertex carries twice the area, 4e-4 × 8 / 50 = 6.4e-5.
-        assert!((tie_tolerance(1e-2, 8.0, 100, 50) - 6.4e-5).abs() < 1e-17);
-        // Nothing left is one vertex, not a division by zero.
+    fn tie_tolerance_is_a_growing_distance_over_the_collapse_area() {
+        // At the start: ε² × area = 1e-4 × 0.08.
+        assert!((tie_tolerance(1e-2, 0.08, 100, 100) - 8e-6).abs() < 1e-18);
+        // Half the vertices gone: the distance doubles (2e-2), 4e-4 × 0.16
+        // for a vertex that took over a neighbour's area.
+        assert!((tie_tolerance(1e-2, 0.16, 100, 50) - 6.4e-5).abs() < 1e-17);
+        // Nothing left counts as one vertex, not a division by zero.
         assert!(tie_tolerance(1e-2, 8.0, 100, 0).is_finite());
         assert_eq!(tie_tolerance(0.0, 8.0, 100, 10), 0.0);
     }
@@ -193,7 +194,7 @@ mod tests {
     #[test]
     fn serves_highest_recency_then_lowest_cost() {
         let mut t = TieOrder::new(5, 0.0, true);
-        t.new_class(1.0, 1e-3);
+        t.new_class(1.0);
         t.push(0, 1.0002, 0);
         t.push(1, 1.0001, 0);
         t.push(2, 1.0003, 0);
@@ -208,26 +209,27 @@ mod tests {
     #[test]
     fn new_class_resets_recency_and_eq4_is_strict() {
         let mut t = TieOrder::new(2, 0.0, true);
-        t.new_class(2.0, 0.5);
+        t.new_class(2.0);
         t.bump(1, 4, 0);
         assert_eq!(t.recency(1), 4);
-        assert!(t.same_class(2.4) && t.same_class(1.6));
-        assert!(!t.same_class(2.5));
-        // Each class brings its own tolerance.
-        t.new_class(7.0, 0.1);
+        assert!(t.same_class(2.4, 0.5) && t.same_class(1.6, 0.5));
+        assert!(!t.same_class(2.5, 0.5));
+        // Each candidate brings its own tolerance.
+        assert!(t.same_class(2.5, 0.6) && !t.same_class(2.05, 0.01));
+        t.new_class(7.0);
         assert_eq!(t.recency(1), 0);
-        assert!(t.same_class(7.09) && !t.same_class(7.2));
+        assert!(t.same_class(7.09, 0.1) && !t.same_class(7.2, 0.1));
         // Relative tolerance: within 10% of the larger cost.
         let mut r = TieOrder::new(1, 0.1, true);
-        r.new_class(100.0, 0.0);
-        assert!(r.same_class(109.0) && r.same_class(91.0));
-        assert!(!r.same_class(112.0) && !r.same_class(89.0));
+        r.new_class(100.0);
+        assert!(r.same_class(109.0, 0.0) && r.same_class(91.0, 0.0));
+        assert!(!r.same_class(112.0, 0.0) && !r.same_class(89.0, 0.0));
     }
 
     #[test]
     fn without_recency_the_class_is_served_by_cost() {
         let mut t = TieOrder::new(3, 0.0, false);
-        t.new_class(0.0, 1.0);
+        t.new_class(0.0);
         t.push(0, 0.3, 0);
         t.push(1, 0.1, 0);
         t.bump(0, 9, 0);

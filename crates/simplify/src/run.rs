@@ -103,12 +103,10 @@ fn symmetry_importance(p: &Prepared, options: &Options, metric: &Metric) -> (Vec
     (weights, result.truncated)
 }
 
-/// Total area the vertex quadrics carry (their weights), and how many
-/// vertices carry some.
-fn carried_area(q: &[Quadric]) -> (f64, usize) {
-    q.iter()
-        .filter(|q| q.weight > 0.0)
-        .fold((0.0, 0usize), |(s, n), q| (s + q.weight, n + 1))
+/// How many vertices carry area (a positive quadric weight): the vertices
+/// the reduction factor of the tie tolerance counts from.
+fn area_vertices(q: &[Quadric]) -> usize {
+    q.iter().filter(|q| q.weight > 0.0).count()
 }
 
 /// What the loop takes next.
@@ -134,9 +132,8 @@ pub(crate) struct Run<'o> {
     /// Knodt's near-tie ordering, when quad mode is active.
     ties: Option<TieOrder>,
     quads_active: bool,
-    /// Total area the quadrics carry and the vertices carrying it at the
-    /// start (for Knodt's ε as a cost difference, see `Run::tie_tolerance`).
-    area: f64,
+    /// The vertices carrying area at the start (for Knodt's ε as a cost
+    /// difference, see `Run::tie_tolerance`).
     area_vertices: usize,
     /// The virtual edges added, as vertex pairs (the partitioned path adds
     /// them back after rebuilding the complex).
@@ -227,7 +224,6 @@ impl<'o> Run<'o> {
             queue: CollapseQueue::default(),
             ties: None,
             quads_active,
-            area: 0.0,
             area_vertices: 0,
             virtual_pairs,
             last_cost: 0.0,
@@ -248,7 +244,7 @@ impl<'o> Run<'o> {
             nbrs: Vec::new(),
         };
         run.progress_start = run.p.complex.triangles;
-        (run.area, run.area_vertices) = carried_area(&run.quadrics);
+        run.area_vertices = area_vertices(&run.quadrics);
         run
     }
 
@@ -272,7 +268,6 @@ impl<'o> Run<'o> {
             queue: CollapseQueue::default(),
             ties: None,
             quads_active: parent.quads_active,
-            area: parent.area,
             area_vertices: parent.area_vertices,
             virtual_pairs: Vec::new(),
             last_cost: 0.0,
@@ -545,23 +540,19 @@ impl<'o> Run<'o> {
         }
         self.queue.pop();
         self.p.complex.edges[e as usize].queued = false;
-        let tolerance = self.tie_tolerance();
         if let Some(ties) = &mut self.ties {
-            ties.new_class(cost, tolerance);
+            ties.new_class(cost);
         }
         Next::Edge(e, cost, known, 0)
     }
 
-    /// Knodt's ε_abs in cost units at this point of the run (see
-    /// [`tie_tolerance`]).
-    fn tie_tolerance(&self) -> f64 {
+    /// Knodt's ε_abs in cost units for collapsing `e` at this point of the
+    /// run (see [`tie_tolerance`]): the area is its endpoints' mean.
+    fn tie_tolerance(&self, e: u32) -> f64 {
+        let [a, b] = self.p.complex.edges[e as usize].ends;
+        let area = 0.5 * (self.quadrics[a as usize].weight + self.quadrics[b as usize].weight);
         let left = self.area_vertices.saturating_sub(self.report.collapses);
-        tie_tolerance(
-            self.options.quad.epsilon,
-            self.area,
-            self.area_vertices,
-            left,
-        )
+        tie_tolerance(self.options.quad.epsilon, area, self.area_vertices, left)
     }
 
     /// Brings a current entry to the top of the main queue and returns it
@@ -651,10 +642,11 @@ impl<'o> Run<'o> {
             }
         }
         while let Some((e, cost, _)) = self.settle() {
+            let tolerance = self.tie_tolerance(e);
             let Some(ties) = &mut self.ties else {
                 return;
             };
-            if !ties.same_class(cost) {
+            if !ties.same_class(cost, tolerance) {
                 break;
             }
             self.queue.pop();
