@@ -103,7 +103,8 @@ pub struct SimplifyArgs {
     /// Tolerance under which collapse costs count as equal and are ordered
     /// to keep quads, as a distance relative to the diagonal at the input's
     /// resolution; it grows with the reduction (twice as wide once half the
-    /// vertices are gone). Larger keeps more quads at some cost in accuracy.
+    /// vertices are gone, up to ten times). Larger keeps more quads at some
+    /// cost in accuracy.
     #[arg(long, value_name = "E", default_value_t = wildlod_simplify::QuadSettings::default().epsilon)]
     pub quad_epsilon: f64,
     /// Weight of Knodt 2024's tangent edge quadrics against the face planes

@@ -152,7 +152,7 @@ pub struct QuadSettings {
     /// ε_abs of Knodt Eq. 4, as a distance relative to the bounding-box
     /// diagonal at the input's resolution: a collapse whose cost differs
     /// from the first of its class by less than the cost of moving its own
-    /// vertex by ε·n₀/n (n₀ vertices at the start, n now) is treated as
+    /// vertex by ε·min(n₀/n, 10) (n₀ vertices at the start, n now) is treated as
     /// equal and ordered by recency. Knodt gives ε_abs in raw cost units
     /// (5e-6 on his meshes); wildlod's costs are area-weighted and grow as
     /// vertices take over their neighbours' area, and the deviation of a
@@ -161,8 +161,8 @@ pub struct QuadSettings {
     /// it, and at every stage (too wide at 50% and on finely tessellated
     /// parts, too narrow at 10%).
     ///
-    /// Default 1.5e-3 (so 3e-3 once half the vertices are gone, 1.5e-2 at
-    /// a tenth), by measurement on `corpus/quad` (see
+    /// Default 1.5e-3 (so 3e-3 once half the vertices are gone, 1.5e-2
+    /// from a tenth on), by measurement on `corpus/quad` (see
     /// `docs/evaluation-quads.md`): median quad ratio 0.98 / 0.96 / 0.83
     /// at 50% / 25% / 10% against 0.70 / 0.46 / 0.10 without the ordering,
     /// for 5–8% more mean Chamfer distance. 1.25e-3 keeps fewer quads at
