@@ -204,8 +204,9 @@ fn mean(v: impl Iterator<Item = f64>) -> f64 {
     }
 }
 
-/// Median, or `None` for no values.
-fn median(mut v: Vec<f64>) -> Option<f64> {
+/// Median (the mean of the middle two for an even count), or `None` for
+/// no values: how the summary reduces quad ratios per category.
+pub fn median(mut v: Vec<f64>) -> Option<f64> {
     v.sort_by(f64::total_cmp);
     let n = v.len();
     match n {

@@ -3,18 +3,8 @@
 //! 50% / 25% / 10%, for little more distance than cost order alone.
 #![allow(clippy::unwrap_used)] // test code
 
-use wildlod_bench::evaluation::{evaluate, Config, Row};
+use wildlod_bench::evaluation::{evaluate, median, Config, Row};
 use wildlod_bench::methods::Method;
-
-fn median(mut v: Vec<f64>) -> f64 {
-    v.sort_by(f64::total_cmp);
-    let n = v.len();
-    if n % 2 == 1 {
-        v[n / 2]
-    } else {
-        0.5 * (v[n / 2 - 1] + v[n / 2])
-    }
-}
 
 #[test]
 fn quad_corpus_keeps_knodts_median_quad_ratios_within_ten_percent_chamfer() {
@@ -44,8 +34,8 @@ fn quad_corpus_keeps_knodts_median_quad_ratios_within_ten_percent_chamfer() {
         let (on, off) = (of(Method::Wildlod), of(Method::WildlodNoQuads));
         assert_eq!(on.len(), off.len());
         assert!(on.len() >= 5, "the quad corpus is there: {}", on.len());
-        let quads = median(on.iter().filter_map(|r| r.quad_ratio).collect());
-        let plain = median(off.iter().filter_map(|r| r.quad_ratio).collect());
+        let quads = median(on.iter().filter_map(|r| r.quad_ratio).collect()).unwrap();
+        let plain = median(off.iter().filter_map(|r| r.quad_ratio).collect()).unwrap();
         let mean = |rs: &[&Row]| rs.iter().map(|r| r.chamfer_mean).sum::<f64>() / rs.len() as f64;
         let (c_on, c_off) = (mean(&on), mean(&off));
         eprintln!(
