@@ -417,15 +417,7 @@ mod tests {
     fn introduced_error_subtracts_what_the_endpoints_already_carry() {
         // Knodt Eq. 5 on the two-quad hinge: quads (0,1,2,3) in z = 0 and
         // (1,0,5,4) in y = 0, sharing the x axis from 0 to 1.
-        let pos = vec![
-            DVec3::new(0.0, 0.0, 0.0),
-            DVec3::new(1.0, 0.0, 0.0),
-            DVec3::new(1.0, 1.0, 0.0),
-            DVec3::new(0.0, 1.0, 0.0),
-            DVec3::new(1.0, 0.0, 1.0),
-            DVec3::new(0.0, 0.0, 1.0),
-        ];
-        let (c, _) = Complex::new(pos, &[0, 4, 8], &[0, 1, 2, 3, 1, 0, 5, 4]);
+        let c = crate::tangent::tests::hinge();
         let base = Metric {
             regularization: 0.0,
             boundary_area: false,

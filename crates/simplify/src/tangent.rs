@@ -158,7 +158,7 @@ pub(crate) fn tangent_quadrics(
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
 
     /// The two-quad hinge of issue 5: quads (0,1,2,3) in the plane z = 0 and
@@ -168,7 +168,7 @@ mod tests {
     ///   3 (0,1,0)   2 (1,1,0)        5 (0,0,1)   4 (1,0,1)
     ///   0 (0,0,0)   1 (1,0,0)        (vertical quad above the same edge)
     /// ```
-    fn hinge() -> Complex {
+    pub(crate) fn hinge() -> Complex {
         let pos = vec![
             DVec3::new(0.0, 0.0, 0.0),
             DVec3::new(1.0, 0.0, 0.0),
