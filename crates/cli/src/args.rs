@@ -4,7 +4,7 @@
 
 use std::path::PathBuf;
 
-use clap::{Args, Parser, Subcommand};
+use clap::{Args, Parser, Subcommand, ValueEnum};
 
 /// Levels of detail for real-world meshes: non-manifold, many-component,
 /// triangle soups, textured, quad-dominant, skinned.
@@ -125,6 +125,43 @@ pub struct SimplifyArgs {
     /// no virtual edges, no area term. For comparisons.
     #[arg(long)]
     pub classic: bool,
+    /// How much UVs steer the collapses. Every attribute is fitted at the
+    /// new positions whatever its weight (Hoppe 1999); a weight says how
+    /// much a change of it costs: 1 makes a change across the stream's
+    /// whole range cost as much as moving the surface by the whole
+    /// bounding-box diagonal. Raise it when textures smear; 0 lets geometry
+    /// alone decide.
+    #[arg(long, value_name = "W", default_value_t = wildlod_simplify::AttributeOptions::default().tex_coord_weight)]
+    pub uv_weight: f64,
+    /// How much normals steer the collapses (see --uv-weight).
+    #[arg(long, value_name = "W", default_value_t = wildlod_simplify::AttributeOptions::default().normal_weight)]
+    pub normal_weight: f64,
+    /// How much vertex colors steer the collapses (see --uv-weight).
+    #[arg(long, value_name = "W", default_value_t = wildlod_simplify::AttributeOptions::default().color_weight)]
+    pub color_weight: f64,
+    /// How much skin weights steer the collapses (see --uv-weight); joints
+    /// are fitted per position and written as the input's number of
+    /// influences, summing to 1.
+    #[arg(long, value_name = "W", default_value_t = wildlod_simplify::AttributeOptions::default().skin_weight)]
+    pub skin_weight: f64,
+    /// UV seams, hard normal edges, color and material borders:
+    /// `penalize` crosses a seam only where that costs less than what else
+    /// is left (moving a seam costs its distance, merging two sides costs
+    /// the difference of their values: UV charts apart stay apart);
+    /// `keep` never crosses them (the target may be missed); `ignore` fits
+    /// values across them (for re-baked textures).
+    #[arg(long, value_enum, default_value_t = SeamArg::Penalize)]
+    pub seams: SeamArg,
+    /// Weight of the planes that hold seam vertices on their seam when a
+    /// collapse slides them along it (per squared edge length; 0: seams may
+    /// bend within their charts).
+    #[arg(long, value_name = "W", default_value_t = wildlod_simplify::AttributeOptions::default().seam_weight)]
+    pub seam_weight: f64,
+    /// Output normals: `fit` carries the input's normals through every
+    /// collapse (smooth shading survives); `recompute` derives them from
+    /// the simplified faces, keeping the input's hard edges.
+    #[arg(long, value_enum, default_value_t = NormalArg::Fit)]
+    pub normals: NormalArg,
     /// Allow the output to replace the input file.
     #[arg(long)]
     pub overwrite: bool,
@@ -162,6 +199,18 @@ pub struct CompareArgs {
     /// Seed of the sampling.
     #[arg(long, default_value_t = wildlod_eval::DEFAULT_SEED)]
     pub seed: u64,
+    /// Also compare both files posed at frames of this animation (index
+    /// into the reference's animations; the candidate's animation of the
+    /// same index is used): how a skinned level of detail looks when it
+    /// moves (Knodt 2024 §4 uses the first 50 frames of animation 0).
+    #[arg(long, value_name = "INDEX")]
+    pub animation: Option<usize>,
+    /// Frames to compare with --animation, from time 0.
+    #[arg(long, value_name = "N", default_value_t = 50)]
+    pub frames: usize,
+    /// Frame rate of those frames (glTF animations have times, not frames).
+    #[arg(long, value_name = "FPS", default_value_t = 30.0)]
+    pub fps: f64,
 }
 
 /// Arguments of `wildlod demo`.
@@ -173,4 +222,24 @@ pub struct DemoArgs {
     /// Ratio of triangles the level of detail keeps.
     #[arg(long, default_value_t = 0.1)]
     pub ratio: f64,
+}
+
+/// `--seams`: what happens to attribute seams.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum SeamArg {
+    /// Cross seams only where that costs less than what else is left.
+    Penalize,
+    /// Never cross seams; the target may be missed.
+    Keep,
+    /// Fit values across seams.
+    Ignore,
+}
+
+/// `--normals`: how output normals are made.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum NormalArg {
+    /// Fitted through every collapse, then normalized.
+    Fit,
+    /// Recomputed from the simplified faces, input hard edges kept.
+    Recompute,
 }

@@ -13,6 +13,7 @@
 use glam::DVec3;
 use rayon::prelude::*;
 
+use crate::attributes::{AttrScratch, AttributeState};
 use crate::complex::Complex;
 use crate::options::Metric;
 use crate::quadric::{place, Quadric};
@@ -200,6 +201,7 @@ pub(crate) struct CostModel {
 pub(crate) struct Scratch {
     pub a: Vec<u32>,
     pub b: Vec<u32>,
+    pub attributes: AttrScratch,
 }
 
 impl CostModel {
@@ -209,15 +211,18 @@ impl CostModel {
     }
 
     /// Evaluates collapsing edge `e`: the summed quadric with memory, plus
-    /// the memoryless boundary-area term, minimized (W Eq. 14) with the
+    /// the memoryless boundary-area term, plus the attribute error (Hoppe
+    /// 1999) when `attributes` are given, minimized (W Eq. 14) with the
     /// documented fallback. `None` when the collapse is not allowed (both
-    /// endpoints locked) or its error is not finite.
+    /// endpoints locked, or a seam forbids it) or its error is not finite.
+    #[allow(clippy::too_many_arguments)]
     pub fn evaluate(
         &self,
         c: &Complex,
         q: &[Quadric],
         border: &[bool],
         locked: &[bool],
+        attributes: Option<&AttributeState>,
         e: u32,
         s: &mut Scratch,
     ) -> Option<Evaluation> {
@@ -261,10 +266,19 @@ impl CostModel {
             total += Quadric::point(pi, g * q[i as usize].weight);
             total += Quadric::point(pj, g * q[j as usize].weight);
         }
-        // A fixed vertex (a locked border, or a chunk's edge in the
-        // partitioned path) does not move: the other one comes to it.
-        let fixed_i = (self.lock_borders && bi) || locked.get(i as usize).copied().unwrap_or(false);
-        let fixed_j = (self.lock_borders && bj) || locked.get(j as usize).copied().unwrap_or(false);
+        // A fixed vertex (a locked border, a chunk's edge in the partitioned
+        // path, a seam the collapse must not move) does not move: the other
+        // one comes to it.
+        let mut fixed_i =
+            (self.lock_borders && bi) || locked.get(i as usize).copied().unwrap_or(false);
+        let mut fixed_j =
+            (self.lock_borders && bj) || locked.get(j as usize).copied().unwrap_or(false);
+        if let Some(a) = attributes {
+            let t = a.terms(c, i, j, &mut s.attributes)?;
+            total += t.quadric;
+            fixed_i |= t.fixed_i;
+            fixed_j |= t.fixed_j;
+        }
         let (position, cost) = if fixed_i || fixed_j {
             if fixed_i && fixed_j {
                 return None;
@@ -379,8 +393,8 @@ mod tests {
         let mut s = Scratch::default();
         for e in 0..c.edges.len() as u32 {
             assert_eq!(
-                with.evaluate(&c, &q, &[], &[], e, &mut s),
-                without.evaluate(&c, &q, &[], &[], e, &mut s)
+                with.evaluate(&c, &q, &[], &[], None, e, &mut s),
+                without.evaluate(&c, &q, &[], &[], None, e, &mut s)
             );
         }
     }
@@ -400,7 +414,7 @@ mod tests {
         };
         let mut s = Scratch::default();
         let e = c.edge_between(0, 2).unwrap();
-        let ev = m.evaluate(&c, &q, &[], &[], e, &mut s).unwrap();
+        let ev = m.evaluate(&c, &q, &[], &[], None, e, &mut s).unwrap();
         let plain = CostModel {
             metric: Metric {
                 boundary_area: false,
@@ -408,7 +422,7 @@ mod tests {
             },
             lock_borders: false,
         }
-        .evaluate(&c, &q, &[], &[], e, &mut s)
+        .evaluate(&c, &q, &[], &[], None, e, &mut s)
         .unwrap();
         assert!(ev.cost > plain.cost, "{ev:?} vs {plain:?}");
     }
@@ -437,7 +451,7 @@ mod tests {
             metric: base,
             lock_borders: false,
         }
-        .evaluate(&c, &q, &[], &[], e, &mut Scratch::default())
+        .evaluate(&c, &q, &[], &[], None, e, &mut Scratch::default())
         .unwrap();
         let eq5 = CostModel {
             metric: Metric {
@@ -446,7 +460,7 @@ mod tests {
             },
             lock_borders: false,
         }
-        .evaluate(&c, &q, &[], &[], e, &mut Scratch::default())
+        .evaluate(&c, &q, &[], &[], None, e, &mut Scratch::default())
         .unwrap();
         // Same placement; the cost drops by exactly Q1(p1) + Q2(p2) = 0 + 1/16.
         assert_eq!(plain.position, eq5.position);
@@ -485,7 +499,7 @@ mod tests {
             lock_borders: false,
         };
         let ev = m
-            .evaluate(&c, &q, &[], &[], e, &mut Scratch::default())
+            .evaluate(&c, &q, &[], &[], None, e, &mut Scratch::default())
             .unwrap();
         // Each vertex has area share 1/6 and lies in z = 0: the planes are
         // indifferent within the plane, the gluing term 2·(1/6)·|x−p|² per
@@ -501,7 +515,7 @@ mod tests {
             lock_borders: false,
         };
         assert!(
-            free.evaluate(&c, &q, &[], &[], e, &mut Scratch::default())
+            free.evaluate(&c, &q, &[], &[], None, e, &mut Scratch::default())
                 .unwrap()
                 .cost
                 < 1e-12
@@ -519,7 +533,7 @@ mod tests {
         let mut s = Scratch::default();
         // Every vertex of the hinge is on the border.
         for e in 0..c.edges.len() as u32 {
-            assert_eq!(m.evaluate(&c, &q, &[], &[], e, &mut s), None);
+            assert_eq!(m.evaluate(&c, &q, &[], &[], None, e, &mut s), None);
         }
     }
 }

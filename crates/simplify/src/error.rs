@@ -56,6 +56,15 @@ pub enum Error {
         /// The weight.
         weight: f32,
     },
+    /// An attribute stream (or the skin, `stream == usize::MAX`) does not
+    /// fit the faces it was given with.
+    #[error("attribute stream {stream}: {problem}")]
+    BadAttribute {
+        /// Index of the stream in [`crate::AttributeInput::streams`].
+        stream: usize,
+        /// What is wrong.
+        problem: String,
+    },
     /// The mesh handed to [`crate::simplify_mesh`] is invalid.
     #[error("invalid mesh: {0}")]
     InvalidMesh(String),

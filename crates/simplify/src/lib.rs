@@ -26,6 +26,7 @@
 //! # Ok::<(), wildlod_simplify::Error>(())
 //! ```
 
+mod attributes;
 mod complex;
 mod cost;
 mod error;
@@ -43,12 +44,19 @@ mod symmetry;
 mod tangent;
 mod virtual_edges;
 
+pub use attributes::{
+    AttributeInput, AttributeStream, FittedSkin, FittedStream, SeamPolicy, SkinStream, StreamKind,
+};
 pub use error::Error;
 pub use history::{CollapseRecord, History, RingFace};
 pub use mesh::{simplify_mesh, simplify_mesh_with_progress};
-pub use options::{Guards, Metric, Options, Partition, QuadMode, QuadSettings, Target};
+pub use options::{
+    AttributeOptions, Guards, Metric, NormalMode, Options, Partition, QuadMode, QuadSettings,
+    Target,
+};
 pub use quadric::{place, Placement, Quadric};
 pub use report::{Rejections, Report, StopReason};
 pub use simplify::{
-    simplify_polygons, simplify_polygons_with_progress, simplify_triangles, Simplified,
+    simplify_polygons, simplify_polygons_with_progress, simplify_triangles,
+    simplify_with_attributes, simplify_with_attributes_and_progress, Simplified,
 };

@@ -5,6 +5,7 @@ use glam::DVec3;
 use rayon::prelude::*;
 use wildlod_mesh::Faces;
 
+use crate::attributes::{AttrScratch, AttributeInput, AttributeState};
 use crate::cost::{
     distance, face_plane, vertex_quadrics, CostModel, EdgeImportance, Evaluation, Scratch,
 };
@@ -160,6 +161,9 @@ pub(crate) struct Run<'o> {
     error_limited: bool,
     report: Report,
     history: Option<HistoryRecorder>,
+    /// Attributes fitted through the collapses (Hoppe 1999), when given.
+    attrs: Option<AttributeState>,
+    attr_scratch: AttrScratch,
     scratch: Scratch,
     star: Vec<u32>,
     star_verts: Vec<u32>,
@@ -174,7 +178,7 @@ impl<'o> Run<'o> {
     /// Without star lists (see [`Complex::faces_only`]) the virtual edges are
     /// found but added only once the complex gets its adjacency, in
     /// [`Run::start`].
-    pub fn new(mut p: Prepared, options: &'o Options) -> Self {
+    pub fn new(mut p: Prepared, options: &'o Options, attrs: Option<AttributeState>) -> Self {
         let quads = p.complex.faces.iter().filter(|f| f.len == 4).count();
         let quads_active = options.quads_active(quads);
         let metric = options.effective_metric(quads_active);
@@ -198,7 +202,13 @@ impl<'o> Run<'o> {
             symmetry: &symmetry,
             joints: &joints,
         };
-        let quadrics = vertex_quadrics(&p.complex, &metric, &p.weights, importance);
+        let mut quadrics = vertex_quadrics(&p.complex, &metric, &p.weights, importance);
+        if let Some(a) = &attrs {
+            let planes = a.seam_planes(&p.complex, options.attributes.seam_weight);
+            for (q, plane) in quadrics.iter_mut().zip(planes) {
+                *q += plane;
+            }
+        }
         let model = CostModel {
             metric,
             lock_borders: options.guards.lock_borders,
@@ -237,6 +247,8 @@ impl<'o> Run<'o> {
             progress_start: 0,
             error_limited: false,
             report,
+            attrs,
+            attr_scratch: AttrScratch::default(),
             scratch: Scratch::default(),
             star: Vec::new(),
             star_verts: Vec::new(),
@@ -284,6 +296,8 @@ impl<'o> Run<'o> {
                 target_triangles: target,
                 ..Report::default()
             },
+            attrs: None,
+            attr_scratch: AttrScratch::default(),
             scratch: Scratch::default(),
             star: Vec::new(),
             star_verts: Vec::new(),
@@ -347,8 +361,13 @@ impl<'o> Run<'o> {
         } else {
             Vec::new()
         };
-        let (model, quadrics, border, locked) =
-            (&self.model, &self.quadrics, &self.border, &self.locked);
+        let (model, quadrics, border, locked, attrs) = (
+            &self.model,
+            &self.quadrics,
+            &self.border,
+            &self.locked,
+            self.attrs.as_ref(),
+        );
         let entries: Vec<Entry> = (0..c.edges.len() as u32)
             .into_par_iter()
             .map_init(Scratch::default, |s, e| {
@@ -356,7 +375,7 @@ impl<'o> Run<'o> {
                     return None;
                 }
                 model
-                    .evaluate(c, quadrics, border, locked, e, s)
+                    .evaluate(c, quadrics, border, locked, attrs, e, s)
                     .map(|ev| Entry {
                         cost: ev.cost,
                         edge: e,
@@ -445,6 +464,7 @@ impl<'o> Run<'o> {
                     &self.quadrics,
                     &self.border,
                     &self.locked,
+                    self.attrs.as_ref(),
                     e,
                     &mut self.scratch,
                 )
@@ -582,6 +602,7 @@ impl<'o> Run<'o> {
                 &self.quadrics,
                 &self.border,
                 &self.locked,
+                self.attrs.as_ref(),
                 top.edge,
                 &mut self.scratch,
             );
@@ -708,6 +729,10 @@ impl<'o> Run<'o> {
         if let Some(h) = &mut self.history {
             h.before(c, &self.star, i, j);
         }
+        let plan = self
+            .attrs
+            .as_ref()
+            .map(|a| a.plan(c, i, j, &mut self.attr_scratch));
         let prefer_removed = pj.distance_squared(ev.position) < pi.distance_squared(ev.position);
         let outcome = c.collapse(e, i, ev.position, prefer_removed, &mut self.changed);
         for &k in &c.killed {
@@ -722,6 +747,9 @@ impl<'o> Run<'o> {
         self.moved[i as usize] = true;
         self.merged_into[j as usize] = i;
         self.quadrics[i as usize] = self.quadrics[i as usize] + self.quadrics[j as usize];
+        if let (Some(a), Some(plan)) = (&mut self.attrs, plan) {
+            a.commit(c, i, j, plan, pi, pj);
+        }
         if let Some(h) = &mut self.history {
             h.after(c, i, j);
         }
@@ -812,7 +840,7 @@ impl<'o> Run<'o> {
 
     /// The live faces in input order, positions de-normalized (untouched
     /// vertices keep their input bits), and the maps back to the input.
-    pub fn assemble(self) -> Simplified {
+    pub fn assemble(self, input: &AttributeInput<'_>) -> Simplified {
         let c = &self.p.complex;
         let nv = c.pos.len();
         let mut out_id = vec![u32::MAX; nv];
@@ -864,6 +892,27 @@ impl<'o> Run<'o> {
             .iter()
             .map(|&w| out_id[root[w as usize] as usize])
             .collect();
+        let (attributes, skin) = match &self.attrs {
+            Some(a) => {
+                // The run's vertex of every output corner and vertex.
+                let mut vertex_of = vec![0u32; positions.len()];
+                for (v, &o) in out_id.iter().enumerate() {
+                    if o != u32::MAX {
+                        vertex_of[o as usize] = v as u32;
+                    }
+                }
+                let corner_vertex: Vec<u32> = faces
+                    .indices
+                    .iter()
+                    .map(|&o| vertex_of[o as usize])
+                    .collect();
+                (
+                    a.output(input, &corner_origin, &corner_vertex, &c.pos, &self.moved),
+                    a.output_skin(&vertex_of, &c.pos),
+                )
+            }
+            None => (Vec::new(), None),
+        };
         let mut report = self.report;
         report.output_triangles = c.triangles;
         Simplified {
@@ -872,6 +921,8 @@ impl<'o> Run<'o> {
             face_origin,
             corner_origin,
             vertex_map,
+            attributes,
+            skin,
             report,
             history: self.history.map(HistoryRecorder::finish),
         }

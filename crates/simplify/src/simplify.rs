@@ -7,6 +7,7 @@ use glam::DVec3;
 use wildlod_mesh::weld::weld_positions;
 use wildlod_mesh::Faces;
 
+use crate::attributes::{AttributeInput, AttributeState, FittedSkin, FittedStream};
 use crate::complex::Complex;
 use crate::error::Error;
 use crate::history::History;
@@ -30,6 +31,11 @@ pub struct Simplified {
     /// For every input vertex, the output vertex it merged into
     /// (`u32::MAX` when its faces all vanished).
     pub vertex_map: Vec<u32>,
+    /// The attribute streams given to [`simplify_with_attributes`], fitted
+    /// (in the order given; empty without attributes).
+    pub attributes: Vec<FittedStream>,
+    /// The skin influences, one set per output vertex, when given.
+    pub skin: Option<FittedSkin>,
     /// What was reached, and why it stopped.
     pub report: Report,
     /// The collapse history, when [`Options::record_history`] was set.
@@ -62,13 +68,106 @@ pub fn simplify_polygons_with_progress(
     options: &Options,
     progress: &dyn Fn(f64),
 ) -> Result<Simplified, Error> {
+    simplify_with_attributes_and_progress(
+        positions,
+        faces,
+        &AttributeInput::default(),
+        options,
+        progress,
+    )
+}
+
+/// [`simplify_polygons`] with attributes (UV sets, normals, colors, morph
+/// deltas, skin weights; like meshoptimizer's `simplifyWithAttributes`,
+/// as plain arrays): they steer the collapses through Hoppe's attribute
+/// quadrics (weights per stream), keep their seams (see
+/// [`crate::SeamPolicy`]), and come back fitted at the output positions in
+/// [`Simplified::attributes`] and [`Simplified::skin`].
+///
+/// ```
+/// use wildlod_simplify::{simplify_with_attributes, AttributeInput, AttributeStream, Options, StreamKind, Target};
+/// use wildlod_mesh::shapes;
+/// // A grid whose UV is its (x, y): a linear field survives exactly.
+/// let grid = shapes::quad_grid(8, 8);
+/// let uv: Vec<f32> = grid.positions.iter().flat_map(|p| [p[0], p[1]]).collect();
+/// let indices = grid.faces.indices.clone();
+/// let input = AttributeInput {
+///     streams: vec![AttributeStream {
+///         components: 2,
+///         values: &uv,
+///         indices: &indices,
+///         weight: 1.0,
+///         seams: true,
+///         kind: StreamKind::TexCoord,
+///     }],
+///     ..AttributeInput::default()
+/// };
+/// let options = Options { target: Target { ratio: Some(0.1), ..Target::default() }, ..Options::default() };
+/// let out = simplify_with_attributes(&grid.positions, &grid.faces, &input, &options)?;
+/// let fitted = &out.attributes[0];
+/// for (corner, &v) in out.faces.indices.iter().enumerate() {
+///     let p = out.positions[v as usize];
+///     let i = fitted.indices[corner] as usize;
+///     assert!((fitted.values[2 * i] - p[0]).abs() < 1e-5);
+///     assert!((fitted.values[2 * i + 1] - p[1]).abs() < 1e-5);
+/// }
+/// # Ok::<(), wildlod_simplify::Error>(())
+/// ```
+pub fn simplify_with_attributes(
+    positions: &[[f32; 3]],
+    faces: &Faces,
+    attributes: &AttributeInput<'_>,
+    options: &Options,
+) -> Result<Simplified, Error> {
+    simplify_with_attributes_and_progress(positions, faces, attributes, options, &|_| {})
+}
+
+/// [`simplify_with_attributes`] with a progress callback (see
+/// [`simplify_polygons_with_progress`]).
+pub fn simplify_with_attributes_and_progress(
+    positions: &[[f32; 3]],
+    faces: &Faces,
+    attributes: &AttributeInput<'_>,
+    options: &Options,
+    progress: &dyn Fn(f64),
+) -> Result<Simplified, Error> {
     check_input(positions, faces, options)?;
-    let prepared = prepare(positions, faces, options);
-    let mut run = Run::new(prepared, options);
+    if !(options.attributes.seam_weight >= 0.0 && options.attributes.seam_weight.is_finite()) {
+        return Err(Error::BadOption {
+            name: "attributes.seam_weight",
+            value: options.attributes.seam_weight,
+        });
+    }
+    let with_attributes = !attributes.is_empty();
+    let prepared = prepare(positions, faces, options, with_attributes);
+    let attrs = if with_attributes {
+        let corner_vertex: Vec<u32> = faces
+            .indices
+            .iter()
+            .map(|&v| prepared.weld[v as usize])
+            .collect();
+        let quads = faces.arity_counts().1;
+        let factor = if options.quads_active(quads) {
+            options.quad.attribute_weight
+        } else {
+            1.0
+        };
+        Some(AttributeState::new(
+            attributes,
+            &corner_vertex,
+            &prepared.complex,
+            &prepared.weights,
+            options.attributes.seams,
+            factor,
+        )?)
+    } else {
+        None
+    };
+    let mut run = Run::new(prepared, options, attrs);
     run.start(progress);
     run.collapse_loop(progress);
     progress(1.0);
-    Ok(run.assemble())
+    Ok(run.assemble(attributes))
 }
 
 /// Simplifies a triangle list (three indices per triangle); see
@@ -139,6 +238,7 @@ fn check_input(positions: &[[f32; 3]], faces: &Faces, options: &Options) -> Resu
         ("quad.tangent_weight", o.quad.tangent_weight),
         ("quad.symmetry", o.quad.symmetry),
         ("quad.joints", o.quad.joints),
+        ("quad.attribute_weight", o.quad.attribute_weight),
         ("partition.handoff", o.partition.handoff),
     ];
     for (name, value) in non_negative {
@@ -187,7 +287,12 @@ pub(crate) struct Prepared {
     pub input: Vec<[f32; 3]>,
 }
 
-pub(crate) fn prepare(positions: &[[f32; 3]], faces: &Faces, options: &Options) -> Prepared {
+pub(crate) fn prepare(
+    positions: &[[f32; 3]],
+    faces: &Faces,
+    options: &Options,
+    with_attributes: bool,
+) -> Prepared {
     let (weld, nw) = weld_positions(positions);
     let mut rep = vec![u32::MAX; nw];
     for (v, &w) in weld.iter().enumerate() {
@@ -215,7 +320,8 @@ pub(crate) fn prepare(positions: &[[f32; 3]], faces: &Faces, options: &Options) 
     let indices: Vec<u32> = faces.indices.iter().map(|&v| weld[v as usize]).collect();
     // The partitioned path works on faces alone until its last pass: the
     // star lists would be built for nothing.
-    let (complex, cleaned) = if crate::run::may_partition(faces, options) {
+    // Attribute wedges live on the global complex: no partitioned phase.
+    let (complex, cleaned) = if !with_attributes && crate::run::may_partition(faces, options) {
         Complex::faces_only(pos, &faces.offsets, &indices)
     } else {
         Complex::new(pos, &faces.offsets, &indices)

@@ -6,8 +6,8 @@ mod common;
 use common::{bumpy_sphere, euler, ratio, soup, topo};
 use wildlod_mesh::{shapes, Attribute, ComponentFormat, Faces, Mesh, Semantic};
 use wildlod_simplify::{
-    simplify_mesh, simplify_polygons, simplify_triangles, Error, Guards, Options, StopReason,
-    Target,
+    simplify_mesh, simplify_polygons, simplify_triangles, simplify_with_attributes, AttributeInput,
+    AttributeStream, Error, Guards, Options, StopReason, StreamKind, Target,
 };
 
 #[test]
@@ -235,14 +235,28 @@ fn attributes_and_parts_follow_their_corners() {
     let options = ratio(0.3);
     let (out, _) = simplify_mesh(&grid, &options).unwrap();
     out.validate().unwrap();
-    // The same run on plain arrays says which input corner and face every
-    // output corner and face is; the mesh's streams must follow them.
-    let s = simplify_polygons(&grid.positions, &grid.faces, &options).unwrap();
-    assert_eq!(out.faces, s.faces);
+    // The same run on plain arrays, with the UVs as simplify_mesh weighs
+    // them, says which input face every output face is and gives the fitted
+    // UVs; the mesh's parts and streams must follow them.
     let uv_in = grid.attribute(&Semantic::TexCoord(0)).unwrap();
+    let input = AttributeInput {
+        streams: vec![AttributeStream {
+            components: 2,
+            values: &uv_in.values,
+            indices: &uv_in.indices,
+            weight: options.attributes.tex_coord_weight,
+            seams: true,
+            kind: StreamKind::TexCoord,
+        }],
+        ..AttributeInput::default()
+    };
+    let s = simplify_with_attributes(&grid.positions, &grid.faces, &input, &options).unwrap();
+    assert_eq!(out.faces, s.faces);
     let uv = out.attribute(&Semantic::TexCoord(0)).unwrap();
-    for (c, &origin) in s.corner_origin.iter().enumerate() {
-        assert_eq!(uv.corner_value(c), uv_in.corner_value(origin as usize));
+    let fitted = &s.attributes[0];
+    for c in 0..s.corner_origin.len() {
+        let i = fitted.indices[c] as usize;
+        assert_eq!(uv.corner_value(c), Some(&fitted.values[2 * i..2 * i + 2]));
     }
     for (f, &origin) in s.face_origin.iter().enumerate() {
         assert_eq!(out.face_parts[f], grid.face_parts[origin as usize]);

@@ -7,10 +7,11 @@ use anyhow::{bail, Context};
 use wildlod_io::{Document, WriteOptions};
 use wildlod_mesh::Scene;
 use wildlod_simplify::{
-    simplify_mesh_with_progress, Guards, Options, QuadMode, Report, StopReason, Target,
+    simplify_mesh_with_progress, AttributeOptions, Guards, NormalMode, Options, QuadMode, Report,
+    SeamPolicy, StopReason, Target,
 };
 
-use crate::args::SimplifyArgs;
+use crate::args::{NormalArg, SeamArg, SimplifyArgs};
 use crate::progress::Progress;
 use crate::stdout::emit;
 
@@ -56,6 +57,11 @@ impl Config {
         for (flag, value) in [
             ("--tangent-weight", a.tangent_weight),
             ("--symmetry", a.symmetry),
+            ("--uv-weight", a.uv_weight),
+            ("--normal-weight", a.normal_weight),
+            ("--color-weight", a.color_weight),
+            ("--skin-weight", a.skin_weight),
+            ("--seam-weight", a.seam_weight),
         ] {
             if !(value.is_finite() && value >= 0.0) {
                 bail!("{flag} must be a non-negative number, got {value}");
@@ -93,6 +99,22 @@ impl Config {
         options.metric.tangent_weight = tangent;
         options.quad.tangent_weight = tangent;
         options.quad.symmetry = a.symmetry;
+        options.attributes = AttributeOptions {
+            tex_coord_weight: a.uv_weight,
+            normal_weight: a.normal_weight,
+            color_weight: a.color_weight,
+            skin_weight: a.skin_weight,
+            seams: match a.seams {
+                SeamArg::Keep => SeamPolicy::Keep,
+                SeamArg::Penalize => SeamPolicy::Penalize,
+                SeamArg::Ignore => SeamPolicy::Ignore,
+            },
+            normals: match a.normals {
+                NormalArg::Fit => NormalMode::Fit,
+                NormalArg::Recompute => NormalMode::Recompute,
+            },
+            seam_weight: a.seam_weight,
+        };
         options.guards = Guards {
             max_normal_turn_degrees: (a.max_normal_turn < 180.0).then_some(a.max_normal_turn),
             keep_topology: a.keep_topology,

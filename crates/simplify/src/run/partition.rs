@@ -53,6 +53,7 @@ pub(super) fn applies(run: &Run) -> bool {
     let p = &o.partition;
     !o.record_history
         && !run.quads_active
+        && run.attrs.is_none()
         && run.p.complex.triangles >= p.min_triangles
         && p.chunk_faces > 0
         && chunk_count(run) >= 2
