@@ -7,6 +7,7 @@ use wildlod_geometry::TriangleSet;
 
 use crate::eval_mesh::{EvalMesh, FaceCounts};
 use crate::sampling::{chunk_count, chunk_len, AreaSampler, Stream, CHUNK};
+use crate::shading::normal_chamfer;
 use crate::texture::texture_chamfer;
 
 /// The default seed ("wildlod" in ASCII): fixed, so that two runs of the
@@ -119,6 +120,20 @@ pub struct Comparison {
     pub texture_chamfer_ref_to_cand: Option<f64>,
     /// Texture Chamfer from the candidate's samples to the reference's.
     pub texture_chamfer_cand_to_ref: Option<f64>,
+    /// Normal Chamfer distance: the texture Chamfer scheme on shading
+    /// normals — the mean angle in degrees (0 to 90: orientation is
+    /// ignored, so the two sides of a thin shell do not count as flipped)
+    /// between each sample's shading normal (the mesh's normals
+    /// interpolated, or the face's own where it has none) and that of the
+    /// spatially closest sample of the other surface, averaged over both
+    /// directions. What lighting shows of the
+    /// difference. `None` when either surface has no area (uses
+    /// `texture_samples` samples).
+    pub normal_chamfer: Option<f64>,
+    /// Normal Chamfer from the reference's samples to the candidate's.
+    pub normal_chamfer_ref_to_cand: Option<f64>,
+    /// Normal Chamfer from the candidate's samples to the reference's.
+    pub normal_chamfer_cand_to_ref: Option<f64>,
     /// Face counts of the reference.
     pub reference: FaceCounts,
     /// Face counts of the candidate.
@@ -289,6 +304,12 @@ pub fn compare(reference: &EvalMesh, candidate: &EvalMesh, options: &CompareOpti
         options.texture_samples,
         options.seed,
     );
+    let normals = normal_chamfer(
+        (reference, &ref_sampler),
+        (candidate, &cand_sampler),
+        options.texture_samples,
+        options.seed,
+    );
     if texture.is_none() && options.texture_samples > 0 {
         for (name, m) in [("reference", reference), ("candidate", candidate)] {
             if !m.has_texture() {
@@ -323,6 +344,9 @@ pub fn compare(reference: &EvalMesh, candidate: &EvalMesh, options: &CompareOpti
         texture_chamfer: texture.map(|(a, b)| 0.5 * (a + b)),
         texture_chamfer_ref_to_cand: texture.map(|t| t.0),
         texture_chamfer_cand_to_ref: texture.map(|t| t.1),
+        normal_chamfer: normals.map(|(a, b)| 0.5 * (a + b)),
+        normal_chamfer_ref_to_cand: normals.map(|t| t.0),
+        normal_chamfer_cand_to_ref: normals.map(|t| t.1),
         reference: rc,
         candidate: cc,
         notes,

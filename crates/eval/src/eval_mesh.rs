@@ -97,6 +97,9 @@ pub struct EvalMesh<'a> {
     /// UV of every triangle corner (three per triangle); `[0, 0]` where the
     /// corner has none.
     uvs: Vec<[f32; 2]>,
+    /// Shading normal of every triangle corner (three per triangle): the
+    /// mesh's normal, or the triangle's own where the corner has none.
+    normals: Vec<[f32; 3]>,
     /// Color source of every triangle.
     sources: Vec<u32>,
     colors: Vec<ColorSource<'a>>,
@@ -252,7 +255,22 @@ impl<'a> EvalMesh<'a> {
                 .get(part)
                 .copied()
                 .unwrap_or((DEFAULT_SOURCE, None));
+            let normals = tri
+                .attribute(&Semantic::Normal)
+                .filter(|a| a.components == 3);
+            let [a, b, c] = [0, 1, 2].map(|k| self.positions[(base + face[k]) as usize]);
+            let own = (b - a).cross(c - a).normalize_or_zero();
             for c in tri.faces.corner_range(f) {
+                let n = normals
+                    .and_then(|a| {
+                        let i = *a.indices.get(c)?;
+                        let v = (i as usize) < a.value_count();
+                        v.then(|| a.value(i))
+                    })
+                    .filter(|v| v.iter().all(|x| x.is_finite()))
+                    .map(|v| [v[0], v[1], v[2]])
+                    .unwrap_or([own.x as f32, own.y as f32, own.z as f32]);
+                self.normals.push(n);
                 let value = uv.and_then(|a| {
                     let i = *a.indices.get(c)?;
                     if a.components < 2 || i as usize >= a.value_count() {
@@ -352,6 +370,19 @@ impl<'a> EvalMesh<'a> {
             None => [1.0; 4],
         };
         std::array::from_fn(|k| (texel[k] * src.factor[k]).clamp(0.0, 1.0))
+    }
+}
+
+impl EvalMesh<'_> {
+    /// Shading normal (unit) at barycentrics `bary` of triangle `t`: the
+    /// corners' normals interpolated and normalized (zero where they cancel).
+    pub fn normal_at(&self, t: usize, bary: [f64; 3]) -> DVec3 {
+        let n = &self.normals[3 * t..3 * t + 3];
+        let mut sum = DVec3::ZERO;
+        for (corner, &w) in n.iter().zip(&bary) {
+            sum += w * DVec3::from(corner.map(f64::from));
+        }
+        sum.normalize_or_zero()
     }
 }
 

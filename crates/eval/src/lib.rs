@@ -3,7 +3,10 @@
 //! - Hausdorff and Chamfer distances between surfaces, normalized by the
 //!   reference's bounding-box diagonal (W §5, Table 1);
 //! - the quad ratio of a quad-dominant reduction (Knodt 2024 §4);
-//! - the texture Chamfer distance (W §5, Table 2, after Yuan et al. 2018).
+//! - the texture Chamfer distance (W §5, Table 2, after Yuan et al. 2018),
+//!   and the same scheme on shading normals (the normal Chamfer distance);
+//! - any of these at the frames of an animation ([`posed`]), as Knodt 2024
+//!   §4 measures skinned meshes.
 //!
 //! Build an [`EvalMesh`] for each side ([`EvalMesh::from_scene`] flattens a
 //! file's instances to world space), then call [`compare`]:
@@ -26,8 +29,12 @@
 
 mod compare;
 mod eval_mesh;
+mod paired;
+mod pose;
 mod sampling;
+mod shading;
 mod texture;
 
 pub use compare::{compare, CompareOptions, Comparison, DEFAULT_SEED};
 pub use eval_mesh::{EvalMesh, FaceCounts, InstanceCounts};
+pub use pose::posed;

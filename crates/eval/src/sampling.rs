@@ -24,6 +24,7 @@ pub(crate) const CHUNK: usize = 2048;
 pub(crate) enum Stream {
     Surface = 1,
     Texture = 2,
+    Normal = 3,
 }
 
 /// SplitMix64 (Steele, Lea and Flood 2014): small, fast, and good enough

@@ -34,6 +34,7 @@ pub use faces::{FaceIter, Faces};
 pub use image::Image;
 pub use mesh::{Mesh, Part};
 pub use scene::{
-    AlphaMode, Animation, ImageSource, Material, Node, Scene, Skin, Texture, TextureRef, IDENTITY,
+    AlphaMode, Animation, ImageSource, Interpolation, Material, Node, Scene, Skin, Texture,
+    TextureRef, Track, TrackPath, IDENTITY,
 };
 pub use validate::{Invalid, ValidationErrors};

@@ -73,7 +73,9 @@ pub struct Skin {
     pub skeleton: Option<u32>,
 }
 
-/// An animation, summarized.
+/// An animation: its summary and its keyframe tracks (for posing a skinned
+/// mesh, e.g. to measure a level of detail at animation frames; writers
+/// keep the source's own animation data).
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Animation {
     /// Animation name.
@@ -82,6 +84,51 @@ pub struct Animation {
     pub channels: usize,
     /// Largest keyframe time, in seconds.
     pub duration: f32,
+    /// The channels' keyframes, one track per channel whose target node
+    /// exists (morph weight channels included).
+    pub tracks: Vec<Track>,
+}
+
+/// The node property a track animates (glTF `channel.target.path`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum TrackPath {
+    /// Translation, 3 floats per key.
+    Translation,
+    /// Rotation, a unit quaternion (x, y, z, w) per key.
+    Rotation,
+    /// Scale, 3 floats per key.
+    Scale,
+    /// Morph target weights, one float per target per key.
+    Weights,
+}
+
+/// How values between keyframes are found (glTF `sampler.interpolation`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Interpolation {
+    /// Linear (spherical linear for rotations).
+    #[default]
+    Linear,
+    /// The previous key's value.
+    Step,
+    /// Cubic Hermite spline; each key holds (in-tangent, value,
+    /// out-tangent).
+    CubicSpline,
+}
+
+/// One animated property of one node.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Track {
+    /// The animated node.
+    pub node: u32,
+    /// Which property.
+    pub path: TrackPath,
+    /// How to interpolate.
+    pub interpolation: Interpolation,
+    /// Key times in seconds, increasing.
+    pub times: Vec<f32>,
+    /// Key values, flat: per key the property's floats (three times that
+    /// for cubic splines).
+    pub values: Vec<f32>,
 }
 
 /// How a material's alpha is interpreted (glTF `alphaMode`).

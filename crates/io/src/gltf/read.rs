@@ -9,8 +9,9 @@ use gltf_json::validation::Checked;
 use gltf_json::Root;
 use serde_json::Value;
 use wildlod_mesh::{
-    AlphaMode, Animation, Attribute, ComponentFormat, ImageSource, Material, Mesh, MorphChannel,
-    Node, Part, Scene, Semantic, Skin, Skinning, Texture, TextureRef, ABSENT, IDENTITY,
+    AlphaMode, Animation, Attribute, ComponentFormat, ImageSource, Interpolation, Material, Mesh,
+    MorphChannel, Node, Part, Scene, Semantic, Skin, Skinning, Texture, TextureRef, Track,
+    TrackPath, ABSENT, IDENTITY,
 };
 
 use super::accessor::Data;
@@ -906,10 +907,41 @@ fn read_animations(d: &Data<'_>) -> Result<Vec<Animation>, ErrorKind> {
             };
             duration = duration.max(t);
         }
+        let mut tracks = Vec::with_capacity(a.channels.len());
+        for ch in &a.channels {
+            let node = ch.target.node.value();
+            let Some(sampler) = a.samplers.get(ch.sampler.value()) else {
+                continue;
+            };
+            if node >= d.root.nodes.len() {
+                continue;
+            }
+            use gltf_json::animation::{Interpolation as I, Property};
+            let path = match ch.target.path {
+                Checked::Valid(Property::Translation) => TrackPath::Translation,
+                Checked::Valid(Property::Rotation) => TrackPath::Rotation,
+                Checked::Valid(Property::Scale) => TrackPath::Scale,
+                Checked::Valid(Property::MorphTargetWeights) => TrackPath::Weights,
+                Checked::Invalid => continue,
+            };
+            let interpolation = match sampler.interpolation {
+                Checked::Valid(I::Step) => Interpolation::Step,
+                Checked::Valid(I::CubicSpline) => Interpolation::CubicSpline,
+                _ => Interpolation::Linear,
+            };
+            tracks.push(Track {
+                node: node as u32,
+                path,
+                interpolation,
+                times: d.floats(sampler.input.value())?.values,
+                values: d.floats(sampler.output.value())?.values,
+            });
+        }
         out.push(Animation {
             name: a.name.clone().unwrap_or_default(),
             channels: a.channels.len(),
             duration,
+            tracks,
         });
     }
     Ok(out)
