@@ -148,8 +148,8 @@ pub struct SimplifyArgs {
     /// `penalize` crosses a seam only where that costs less than what else
     /// is left (moving a seam costs its distance, merging two sides costs
     /// the difference of their values: UV charts apart stay apart);
-    /// `keep` never crosses them (the target may be missed); `ignore` fits
-    /// values across them (for re-baked textures).
+    /// `keep` never crosses them (the target may be missed); `ignore`
+    /// lets them move and close like any edge (for re-baked textures).
     #[arg(long, value_enum, default_value_t = SeamArg::Penalize)]
     pub seams: SeamArg,
     /// Weight of the planes that hold seam vertices on their seam when a
@@ -231,7 +231,7 @@ pub enum SeamArg {
     Penalize,
     /// Never cross seams; the target may be missed.
     Keep,
-    /// Fit values across seams.
+    /// Let seams move and close like any edge.
     Ignore,
 }
 

@@ -38,8 +38,9 @@ pub enum SeamPolicy {
     /// a seam's corners and junctions stay; the run may stop short of its
     /// target (like meshoptimizer).
     Keep,
-    /// Seams are not kept: values are fitted across them (for meshes whose
-    /// textures are re-baked).
+    /// Seams get no protection: they move and close like any other edge
+    /// (each side still keeps its own value until a collapse merges them).
+    /// For meshes whose textures are re-baked.
     Ignore,
 }
 
