@@ -25,6 +25,7 @@ mod mesh;
 mod scene;
 pub mod shapes;
 pub mod stats;
+pub mod tangents;
 pub mod transform;
 mod validate;
 pub mod weld;
