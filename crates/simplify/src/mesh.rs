@@ -123,6 +123,22 @@ pub fn simplify_mesh_with_progress(
             }
         }
     }
+    if let Some(k) = out
+        .attributes
+        .iter()
+        .position(|a| a.semantic == Semantic::Tangent)
+    {
+        // Tangents follow from normals and UVs: a renderer (or a normal map
+        // baked for this mesh) rebuilds them with MikkTSpace, so they are
+        // regenerated that way rather than fitted. UV set 0 is the one
+        // normal maps use unless a material says otherwise; where MikkTSpace
+        // cannot run (no normals), the fitted tangents stay.
+        if let Ok(t) = wildlod_mesh::tangents::generate_tangents(&out, 0) {
+            let a = &mut out.attributes[k];
+            a.values = t.values;
+            a.indices = t.indices;
+        }
+    }
     if let (Some(src), Some(fitted)) = (&mesh.skinning, s.skin) {
         out.skinning = Some(Skinning {
             influences: src.influences,

@@ -407,3 +407,78 @@ fn a_checkerboard_keeps_its_squares_at_ten_percent() {
         "copied UVs pass too ({control} against {sampling}): the bound proves nothing"
     );
 }
+
+/// `grid` with a constant normal, a stream, and the value of `stream` at
+/// every vertex.
+fn with_stream(
+    mut m: Mesh,
+    semantic: Semantic,
+    components: u8,
+    value: impl Fn([f32; 3]) -> Vec<f32>,
+) -> Mesh {
+    let values: Vec<f32> = m.positions.iter().flat_map(|&p| value(p)).collect();
+    let indices = m.faces.indices.clone();
+    m.attributes.push(Attribute {
+        semantic,
+        components,
+        values,
+        indices,
+        format: ComponentFormat::F32,
+    });
+    m
+}
+
+#[test]
+fn tangents_are_regenerated_from_the_simplified_normals_and_uvs() {
+    // Stored tangents are wrong on purpose (along +y); UVs run along +x, so
+    // MikkTSpace's tangents for the output run along +x.
+    let m = with_stream(grid(24, |p| [p[0], p[1]]), Semantic::Normal, 3, |_| {
+        vec![0.0, 0.0, 1.0]
+    });
+    let m = with_stream(m, Semantic::Tangent, 4, |_| vec![0.0, 1.0, 0.0, 1.0]);
+    let (out, _) = simplify_mesh(&m, &ratio(0.1)).unwrap();
+    let t = out.attribute(&Semantic::Tangent).unwrap();
+    for c in 0..out.faces.indices.len() {
+        let v = t.corner_value(c).unwrap();
+        assert!(
+            (v[0] - 1.0).abs() < 1e-4 && v[1].abs() < 1e-4 && v[2].abs() < 1e-4,
+            "{v:?}"
+        );
+        assert_eq!(v[3].abs(), 1.0);
+    }
+}
+
+#[test]
+fn morph_deltas_follow_the_fit_and_stay_one_per_position() {
+    // A target that lifts the sheet by 0.1·x, stored per corner with the
+    // two-chart UV seam of `two_charts` (so the seam's copies carry it
+    // twice).
+    let mut m = two_charts(40);
+    let deltas: Vec<f32> = m
+        .positions
+        .iter()
+        .flat_map(|p| [0.0, 0.0, 0.1 * p[0]])
+        .collect();
+    let indices = m.faces.indices.clone();
+    m.attributes.push(Attribute {
+        semantic: Semantic::Morph {
+            target: 0,
+            channel: wildlod_mesh::MorphChannel::Position,
+        },
+        components: 3,
+        values: deltas,
+        indices,
+        format: ComponentFormat::F32,
+    });
+    let (out, _) = simplify_mesh(&m, &ratio(0.05)).unwrap();
+    assert!(out.vertices_moved_from(&m));
+    let d = &out.attributes[1];
+    for (c, &v) in out.faces.indices.iter().enumerate() {
+        let p = out.positions[v as usize];
+        let got = d.corner_value(c).unwrap();
+        assert!(
+            (got[2] - 0.1 * p[0]).abs() < 1e-5 && got[0] == 0.0,
+            "{p:?}: {got:?}"
+        );
+    }
+}
