@@ -239,6 +239,9 @@ fn skinned_tube(nu: usize, nv: usize) -> Mesh {
     m
 }
 
+/// Joints and weight bits of one skin entry, sorted.
+type InfluenceSet = Vec<(u16, u32)>;
+
 #[test]
 fn skins_keep_one_normalized_influence_set_per_position() {
     let input = skinned_tube(24, 40);
@@ -247,7 +250,7 @@ fn skins_keep_one_normalized_influence_set_per_position() {
         out.validate().unwrap();
         let s = out.skinning.as_ref().unwrap();
         assert_eq!(s.influences, 4);
-        let mut by_position: Vec<([f32; 3], Vec<(u16, u32)>)> = Vec::new();
+        let mut by_position: Vec<([f32; 3], InfluenceSet)> = Vec::new();
         for (corner, &v) in out.faces.indices.iter().enumerate() {
             let e = s.indices[corner];
             assert_ne!(e, ABSENT);
@@ -255,7 +258,7 @@ fn skins_keep_one_normalized_influence_set_per_position() {
             let sum: f32 = ws.iter().sum();
             assert!((sum - 1.0).abs() <= 1e-6, "weights sum to {sum}");
             assert!(ws.iter().filter(|&&w| w > 0.0).count() <= 4);
-            let mut set: Vec<(u16, u32)> = js
+            let mut set: InfluenceSet = js
                 .iter()
                 .zip(ws)
                 .filter(|(_, &w)| w > 0.0)
