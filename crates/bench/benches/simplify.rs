@@ -14,6 +14,7 @@ use std::path::{Path, PathBuf};
 use std::time::Duration;
 
 use criterion::{BenchmarkId, Criterion, Throughput};
+use wildlod_bench::mean_seconds;
 use wildlod_bench::methods::{flatten, meshopt_simplify, meshopt_simplify_with_update};
 use wildlod_mesh::{shapes, Faces, Scene};
 use wildlod_simplify::{simplify_polygons, Options, QuadMode, QuadSettings, Target};
@@ -184,29 +185,6 @@ fn main() {
     if bench_mode {
         print_ratios(&cases, ratios);
     }
-}
-
-/// Mean time of a benchmark from criterion's saved estimates, in seconds.
-fn mean_seconds(group: &str, function: &str, param: &str) -> Option<f64> {
-    let dir = std::env::var_os("CARGO_TARGET_DIR")
-        .map(PathBuf::from)
-        .unwrap_or_else(|| Path::new(env!("CARGO_MANIFEST_DIR")).join("../../target"));
-    // Criterion keeps spaces and '%' in its directory names and replaces
-    // the characters file systems reject.
-    let safe = |s: &str| s.replace(['?', '"', '/', '\\', '*', '<', '>', ':', '|', '^'], "_");
-    let path = dir
-        .join("criterion")
-        .join(safe(group))
-        .join(safe(function))
-        .join(safe(param))
-        .join("new/estimates.json");
-    let text = std::fs::read_to_string(path).ok()?;
-    let key = "\"mean\":{\"confidence_interval\":";
-    let rest = &text[text.find(key)?..];
-    let pe = "\"point_estimate\":";
-    let start = rest.find(pe)? + pe.len();
-    let end = rest[start..].find([',', '}'])? + start;
-    rest[start..end].parse::<f64>().ok().map(|ns| ns * 1e-9)
 }
 
 /// The tables the issues ask for: triangles per second and the ratio of

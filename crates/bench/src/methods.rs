@@ -133,10 +133,25 @@ pub fn run(
                     partition: Partition::OFF,
                     ..Options::default()
                 },
-                Method::WildlodNoQuads => Options {
-                    quad_mode: QuadMode::Never,
-                    ..Options::default()
-                },
+                // The ordering alone switched off: the metric stays the one
+                // quad mode uses, attribute weights scaled the same way, so
+                // that the comparison prices the ordering and nothing else.
+                Method::WildlodNoQuads => {
+                    let d = Options::default();
+                    let k = d.quad.attribute_weight;
+                    let a = d.attributes;
+                    Options {
+                        quad_mode: QuadMode::Never,
+                        attributes: wildlod_simplify::AttributeOptions {
+                            tex_coord_weight: k * a.tex_coord_weight,
+                            normal_weight: k * a.normal_weight,
+                            color_weight: k * a.color_weight,
+                            skin_weight: k * a.skin_weight,
+                            ..a
+                        },
+                        ..d
+                    }
+                }
                 _ => Options::default(),
             };
             // At meshoptimizer's count: the same ratio of every mesh, so

@@ -209,9 +209,9 @@ pub struct QuadSettings {
     /// attribute error of a collapse (a UV field's curvature, say) varies
     /// far more along a quad chord than its distance does and breaks the
     /// ties. Default 0.1, by measurement on `quad/spot_quadrangulated` (13
-    /// UV islands): quad ratio 0.97 / 0.94 / 0.89 at 50% / 25% / 10%
-    /// against 0.67 / 0.39 / 0.11 at full weight and 0.98 / 0.97 / 0.95 with
-    /// none; every UV island is kept in all three.
+    /// UV islands, all kept): quad ratio 0.98 / 0.94 / 0.93 at 50% / 25% /
+    /// 10% against 0.87 / 0.84 / 0.85 at full weight (which has 10–20% less
+    /// Chamfer distance there).
     pub attribute_weight: f64,
 }
 
@@ -300,24 +300,29 @@ pub enum NormalMode {
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct AttributeOptions {
     /// Weight of every UV set: 1 makes a texture that slides by `d` on the
-    /// surface cost as much as moving the surface by `d`. Default 1.
+    /// surface cost as much as moving the surface by `d`. Default 0.25.
+    /// Measured on the textured and skinned corpus at 10% (geometric means
+    /// of 7 files; `docs/evaluation-appearance.md`): texture Chamfer 0.0615
+    /// at 0 (which also drops UV seams), 0.0563 at 0.25, 0.0557 at 1 for 5%
+    /// more Chamfer distance and worse normals.
     pub tex_coord_weight: f64,
     /// Weight of normals: 1 makes a normal that turns by `θ` radians cost as
     /// much as moving the surface by `θ` times the input's mean edge length.
-    /// Default 1: on the textured and skinned corpus at 10% it lowers the
-    /// normal Chamfer distance by a quarter (10.6° → 7.8°, geometric mean
-    /// of 7 files) for 14% more Chamfer distance; 2 gains 5% more for
-    /// another 11%.
+    /// Default 0.25: normal Chamfer 9.9° at 0, 8.8° at 0.25 (+8% Chamfer
+    /// distance), 8.1° at 0.5 (+18%), same set as above.
     pub normal_weight: f64,
     /// Weight of vertex colors, on the scale of normals (a change of `d`
-    /// costs like moving the surface `d` mean edge lengths). Default 1.
+    /// costs like moving the surface `d` mean edge lengths). Default 0.25,
+    /// like normals (the corpus has no vertex-colored asset to measure).
     pub color_weight: f64,
     /// Weight of skin (joint) weights: a weight error of `d` costs like
-    /// moving the surface by `d` diagonals. Default 0.03, by measurement on
-    /// the skinned corpus posed at 50 frames of its first animation
-    /// (`wildlod compare --animation 0`): mean posed Hausdorff 0.0114 /
-    /// 0.0656 at 50% / 10% (geometric mean of 4 files) against 0.0124 /
-    /// 0.0674 at 0 and 0.0152 / 0.0689 at 0.1.
+    /// moving the surface by `d` diagonals. Fitting alone already keeps
+    /// skins right; the weight barely matters. Default 0.01: on the skinned
+    /// corpus posed at 50 frames of its first animation (`wildlod compare
+    /// --animation 0`, geometric means of 4 files), mean Chamfer 0.00055 /
+    /// 0.00639 at 50% / 10% against 0.00062 / 0.00636 at 0 and 0.00056 /
+    /// 0.00717 at 0.03 (Hausdorff 0.0085 / 0.0498 against 0.0080 / 0.0469
+    /// at 0).
     pub skin_weight: f64,
     /// Whether attribute seams (UV seams, hard normal edges, color and
     /// material borders) are kept. Default: crossed only where that costs
@@ -325,25 +330,24 @@ pub struct AttributeOptions {
     pub seams: crate::SeamPolicy,
     /// Weight of the planes that hold seam vertices on their seam's curve
     /// when a collapse moves them along it, per squared edge length.
-    /// Default 0.3: on the textured corpus at 10% it lowers the texture
-    /// Chamfer distance by 8% (what keeps seams in place keeps textures in
-    /// place); 1 moves geometry more for no further gain.
+    /// Default 0.05: texture Chamfer 0.0622 at 0, 0.0563 at 0.05, 0.0546
+    /// at 0.2 for 8% more Chamfer distance (what keeps seams in place keeps
+    /// textures in place).
     pub seam_weight: f64,
-    /// How output normals are produced. Default: fitted (on the textured
-    /// and skinned corpus at 10%, 7.8° normal Chamfer against 9.4°
-    /// recomputed; 25.5° against 27.8° at 1%).
+    /// How output normals are produced. Default: fitted (normal Chamfer
+    /// 8.8° against 9.6° recomputed at 10%, 25.5° against 26.6° at 1%).
     pub normals: NormalMode,
 }
 
 impl Default for AttributeOptions {
     fn default() -> Self {
         AttributeOptions {
-            tex_coord_weight: 1.0,
-            normal_weight: 1.0,
-            color_weight: 1.0,
-            skin_weight: 0.03,
+            tex_coord_weight: 0.25,
+            normal_weight: 0.25,
+            color_weight: 0.25,
+            skin_weight: 0.01,
             seams: crate::SeamPolicy::Penalize,
-            seam_weight: 0.3,
+            seam_weight: 0.05,
             normals: NormalMode::Fit,
         }
     }

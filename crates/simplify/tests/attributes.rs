@@ -143,10 +143,11 @@ fn check_two_charts(out: &Mesh) {
             .collect();
         if charts.contains(&true) && charts.contains(&false) {
             seam_positions += 1;
-            // Within the pull of the regularizer (1e-4 of an edge's
-            // worth against the seam planes) toward merged off-seam vertices.
+            // Within the pull of the regularizer (1e-4 of a vertex's area,
+            // against seam planes of 0.05 per squared edge: about 1e-3 of
+            // the distance to merged off-seam vertices, an edge or so).
             assert!(
-                (p[0] - 0.5).abs() <= 1e-4,
+                (p[0] - 0.5).abs() <= 1e-3,
                 "seam vertex {v} left the seam: {p:?}"
             );
         }

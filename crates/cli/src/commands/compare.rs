@@ -32,8 +32,11 @@ pub fn run(a: &CompareArgs) -> anyhow::Result<()> {
     let candidate = wildlod_io::read(&a.candidate)?;
     let ri = images(&reference, &a.reference);
     let ci = images(&candidate, &a.candidate);
-    let r = EvalMesh::from_scene(&reference.scene, &ri);
-    let c = EvalMesh::from_scene(&candidate.scene, &ci);
+    // As a renderer shows them at rest: skinned meshes through their
+    // joints' rest transforms (an exporter may place a skinned mesh's node
+    // anywhere, since renderers ignore it).
+    let r = EvalMesh::from_scene(&wildlod_eval::posed(&reference.scene, None, 0.0), &ri);
+    let c = EvalMesh::from_scene(&wildlod_eval::posed(&candidate.scene, None, 0.0), &ci);
     let options = CompareOptions {
         samples: a.samples,
         texture_samples: a.texture_samples,
