@@ -74,6 +74,47 @@ impl History {
     pub fn positions(&self, f: &RingFace) -> &[[f32; 3]] {
         &self.corner_positions[f.start as usize..(f.start + f.len) as usize]
     }
+
+    /// Appends a collapse recorded elsewhere: `kept` and `removed`
+    /// vertices, the edge one-ring before it as `(face id, corner vertex
+    /// ids, corner positions)` and the face ids around the kept vertex
+    /// after it. For engines with their own collapse loop that want the
+    /// successive mapping (W §4.3), and for hand-built tests.
+    ///
+    /// # Panics
+    /// When a ring face's vertex and position lists differ in length.
+    pub fn push(
+        &mut self,
+        kept: u32,
+        removed: u32,
+        before: &[(u32, &[u32], &[[f32; 3]])],
+        after: &[u32],
+    ) {
+        let start = self.ring_faces.len() as u32;
+        for &(face, vertices, positions) in before {
+            assert_eq!(
+                vertices.len(),
+                positions.len(),
+                "face {face}: one position per corner"
+            );
+            let s = self.corner_vertices.len() as u32;
+            self.corner_vertices.extend_from_slice(vertices);
+            self.corner_positions.extend_from_slice(positions);
+            self.ring_faces.push(RingFace {
+                face,
+                start: s,
+                len: vertices.len() as u32,
+            });
+        }
+        let a = self.after_faces.len() as u32;
+        self.after_faces.extend_from_slice(after);
+        self.records.push(CollapseRecord {
+            kept,
+            removed,
+            before: (start, self.ring_faces.len() as u32),
+            after: (a, self.after_faces.len() as u32),
+        });
+    }
 }
 
 /// Records collapses as the loop makes them (a visitor: the loop calls

@@ -1,0 +1,17 @@
+//! Texture re-baking for levels of detail (Liu, Zhang & Yuksel 2025, "W",
+//! §4.3, App. B, App. C.2).
+//!
+//! A simplifier that must keep every UV seam cannot reduce meshes with
+//! thousands of UV islands. W lets collapses cross seams freely, records the
+//! collapse history, and afterwards re-bakes the textures onto a new
+//! parametrization of the simplified mesh, mapping every texel back to the
+//! input surface through the history. This crate does that, with no I/O
+//! (images arrive decoded):
+//!
+//! - [`SuccessiveMap`] (`mapping.rs`): a point of the simplified mesh → the
+//!   input face and barycentrics it came from (W §4.3.1). Public, so engines
+//!   can bake their own channels.
+
+mod mapping;
+
+pub use mapping::{SuccessiveMap, SurfacePoint};

@@ -1,0 +1,398 @@
+//! Successive mapping (W §4.3.1, App. C.2): from a point of the simplified
+//! mesh to the input face and barycentrics it came from.
+//!
+//! W stores, per collapse, the edge one-ring before it and the vertex
+//! one-ring after it. A point `p` of the simplified mesh `M^c` sits on a
+//! face. Walking the history backwards, whenever that face is in the vertex
+//! one-ring of collapse `k` (the faces around the new vertex), the point is
+//! projected to the closest point of collapse `k`'s edge one-ring (the faces
+//! around both endpoints before it), which gives a face of `M^{k-1}`. At the
+//! input `M^0` the face is an input face. Two details from W make this work:
+//!
+//! - the closest-point queries always use `p`'s position on the *final*
+//!   mesh, not the previous projection, so distortions of many small
+//!   projections do not accumulate (W §4.3.1, last paragraph);
+//! - only the collapses whose vertex one-ring holds the current face matter,
+//!   so each point skips almost the whole history (App. C.2). We index, per
+//!   face id, the collapses whose vertex one-ring holds it, and jump from
+//!   one to the previous by binary search.
+//!
+//! Face ids are stable through the history (a face keeps its input index
+//! while collapses merge its corners), and a face not in any later vertex
+//! one-ring has not changed since the input: its corners neither moved nor
+//! merged. So the last projection lands on the input face itself, and its
+//! barycentrics are taken on the input polygon (fan-triangulated).
+
+use glam::DVec3;
+use wildlod_geometry::closest_point_on_triangle;
+use wildlod_mesh::Faces;
+use wildlod_simplify::History;
+
+/// A point of the input surface: an input face, three of its corners and
+/// barycentrics over them.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SurfacePoint {
+    /// Input face index.
+    pub face: u32,
+    /// Input corner indices (into `Faces::indices`) of the fan triangle of
+    /// `face` the point lies on; for a triangle, its three corners.
+    pub corners: [u32; 3],
+    /// Barycentric weights of `corners`, non-negative, summing to 1.
+    pub bary: [f32; 3],
+}
+
+/// The map `T: M^c → M^0` of W §4.3.1 for one simplification run.
+///
+/// Built once from the run's [`History`] and the input it simplified, then
+/// queried per point, from any number of threads (it is immutable).
+///
+/// ```
+/// use wildlod_bake::SuccessiveMap;
+/// use wildlod_simplify::{simplify_polygons, Options, Target};
+///
+/// // A 4×4 grid of unit squares in z = 0, reduced to two triangles.
+/// let grid = wildlod_mesh::shapes::triangulate(&wildlod_mesh::shapes::quad_grid(4, 4));
+/// let options = Options {
+///     target: Target { triangles: Some(2), ..Target::default() },
+///     record_history: true,
+///     ..Options::default()
+/// };
+/// let lod = simplify_polygons(&grid.positions, &grid.faces, &options)?;
+/// let history = lod.history.as_ref().expect("recorded");
+/// let map = SuccessiveMap::new(history, &grid.positions, &grid.faces);
+/// // A point on the first output face lands on an input face that holds it.
+/// let f = lod.faces.face(0);
+/// let p = [0, 1, 2].map(|k| lod.positions[f[k] as usize]);
+/// let centroid = [0, 1, 2].map(|a| (p[0][a] + p[1][a] + p[2][a]) / 3.0);
+/// let hit = map.map(lod.face_origin[0], centroid);
+/// let q = map.position(&hit);
+/// assert!((0..3).all(|a| (q[a] - centroid[a]).abs() < 1e-5));
+/// # Ok::<(), wildlod_simplify::Error>(())
+/// ```
+#[derive(Debug)]
+pub struct SuccessiveMap<'a> {
+    history: &'a History,
+    positions: &'a [[f32; 3]],
+    faces: &'a Faces,
+    /// Per face id, `touch[touch_start[f]..touch_start[f + 1]]` are the
+    /// collapses (ascending) whose vertex one-ring holds `f`.
+    touch_start: Vec<u32>,
+    touch: Vec<u32>,
+}
+
+impl<'a> SuccessiveMap<'a> {
+    /// Indexes `history` (recorded while simplifying `faces` over
+    /// `positions`, [`wildlod_simplify::Options::record_history`]).
+    pub fn new(history: &'a History, positions: &'a [[f32; 3]], faces: &'a Faces) -> Self {
+        let nf = faces.len();
+        let mut count = vec![0u32; nf + 1];
+        for k in 0..history.len() {
+            for &f in history.after(k) {
+                if let Some(c) = count.get_mut(f as usize) {
+                    *c += 1;
+                }
+            }
+        }
+        let mut touch_start = Vec::with_capacity(nf + 1);
+        let mut acc = 0u32;
+        for c in &count[..nf] {
+            touch_start.push(acc);
+            acc += c;
+        }
+        touch_start.push(acc);
+        let mut fill = touch_start.clone();
+        let mut touch = vec![0u32; acc as usize];
+        // Collapses in order: every face's list comes out ascending.
+        for k in 0..history.len() {
+            for &f in history.after(k) {
+                if let Some(at) = fill.get_mut(f as usize).filter(|_| (f as usize) < nf) {
+                    touch[*at as usize] = k as u32;
+                    *at += 1;
+                }
+            }
+        }
+        SuccessiveMap {
+            history,
+            positions,
+            faces,
+            touch_start,
+            touch,
+        }
+    }
+
+    /// Maps point `p` (input units) of the simplified mesh, lying on the
+    /// output face whose input face id is `face` (`Simplified::face_origin`),
+    /// to the input surface.
+    ///
+    /// # Panics
+    /// When `face` is not a face id of the input.
+    pub fn map(&self, face: u32, p: [f32; 3]) -> SurfacePoint {
+        let target = DVec3::from(p.map(f64::from));
+        let mut face = face;
+        let mut q = target;
+        let mut bound = self.history.len() as u32;
+        // Each step strictly lowers `bound`: at most one step per collapse.
+        while let Some(k) = self.previous_touch(face, bound) {
+            if let Some((f, point)) = self.project_on_edge_ring(k as usize, target) {
+                face = f;
+                q = point;
+            }
+            bound = k;
+        }
+        self.on_input_face(face, q)
+    }
+
+    /// The last collapse before `bound` whose vertex one-ring holds `face`.
+    fn previous_touch(&self, face: u32, bound: u32) -> Option<u32> {
+        let f = face as usize;
+        let list = &self.touch[self.touch_start[f] as usize..self.touch_start[f + 1] as usize];
+        let i = list.partition_point(|&k| k < bound);
+        i.checked_sub(1).map(|i| list[i])
+    }
+
+    /// The closest point to `p` on collapse `k`'s edge one-ring, as the
+    /// ring recorded it (positions before the collapse); ties keep the
+    /// earlier face, so the answer is deterministic.
+    fn project_on_edge_ring(&self, k: usize, p: DVec3) -> Option<(u32, DVec3)> {
+        let mut best: Option<(f64, u32, DVec3)> = None;
+        for rf in self.history.before(k) {
+            let corners = self.history.positions(rf);
+            let c0 = DVec3::from(corners[0].map(f64::from));
+            for t in 1..corners.len().saturating_sub(1) {
+                let c1 = DVec3::from(corners[t].map(f64::from));
+                let c2 = DVec3::from(corners[t + 1].map(f64::from));
+                let (point, _) = closest_point_on_triangle(p, c0, c1, c2);
+                let d2 = (point - p).length_squared();
+                if best.map_or(true, |b| d2 < b.0) {
+                    best = Some((d2, rf.face, point));
+                }
+            }
+        }
+        best.map(|(_, f, point)| (f, point))
+    }
+
+    /// Barycentrics of `q` on input face `face` (fan-triangulated; the
+    /// closest fan triangle, ties to the first).
+    fn on_input_face(&self, face: u32, q: DVec3) -> SurfacePoint {
+        let f = face as usize;
+        let start = self.faces.offsets[f];
+        let corners = self.faces.face(f);
+        let at = |k: usize| DVec3::from(self.positions[corners[k] as usize].map(f64::from));
+        let mut best = (f64::INFINITY, 1usize, [1.0, 0.0, 0.0]);
+        for t in 1..corners.len().saturating_sub(1) {
+            let (point, bary) = closest_point_on_triangle(q, at(0), at(t), at(t + 1));
+            let d2 = (point - q).length_squared();
+            if d2 < best.0 {
+                best = (d2, t, bary);
+            }
+        }
+        let (_, t, b) = best;
+        SurfacePoint {
+            face,
+            corners: [start, start + t as u32, start + t as u32 + 1],
+            bary: [b[0] as f32, b[1] as f32, b[2] as f32],
+        }
+    }
+
+    /// The input position of a mapped point.
+    pub fn position(&self, s: &SurfacePoint) -> [f32; 3] {
+        let mut out = [0.0f32; 3];
+        for (k, &c) in s.corners.iter().enumerate() {
+            let p = self.positions[self.faces.indices[c as usize] as usize];
+            for a in 0..3 {
+                out[a] += s.bary[k] * p[a];
+            }
+        }
+        out
+    }
+
+    /// How many collapses the walk for `face` would visit at most: the
+    /// length of its touch list (for statistics and tests).
+    pub fn touches(&self, face: u32) -> usize {
+        let f = face as usize;
+        (self.touch_start[f + 1] - self.touch_start[f]) as usize
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The unit square as four triangles around its center, vertex 4:
+    ///
+    /// ```text
+    ///  3 ────── 2
+    ///  │ ╲ f2 ╱ │
+    ///  │f3  4 f1│      f0 = [0,1,4]  f1 = [1,2,4]
+    ///  │ ╱ f0 ╲ │      f2 = [2,3,4]  f3 = [3,0,4]
+    ///  0 ────── 1
+    /// ```
+    fn square() -> (Vec<[f32; 3]>, Faces) {
+        let p = vec![
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [1.0, 1.0, 0.0],
+            [0.0, 1.0, 0.0],
+            [0.5, 0.5, 0.0],
+        ];
+        let f = Faces::from_triangles(&[0, 1, 4, 1, 2, 4, 2, 3, 4, 3, 0, 4]);
+        (p, f)
+    }
+
+    /// Collapse 0: vertex 4 into vertex 0, which stays at (0,0). f0 and f3
+    /// degenerate; f1 = [1,2,0] and f2 = [2,3,0] remain around vertex 0.
+    /// Collapse 1 (when `two`): vertex 2 into vertex 1 at (1,0). f1
+    /// degenerates; f2 = [1,3,0] remains.
+    fn history(p: &[[f32; 3]], two: bool) -> History {
+        let mut h = History::default();
+        let ring0: Vec<(u32, Vec<u32>)> = vec![
+            (0, vec![0, 1, 4]),
+            (1, vec![1, 2, 4]),
+            (2, vec![2, 3, 4]),
+            (3, vec![3, 0, 4]),
+        ];
+        let pos = |v: &[u32]| v.iter().map(|&i| p[i as usize]).collect::<Vec<_>>();
+        let owned: Vec<(u32, Vec<u32>, Vec<[f32; 3]>)> =
+            ring0.iter().map(|(f, v)| (*f, v.clone(), pos(v))).collect();
+        let before: Vec<(u32, &[u32], &[[f32; 3]])> = owned
+            .iter()
+            .map(|(f, v, q)| (*f, v.as_slice(), q.as_slice()))
+            .collect();
+        h.push(0, 4, &before, &[1, 2]);
+        if two {
+            // Level 1 geometry: vertex 0 at (0,0), 4 gone.
+            let ring1: Vec<(u32, Vec<u32>)> = vec![(1, vec![1, 2, 0]), (2, vec![2, 3, 0])];
+            let owned: Vec<(u32, Vec<u32>, Vec<[f32; 3]>)> =
+                ring1.iter().map(|(f, v)| (*f, v.clone(), pos(v))).collect();
+            let before: Vec<(u32, &[u32], &[[f32; 3]])> = owned
+                .iter()
+                .map(|(f, v, q)| (*f, v.as_slice(), q.as_slice()))
+                .collect();
+            h.push(1, 2, &before, &[2]);
+        }
+        h
+    }
+
+    fn assert_point(s: SurfacePoint, face: u32, corners: [u32; 3], bary: [f32; 3]) {
+        assert_eq!((s.face, s.corners), (face, corners), "{s:?}");
+        for k in 0..3 {
+            assert!((s.bary[k] - bary[k]).abs() < 1e-6, "{s:?} vs {bary:?}");
+        }
+    }
+
+    #[test]
+    fn point_on_a_surviving_face_maps_to_the_input_face_holding_it() {
+        let (p, f) = square();
+        let h = history(&p, false);
+        let map = SuccessiveMap::new(&h, &p, &f);
+        // (0.75, 0.5) on output face 1 = (1,0),(1,1),(0,0). In the input it
+        // lies on f1 = (1,0),(1,1),(½,½): a + b + ½c = ¾, b + ½c = ½,
+        // a + b + c = 1 → a = ¼, b = ¼, c = ½.
+        assert_point(
+            map.map(1, [0.75, 0.5, 0.0]),
+            1,
+            [3, 4, 5],
+            [0.25, 0.25, 0.5],
+        );
+    }
+
+    #[test]
+    fn point_can_land_on_a_face_the_collapse_deleted() {
+        let (p, f) = square();
+        let h = history(&p, false);
+        let map = SuccessiveMap::new(&h, &p, &f);
+        // (0.4, 0.1) on output face 1 lies on input f0 = (0,0),(1,0),(½,½):
+        // ½c = 0.1 → c = 0.2; b + 0.1 = 0.4 → b = 0.3; a = 0.5.
+        assert_point(map.map(1, [0.4, 0.1, 0.0]), 0, [0, 1, 2], [0.5, 0.3, 0.2]);
+    }
+
+    #[test]
+    fn walk_visits_every_collapse_whose_vertex_ring_holds_the_face() {
+        let (p, f) = square();
+        let h = history(&p, true);
+        let map = SuccessiveMap::new(&h, &p, &f);
+        assert_eq!((map.touches(1), map.touches(2), map.touches(0)), (1, 2, 0));
+        // (0.3, 0.6) on the last face, 2 = (1,0),(0,1),(0,0). Collapse 1
+        // puts it on f2 = (1,1),(0,1),(0,0); collapse 0 on input
+        // f3 = (0,1),(0,0),(½,½): ½c = 0.3 → c = 0.6; a + 0.3 = 0.6 →
+        // a = 0.3; b = 0.1.
+        assert_point(map.map(2, [0.3, 0.6, 0.0]), 3, [9, 10, 11], [0.3, 0.1, 0.6]);
+    }
+
+    #[test]
+    fn queries_use_the_final_position_even_off_the_input_plane() {
+        let (p, f) = square();
+        let h = history(&p, true);
+        let map = SuccessiveMap::new(&h, &p, &f);
+        // The same point lifted off the plane projects to the same place.
+        assert_point(
+            map.map(2, [0.3, 0.6, 0.25]),
+            3,
+            [9, 10, 11],
+            [0.3, 0.1, 0.6],
+        );
+    }
+
+    #[test]
+    fn untouched_face_keeps_its_own_barycentrics() {
+        let (p, f) = square();
+        let h = History::default();
+        let map = SuccessiveMap::new(&h, &p, &f);
+        // No collapse: f2 = (1,1),(0,1),(½,½); its centroid has ⅓ each.
+        let c = [0.5, 2.5 / 3.0, 0.0];
+        assert_point(map.map(2, c), 2, [6, 7, 8], [1.0 / 3.0; 3]);
+    }
+
+    #[test]
+    fn quad_input_face_gets_the_fan_triangle_holding_the_point() {
+        // One quad 0-1-2-3; no collapse. (0.25, 0.75) is in fan triangle
+        // (0, 2, 3): a(0,0) + b(1,1) + c(0,1) → x: b = ¼, y: b + c = ¾ →
+        // c = ½, a = ¼.
+        let p = vec![
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [1.0, 1.0, 0.0],
+            [0.0, 1.0, 0.0],
+        ];
+        let mut f = Faces::new();
+        f.push(&[0, 1, 2, 3]);
+        let h = History::default();
+        let map = SuccessiveMap::new(&h, &p, &f);
+        assert_point(
+            map.map(0, [0.25, 0.75, 0.0]),
+            0,
+            [0, 2, 3],
+            [0.25, 0.25, 0.5],
+        );
+    }
+
+    /// W Fig. 17: a thin shell (two sheets 0.01 apart, the lower one
+    /// collapsed first). A point on the upper sheet's face stays on the
+    /// upper sheet's faces even where the lower sheet is as close.
+    #[test]
+    fn thin_shell_point_stays_on_its_sheet() {
+        // Lower sheet: triangle 0 at z = 0; upper sheet: triangles 1, 2 at
+        // z = 0.01. Collapse 0 touches only the upper sheet's faces.
+        let p = vec![
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [0.0, 1.0, 0.0],
+            [0.0, 0.0, 0.01],
+            [1.0, 0.0, 0.01],
+            [0.0, 1.0, 0.01],
+            [0.3, 0.3, 0.01],
+        ];
+        let f = Faces::from_triangles(&[0, 1, 2, 3, 4, 6, 3, 6, 5]);
+        let mut h = History::default();
+        let r1: [u32; 3] = [3, 4, 6];
+        let r2: [u32; 3] = [3, 6, 5];
+        let pos = |v: &[u32; 3]| v.map(|i| p[i as usize]);
+        let (q1, q2) = (pos(&r1), pos(&r2));
+        h.push(3, 6, &[(1, &r1, &q1), (2, &r2, &q2)], &[1]);
+        let map = SuccessiveMap::new(&h, &p, &f);
+        // A point below the upper sheet (closer to the lower one) on
+        // output face 1 still maps onto the upper sheet.
+        let s = map.map(1, [0.2, 0.1, 0.004]);
+        assert!(s.face == 1 || s.face == 2, "{s:?}");
+    }
+}
