@@ -11,6 +11,10 @@ use glam::DVec3;
 
 use crate::complex::Complex;
 
+/// A face of an edge one-ring given to [`History::push`]: its id, its
+/// corners' vertex ids and their positions (input units).
+pub type RingInput<'a> = (u32, &'a [u32], &'a [[f32; 3]]);
+
 /// One collapse, in order.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct CollapseRecord {
@@ -87,7 +91,7 @@ impl History {
         &mut self,
         kept: u32,
         removed: u32,
-        before: &[(u32, &[u32], &[[f32; 3]])],
+        before: &[RingInput<'_>],
         after: &[u32],
     ) {
         let start = self.ring_faces.len() as u32;

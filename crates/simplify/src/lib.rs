@@ -48,7 +48,7 @@ pub use attributes::{
     AttributeInput, AttributeStream, FittedSkin, FittedStream, SeamPolicy, SkinStream, StreamKind,
 };
 pub use error::Error;
-pub use history::{CollapseRecord, History, RingFace};
+pub use history::{CollapseRecord, History, RingFace, RingInput};
 pub use mesh::{simplify_mesh, simplify_mesh_with_progress};
 pub use options::{
     AttributeOptions, Guards, Metric, NormalMode, Options, Partition, QuadMode, QuadSettings,
