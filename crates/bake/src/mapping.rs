@@ -217,6 +217,7 @@ impl<'a> SuccessiveMap<'a> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use wildlod_simplify::RingInput;
 
     /// The unit square as four triangles around its center, vertex 4:
     ///
@@ -254,7 +255,7 @@ mod tests {
         let pos = |v: &[u32]| v.iter().map(|&i| p[i as usize]).collect::<Vec<_>>();
         let owned: Vec<(u32, Vec<u32>, Vec<[f32; 3]>)> =
             ring0.iter().map(|(f, v)| (*f, v.clone(), pos(v))).collect();
-        let before: Vec<(u32, &[u32], &[[f32; 3]])> = owned
+        let before: Vec<RingInput> = owned
             .iter()
             .map(|(f, v, q)| (*f, v.as_slice(), q.as_slice()))
             .collect();
@@ -264,7 +265,7 @@ mod tests {
             let ring1: Vec<(u32, Vec<u32>)> = vec![(1, vec![1, 2, 0]), (2, vec![2, 3, 0])];
             let owned: Vec<(u32, Vec<u32>, Vec<[f32; 3]>)> =
                 ring1.iter().map(|(f, v)| (*f, v.clone(), pos(v))).collect();
-            let before: Vec<(u32, &[u32], &[[f32; 3]])> = owned
+            let before: Vec<RingInput> = owned
                 .iter()
                 .map(|(f, v, q)| (*f, v.as_slice(), q.as_slice()))
                 .collect();
