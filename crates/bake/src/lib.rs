@@ -12,6 +12,10 @@
 //!   input face and barycentrics it came from (W §4.3.1). Public, so engines
 //!   can bake their own channels.
 
+mod atlas;
 mod mapping;
+mod raster;
 
+pub use atlas::{atlas_stats, build_atlas, Atlas, AtlasOptions, AtlasStats};
 pub use mapping::{SuccessiveMap, SurfacePoint};
+pub use raster::{closest_on_triangle_2d, rasterize, Coverage, NO_TRIANGLE};

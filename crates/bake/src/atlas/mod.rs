@@ -1,0 +1,74 @@
+//! A new injective UV layout for the simplified mesh (W §4.3: "our mapping
+//! approach is compatible with any injective texture mapping"): charts grown
+//! by normal (`charts.rs`), each projected orthographically onto its mean
+//! plane and checked for injectivity, turned to its smallest bounding
+//! rectangle and packed with gutters into one square atlas (`pack.rs`).
+//! `stats.rs` measures what a layout costs: stretch and atlas use.
+
+mod charts;
+mod pack;
+mod stats;
+
+pub use stats::{atlas_stats, AtlasStats};
+
+use charts::make_charts;
+use pack::pack_charts;
+
+/// How the atlas is laid out.
+#[derive(Clone, Debug, PartialEq)]
+pub struct AtlasOptions {
+    /// Width and height of the atlas, in texels.
+    pub size: u32,
+    /// Empty texels kept between charts and along the atlas border, so that
+    /// bilinear filtering (and the first mip levels) of one chart never
+    /// reads another's texels. Default 4: safe at mip levels 0 and 1.
+    pub padding: u32,
+    /// Largest angle, in degrees, between a triangle's normal and its
+    /// chart's first triangle (and mean normal). Orthographic projection
+    /// stretches a triangle by at most 1/cos of this angle. Default 50°.
+    pub max_chart_angle: f64,
+}
+
+impl Default for AtlasOptions {
+    fn default() -> Self {
+        AtlasOptions {
+            size: 1024,
+            padding: 4,
+            max_chart_angle: 50.0,
+        }
+    }
+}
+
+/// A packed layout: UVs for every triangle corner.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Atlas {
+    /// Width and height in texels.
+    pub size: u32,
+    /// UV of every triangle corner, three per triangle, in texels: texel
+    /// `(x, y)` covers `[x, x + 1) × [y, y + 1)`, `y` down the image.
+    pub corner_uvs: Vec<[f32; 2]>,
+    /// Chart of every triangle.
+    pub triangle_chart: Vec<u32>,
+    /// Number of charts.
+    pub chart_count: usize,
+    /// Texels per unit of length on the surface (the same for every chart).
+    pub texels_per_unit: f64,
+}
+
+/// Lays out `triangles` over `positions` in one square atlas.
+///
+/// `keys` (one per triangle, or empty) keeps triangles with different keys
+/// in different charts: an input material or UV island boundary becomes a
+/// chart boundary. Degenerate triangles get UVs too (of zero area).
+pub fn build_atlas(
+    positions: &[[f32; 3]],
+    triangles: &[[u32; 3]],
+    keys: &[u32],
+    options: &AtlasOptions,
+) -> Atlas {
+    let cos = options.max_chart_angle.clamp(1.0, 89.0).to_radians().cos();
+    let charts = make_charts(positions, triangles, keys, cos);
+    let mut atlas = pack_charts(&charts, triangles.len(), options);
+    atlas.size = options.size;
+    atlas
+}

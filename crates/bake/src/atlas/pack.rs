@@ -1,0 +1,298 @@
+//! Packing charts into one square atlas with gutters.
+//!
+//! Each chart is turned so that its bounding rectangle is smallest (the
+//! best rectangle has a side on the convex hull, so trying the hull's edge
+//! directions is exact), then all charts get one common scale, as large as
+//! lets their rectangles, plus `padding` texels on two sides, fit into the
+//! atlas less `padding` (`rectangle-pack`, a deterministic guillotine
+//! packer). Shifting everything by `padding` leaves at least `padding`
+//! empty texels between any two charts and along the border.
+
+use std::collections::BTreeMap;
+
+use rectangle_pack::{
+    contains_smallest_box, pack_rects, volume_heuristic, GroupedRectsToPlace, RectToInsert,
+    TargetBin,
+};
+
+use super::charts::Chart;
+use super::{Atlas, AtlasOptions};
+
+/// A chart turned to its smallest bounding rectangle, with its corners
+/// relative to the rectangle's lower corner.
+struct Placed {
+    coords: Vec<[f64; 2]>,
+    width: f64,
+    height: f64,
+}
+
+pub(crate) fn pack_charts(charts: &[Chart], triangle_count: usize, o: &AtlasOptions) -> Atlas {
+    let placed: Vec<Placed> = charts.iter().map(|c| turn(&c.coords)).collect();
+    let pad = o.padding.min(o.size / 4);
+    let room = o.size.saturating_sub(2 * pad).max(1) as f64;
+    let area: f64 = placed.iter().map(|p| p.width * p.height).sum();
+    let longest = placed
+        .iter()
+        .map(|p| p.width.max(p.height))
+        .fold(0.0, f64::max);
+    // Upper bound: the charts' rectangles cannot hold more than the atlas,
+    // nor can one chart be longer than it.
+    let mut hi = if area > 0.0 {
+        (room * room / area).sqrt()
+    } else {
+        1.0
+    };
+    if longest > 0.0 {
+        hi = hi.min(room / longest);
+    }
+    let mut scale = hi;
+    let mut best: Option<(f64, Vec<[u32; 2]>)> = None;
+    let mut failed = hi * 1.0001;
+    // Shrink until everything fits, then bisect towards the last failure.
+    for _ in 0..60 {
+        match try_pack(&placed, scale, pad, o.size) {
+            Some(at) => {
+                best = Some((scale, at));
+                break;
+            }
+            None => {
+                failed = scale;
+                scale *= 0.85;
+            }
+        }
+    }
+    if let Some((mut good, _)) = best.as_ref().map(|b| (b.0, ())) {
+        for _ in 0..6 {
+            let mid = 0.5 * (good + failed);
+            match try_pack(&placed, mid, pad, o.size) {
+                Some(at) => {
+                    good = mid;
+                    best = Some((mid, at));
+                }
+                None => failed = mid,
+            }
+        }
+    }
+    let (scale, at) = best.unwrap_or_else(|| (0.0, vec![[pad, pad]; placed.len()]));
+    let mut corner_uvs = vec![[0.0f32; 2]; 3 * triangle_count];
+    let mut triangle_chart = vec![0u32; triangle_count];
+    for (c, (chart, p)) in charts.iter().zip(&placed).enumerate() {
+        let origin = at[c];
+        for (k, &t) in chart.triangles.iter().enumerate() {
+            triangle_chart[t as usize] = c as u32;
+            for j in 0..3 {
+                let q = p.coords[3 * k + j];
+                corner_uvs[3 * t as usize + j] = [
+                    (origin[0] as f64 + q[0] * scale) as f32,
+                    (origin[1] as f64 + q[1] * scale) as f32,
+                ];
+            }
+        }
+    }
+    Atlas {
+        size: o.size,
+        corner_uvs,
+        triangle_chart,
+        chart_count: charts.len(),
+        texels_per_unit: scale,
+    }
+}
+
+/// Texel origin of every chart's content at `scale`, or `None` when the
+/// charts do not fit.
+fn try_pack(placed: &[Placed], scale: f64, pad: u32, size: u32) -> Option<Vec<[u32; 2]>> {
+    let bin = size.checked_sub(pad)?;
+    let mut rects: GroupedRectsToPlace<usize, ()> = GroupedRectsToPlace::new();
+    for (i, p) in placed.iter().enumerate() {
+        let w = ((p.width * scale).ceil() as u32).max(1) + pad;
+        let h = ((p.height * scale).ceil() as u32).max(1) + pad;
+        rects.push_rect(i, None, RectToInsert::new(w, h, 1));
+    }
+    let mut bins = BTreeMap::new();
+    bins.insert(0u8, TargetBin::new(bin, bin, 1));
+    let packed = pack_rects(&rects, &mut bins, &volume_heuristic, &contains_smallest_box).ok()?;
+    let locations = packed.packed_locations();
+    (0..placed.len())
+        .map(|i| locations.get(&i).map(|(_, l)| [l.x() + pad, l.y() + pad]))
+        .collect()
+}
+
+/// The chart turned so that its bounding rectangle is smallest, corners
+/// relative to the rectangle's lower corner.
+fn turn(coords: &[[f64; 2]]) -> Placed {
+    let hull = convex_hull(coords);
+    let mut best = (f64::INFINITY, 1.0, 0.0);
+    for i in 0..hull.len() {
+        let (a, b) = (hull[i], hull[(i + 1) % hull.len()]);
+        let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
+        let len = (dx * dx + dy * dy).sqrt();
+        if len <= 0.0 || !len.is_finite() {
+            continue;
+        }
+        let (c, s) = (dx / len, dy / len);
+        let (w, h) = extent(&hull, c, s);
+        if w * h < best.0 {
+            best = (w * h, c, s);
+        }
+    }
+    let (_, c, s) = best;
+    let rotated: Vec<[f64; 2]> = coords
+        .iter()
+        .map(|p| [c * p[0] + s * p[1], -s * p[0] + c * p[1]])
+        .collect();
+    let mut lo = [f64::INFINITY; 2];
+    let mut hi = [f64::NEG_INFINITY; 2];
+    for p in &rotated {
+        for a in 0..2 {
+            lo[a] = lo[a].min(p[a]);
+            hi[a] = hi[a].max(p[a]);
+        }
+    }
+    if !(lo[0].is_finite() && hi[0].is_finite() && lo[1].is_finite() && hi[1].is_finite()) {
+        return Placed {
+            coords: vec![[0.0; 2]; coords.len()],
+            width: 0.0,
+            height: 0.0,
+        };
+    }
+    Placed {
+        coords: rotated
+            .iter()
+            .map(|p| [p[0] - lo[0], p[1] - lo[1]])
+            .collect(),
+        width: hi[0] - lo[0],
+        height: hi[1] - lo[1],
+    }
+}
+
+fn extent(points: &[[f64; 2]], c: f64, s: f64) -> (f64, f64) {
+    let mut lo = [f64::INFINITY; 2];
+    let mut hi = [f64::NEG_INFINITY; 2];
+    for p in points {
+        let q = [c * p[0] + s * p[1], -s * p[0] + c * p[1]];
+        for a in 0..2 {
+            lo[a] = lo[a].min(q[a]);
+            hi[a] = hi[a].max(q[a]);
+        }
+    }
+    (hi[0] - lo[0], hi[1] - lo[1])
+}
+
+/// Andrew's monotone chain; collinear points dropped.
+fn convex_hull(points: &[[f64; 2]]) -> Vec<[f64; 2]> {
+    let mut p: Vec<[f64; 2]> = points
+        .iter()
+        .copied()
+        .filter(|q| q[0].is_finite() && q[1].is_finite())
+        .collect();
+    p.sort_by(|a, b| a[0].total_cmp(&b[0]).then(a[1].total_cmp(&b[1])));
+    p.dedup();
+    if p.len() < 3 {
+        return p;
+    }
+    let cross = |o: [f64; 2], a: [f64; 2], b: [f64; 2]| {
+        (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0])
+    };
+    let mut hull: Vec<[f64; 2]> = Vec::with_capacity(2 * p.len());
+    for pass in 0..2 {
+        let start = hull.len();
+        let iter: Box<dyn Iterator<Item = &[f64; 2]>> = if pass == 0 {
+            Box::new(p.iter())
+        } else {
+            Box::new(p.iter().rev())
+        };
+        for &q in iter {
+            while hull.len() >= start + 2
+                && cross(hull[hull.len() - 2], hull[hull.len() - 1], q) <= 0.0
+            {
+                hull.pop();
+            }
+            hull.push(q);
+        }
+        hull.pop();
+    }
+    hull
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn tilted_rectangle_turns_to_its_own_sides() {
+        // A 4 × 1 rectangle turned by 30°: its smallest bounding
+        // rectangle is itself, 4 × 1 (or 1 × 4).
+        let (c, s) = (30f64.to_radians().cos(), 30f64.to_radians().sin());
+        let r = |x: f64, y: f64| [c * x - s * y, s * x + c * y];
+        let coords = vec![
+            r(0.0, 0.0),
+            r(4.0, 0.0),
+            r(4.0, 1.0),
+            r(0.0, 0.0),
+            r(4.0, 1.0),
+            r(0.0, 1.0),
+        ];
+        let p = turn(&coords);
+        let (w, h) = (p.width.max(p.height), p.width.min(p.height));
+        assert!(
+            (w - 4.0).abs() < 1e-9 && (h - 1.0).abs() < 1e-9,
+            "{w} × {h}"
+        );
+    }
+
+    #[test]
+    fn packed_charts_keep_the_padding_between_them_and_the_border() {
+        // Four unit squares (two triangles each) in a 64-texel atlas with
+        // padding 4.
+        let square = vec![
+            [0.0, 0.0],
+            [1.0, 0.0],
+            [1.0, 1.0],
+            [0.0, 0.0],
+            [1.0, 1.0],
+            [0.0, 1.0],
+        ];
+        let charts: Vec<Chart> = (0..4)
+            .map(|i| Chart {
+                triangles: vec![2 * i, 2 * i + 1],
+                coords: square.clone(),
+            })
+            .collect();
+        let o = AtlasOptions {
+            size: 64,
+            padding: 4,
+            ..AtlasOptions::default()
+        };
+        let a = pack_charts(&charts, 8, &o);
+        let boxes: Vec<[f32; 4]> = (0..4)
+            .map(|c| {
+                let uv = &a.corner_uvs[6 * c..6 * c + 6];
+                let f =
+                    |k: usize, m: fn(f32, f32) -> f32| uv.iter().map(|p| p[k]).fold(uv[0][k], m);
+                [
+                    f(0, f32::min),
+                    f(1, f32::min),
+                    f(0, f32::max),
+                    f(1, f32::max),
+                ]
+            })
+            .collect();
+        for b in &boxes {
+            assert!(
+                b[0] >= 4.0 && b[1] >= 4.0 && b[2] <= 60.0 && b[3] <= 60.0,
+                "{b:?}"
+            );
+            // The scale fills a good part of the atlas: each square is over
+            // 16 texels wide.
+            assert!(b[2] - b[0] > 16.0, "{b:?}");
+        }
+        for i in 0..4 {
+            for j in i + 1..4 {
+                let (p, q) = (boxes[i], boxes[j]);
+                let gap_x = (q[0] - p[2]).max(p[0] - q[2]);
+                let gap_y = (q[1] - p[3]).max(p[1] - q[3]);
+                assert!(gap_x.max(gap_y) >= 4.0 - 1e-4, "{p:?} {q:?}");
+            }
+        }
+    }
+}
