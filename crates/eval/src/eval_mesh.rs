@@ -455,6 +455,7 @@ mod tests {
         s.textures.push(Texture {
             name: String::new(),
             source: ImageSource::Path("t.png".into()),
+            sampler: Default::default(),
         });
         let mut img = Image::filled(2, 1, [0.0, 0.0, 0.0, 1.0]);
         img.pixels[1] = [1.0; 4];

@@ -251,6 +251,7 @@ fn textured_grid(factor: [f32; 4]) -> Scene {
     s.textures.push(Texture {
         name: "color".into(),
         source: ImageSource::Path("color.png".into()),
+        sampler: Default::default(),
     });
     s
 }

@@ -2,7 +2,7 @@
 
 use std::path::Path;
 
-use wildlod_mesh::{Image, ImageSource};
+use wildlod_mesh::{Image, ImageSource, Rgba8Image};
 
 use crate::{Error, ErrorKind};
 
@@ -30,6 +30,119 @@ pub fn decode_image(source: &ImageSource) -> Result<Image, Error> {
             )
         }),
     }
+}
+
+/// Decodes a texture's image into 8-bit RGBA, as stored (no color-space
+/// conversion; 16-bit channels are rounded to 8 bits, gray and RGB get
+/// alpha 255): a quarter of [`decode_image`]'s memory, for re-baking.
+///
+/// # Errors
+/// As [`decode_image`].
+pub fn decode_image_rgba8(source: &ImageSource) -> Result<Rgba8Image, Error> {
+    match source {
+        ImageSource::Path(p) => {
+            let bytes = std::fs::read(p).map_err(|e| Error::new(p, ErrorKind::Io(e)))?;
+            decode_rgba8(&bytes).map_err(|m| Error::new(p, ErrorKind::malformed("image", m)))
+        }
+        ImageSource::Embedded { bytes, mime_type } => decode_rgba8(bytes).map_err(|m| {
+            Error::new(
+                Path::new("embedded image"),
+                ErrorKind::malformed(format!("image ({mime_type})"), m),
+            )
+        }),
+    }
+}
+
+fn decode_rgba8(bytes: &[u8]) -> Result<Rgba8Image, String> {
+    let reader = image::ImageReader::new(std::io::Cursor::new(bytes))
+        .with_guessed_format()
+        .map_err(|e| e.to_string())?;
+    if reader.format().is_none() {
+        return Err("not a PNG or JPEG image".into());
+    }
+    let rgba = reader.decode().map_err(|e| e.to_string())?.into_rgba8();
+    let (width, height) = rgba.dimensions();
+    let pixels = rgba
+        .into_raw()
+        .chunks_exact(4)
+        .map(|p| [p[0], p[1], p[2], p[3]])
+        .collect();
+    Ok(Rgba8Image {
+        width,
+        height,
+        pixels,
+    })
+}
+
+/// How [`encode_image`] stores an image.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ImageEncoding {
+    /// Lossless PNG, with alpha.
+    Png,
+    /// JPEG at a quality from 1 to 100 (alpha dropped).
+    Jpeg {
+        /// 1 (smallest) to 100 (best).
+        quality: u8,
+    },
+}
+
+impl ImageEncoding {
+    /// The MIME type of the encoded bytes.
+    pub fn mime_type(&self) -> &'static str {
+        match self {
+            ImageEncoding::Png => "image/png",
+            ImageEncoding::Jpeg { .. } => "image/jpeg",
+        }
+    }
+}
+
+/// Encodes an 8-bit RGBA image as PNG (RGBA, or RGB when every alpha is
+/// 255) or JPEG.
+///
+/// # Errors
+/// [`ErrorKind::Unsupported`] when the image is empty or the encoder fails
+/// (`name` says which image).
+pub fn encode_image(
+    img: &Rgba8Image,
+    encoding: ImageEncoding,
+    name: &str,
+) -> Result<Vec<u8>, Error> {
+    let fail = |m: String| Error::new(Path::new(name), ErrorKind::Unsupported(m));
+    if img.width == 0
+        || img.height == 0
+        || img.pixels.len() != img.width as usize * img.height as usize
+    {
+        return Err(fail(format!(
+            "cannot encode a {}×{} image",
+            img.width, img.height
+        )));
+    }
+    let opaque = img.pixels.iter().all(|p| p[3] == 255);
+    let mut out = std::io::Cursor::new(Vec::new());
+    let result = match encoding {
+        ImageEncoding::Png if !opaque => {
+            let raw: Vec<u8> = img.pixels.iter().flatten().copied().collect();
+            image::RgbaImage::from_raw(img.width, img.height, raw)
+                .ok_or_else(|| fail("image size mismatch".into()))?
+                .write_to(&mut out, image::ImageFormat::Png)
+        }
+        ImageEncoding::Png => rgb(img)
+            .ok_or_else(|| fail("image size mismatch".into()))?
+            .write_to(&mut out, image::ImageFormat::Png),
+        ImageEncoding::Jpeg { quality } => {
+            let rgb = rgb(img).ok_or_else(|| fail("image size mismatch".into()))?;
+            let enc =
+                image::codecs::jpeg::JpegEncoder::new_with_quality(&mut out, quality.clamp(1, 100));
+            rgb.write_with_encoder(enc)
+        }
+    };
+    result.map_err(|e| fail(e.to_string()))?;
+    Ok(out.into_inner())
+}
+
+fn rgb(img: &Rgba8Image) -> Option<image::RgbImage> {
+    let raw: Vec<u8> = img.pixels.iter().flat_map(|p| [p[0], p[1], p[2]]).collect();
+    image::RgbImage::from_raw(img.width, img.height, raw)
 }
 
 fn decode_bytes(bytes: &[u8]) -> Result<Image, String> {
@@ -91,6 +204,40 @@ mod tests {
         .expect_err("garbage");
         let s = e.to_string();
         assert!(s.starts_with("embedded image"), "{s}");
+    }
+
+    #[test]
+    fn png_round_trip_keeps_8_bit_pixels_and_alpha() {
+        let img = Rgba8Image {
+            width: 2,
+            height: 1,
+            pixels: vec![[255, 0, 128, 255], [1, 2, 3, 4]],
+        };
+        let bytes = encode_image(&img, ImageEncoding::Png, "t").expect("encodes");
+        let back = decode_image_rgba8(&ImageSource::Embedded {
+            bytes,
+            mime_type: "image/png".into(),
+        })
+        .expect("decodes");
+        assert_eq!(back, img);
+    }
+
+    #[test]
+    fn jpeg_round_trip_is_close_and_opaque() {
+        let img = Rgba8Image::filled(16, 16, [200, 100, 50, 255]);
+        let bytes = encode_image(&img, ImageEncoding::Jpeg { quality: 95 }, "t").expect("encodes");
+        assert_eq!(&bytes[..2], &[0xFF, 0xD8]);
+        let back = decode_image_rgba8(&ImageSource::Embedded {
+            bytes,
+            mime_type: "image/jpeg".into(),
+        })
+        .expect("decodes");
+        for p in &back.pixels {
+            for k in 0..3 {
+                assert!((p[k] as i32 - img.pixels[0][k] as i32).abs() <= 3, "{p:?}");
+            }
+            assert_eq!(p[3], 255);
+        }
     }
 
     #[test]

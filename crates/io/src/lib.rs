@@ -22,7 +22,7 @@ use std::path::{Path, PathBuf};
 pub use atomic::OutputFiles;
 pub use error::{Error, ErrorKind};
 pub use format::Format;
-pub use image::decode_image;
+pub use image::{decode_image, decode_image_rgba8, encode_image, ImageEncoding};
 use wildlod_mesh::Scene;
 
 /// Files larger than this are refused before reading: every format we read

@@ -179,6 +179,7 @@ fn obj_like_scene(texture: &Path) -> Scene {
     scene.textures.push(Texture {
         name: "albedo".into(),
         source: ImageSource::Path(texture.to_path_buf()),
+        sampler: Default::default(),
     });
     scene
 }
@@ -218,6 +219,28 @@ fn obj_like_scene_with_quads_and_a_texture_file_writes_valid_glb_and_gltf() {
             }
         }
     }
+}
+
+#[test]
+fn texture_wrap_modes_are_written_as_samplers_and_read_back() {
+    let src = tempfile::tempdir().expect("temp dir");
+    let png = src.path().join("albedo.png");
+    std::fs::write(&png, png_bytes()).expect("write png");
+    let mut scene = obj_like_scene(&png);
+    scene.textures[0].sampler = wildlod_mesh::Sampler {
+        wrap_u: wildlod_mesh::Wrap::ClampToEdge,
+        wrap_v: wildlod_mesh::Wrap::MirroredRepeat,
+    };
+    let out = tempfile::tempdir().expect("temp dir");
+    let (back, _, json) = write_read(&Document::from_scene(scene.clone()), out.path(), "g.gltf");
+    assert_eq!(json["samplers"][0]["wrapS"], 33071);
+    assert_eq!(json["samplers"][0]["wrapT"], 33648);
+    assert_eq!(back.scene.textures[0].sampler, scene.textures[0].sampler);
+    // The default sampler needs no sampler object at all.
+    let plain = obj_like_scene(&png);
+    let out = tempfile::tempdir().expect("temp dir");
+    let (_, _, json) = write_read(&Document::from_scene(plain), out.path(), "g.gltf");
+    assert!(json.get("samplers").is_none(), "{json}");
 }
 
 #[test]

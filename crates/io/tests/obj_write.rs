@@ -55,6 +55,7 @@ fn two_part_grid() -> Scene {
             bytes: b"\x89PNG fake".to_vec(),
             mime_type: "image/png".into(),
         },
+        sampler: Default::default(),
     });
     s
 }
@@ -324,6 +325,7 @@ fn extracted_image_may_not_replace_a_texture_the_scene_reads() {
     s.textures.push(Texture {
         name: "disk".into(),
         source: ImageSource::Path(existing.clone()),
+        sampler: Default::default(),
     });
     s.materials[0].normal_texture = Some(TextureRef {
         texture: 1,

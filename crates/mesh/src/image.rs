@@ -61,6 +61,37 @@ impl Image {
     }
 }
 
+/// An RGBA image with 8 bits per channel, rows top to bottom: a quarter of
+/// [`Image`]'s memory, for textures that are baked from or into (a 8192²
+/// texture takes 256 MiB here, 1 GiB as `f32`). Values are as stored: sRGB
+/// stays sRGB.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Rgba8Image {
+    /// Width in pixels.
+    pub width: u32,
+    /// Height in pixels.
+    pub height: u32,
+    /// `width × height` pixels, row-major, first row at the top.
+    pub pixels: Vec<[u8; 4]>,
+}
+
+impl Rgba8Image {
+    /// An image filled with one color.
+    pub fn filled(width: u32, height: u32, color: [u8; 4]) -> Self {
+        Rgba8Image {
+            width,
+            height,
+            pixels: vec![color; width as usize * height as usize],
+        }
+    }
+
+    /// The pixel at column `x`, row `y`, or `None` outside the image.
+    pub fn get(&self, x: u32, y: u32) -> Option<[u8; 4]> {
+        (x < self.width && y < self.height)
+            .then(|| self.pixels[y as usize * self.width as usize + x as usize])
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

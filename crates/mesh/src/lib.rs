@@ -32,10 +32,10 @@ pub mod weld;
 
 pub use attribute::{Attribute, ComponentFormat, MorphChannel, Semantic, Skinning, ABSENT};
 pub use faces::{FaceIter, Faces};
-pub use image::Image;
+pub use image::{Image, Rgba8Image};
 pub use mesh::{Mesh, Part};
 pub use scene::{
-    AlphaMode, Animation, ImageSource, Interpolation, Material, Node, Scene, Skin, Texture,
-    TextureRef, Track, TrackPath, IDENTITY,
+    AlphaMode, Animation, ImageSource, Interpolation, Material, Node, Sampler, Scene, Skin,
+    Texture, TextureRef, Track, TrackPath, Wrap, IDENTITY,
 };
 pub use validate::{Invalid, ValidationErrors};

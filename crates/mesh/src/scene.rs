@@ -234,13 +234,37 @@ pub enum ImageSource {
     },
 }
 
-/// A texture: an image and its name.
+/// How texture coordinates outside [0, 1] are folded back (glTF sampler
+/// `wrapS` / `wrapT`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Wrap {
+    /// The image tiles (glTF's default).
+    #[default]
+    Repeat,
+    /// The image tiles, every other copy mirrored.
+    MirroredRepeat,
+    /// Coordinates clamp to the edge texels.
+    ClampToEdge,
+}
+
+/// How a texture is sampled: its wrap modes along u and v.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Sampler {
+    /// Wrapping along u.
+    pub wrap_u: Wrap,
+    /// Wrapping along v.
+    pub wrap_v: Wrap,
+}
+
+/// A texture: an image, its name and how it is sampled.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Texture {
     /// Texture or image name.
     pub name: String,
     /// Where the image is.
     pub source: ImageSource,
+    /// Wrap modes (glTF sampler; OBJ textures repeat).
+    pub sampler: Sampler,
 }
 
 impl Scene {

@@ -10,8 +10,8 @@ use gltf_json::Root;
 use serde_json::Value;
 use wildlod_mesh::{
     AlphaMode, Animation, Attribute, ComponentFormat, ImageSource, Interpolation, Material, Mesh,
-    MorphChannel, Node, Part, Scene, Semantic, Skin, Skinning, Texture, TextureRef, Track,
-    TrackPath, ABSENT, IDENTITY,
+    MorphChannel, Node, Part, Sampler, Scene, Semantic, Skin, Skinning, Texture, TextureRef, Track,
+    TrackPath, Wrap, ABSENT, IDENTITY,
 };
 
 use super::accessor::Data;
@@ -1014,9 +1014,27 @@ fn read_textures(
                 .or_else(|| image.name.clone())
                 .unwrap_or_default(),
             source,
+            sampler: t
+                .sampler
+                .and_then(|i| d.root.samplers.get(i.value()))
+                .map(|s| Sampler {
+                    wrap_u: wrap(&s.wrap_s),
+                    wrap_v: wrap(&s.wrap_t),
+                })
+                .unwrap_or_default(),
         });
     }
     Ok(out)
+}
+
+/// A glTF wrapping mode; invalid values read as glTF's default, repeat.
+fn wrap(w: &Checked<gltf_json::texture::WrappingMode>) -> Wrap {
+    use gltf_json::texture::WrappingMode as W;
+    match w {
+        Checked::Valid(W::ClampToEdge) => Wrap::ClampToEdge,
+        Checked::Valid(W::MirroredRepeat) => Wrap::MirroredRepeat,
+        _ => Wrap::Repeat,
+    }
 }
 
 fn read_image(

@@ -455,11 +455,12 @@ fn materials_and_images(
             out.insert("images".into(), Value::Array(placed));
         }
     } else {
-        let (textures, placed) = scene_json::textures(scene, bin, images)?;
+        let (textures, placed, samplers) = scene_json::textures(scene, bin, images)?;
         out.insert("textures".into(), Value::Array(textures));
         out.insert("images".into(), Value::Array(placed));
-        // Samplers belonged to the replaced textures.
-        out.remove("samplers");
+        // The source's samplers belonged to the replaced textures; the
+        // scene's own wrap modes replace them.
+        out.insert("samplers".into(), Value::Array(samplers));
     }
     Ok(())
 }

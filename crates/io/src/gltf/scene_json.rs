@@ -3,7 +3,7 @@
 //! reading.
 
 use serde_json::{json, Map, Value};
-use wildlod_mesh::{AlphaMode, ImageSource, Material, Scene, TextureRef, IDENTITY};
+use wildlod_mesh::{AlphaMode, ImageSource, Material, Sampler, Scene, TextureRef, Wrap, IDENTITY};
 
 use super::accessor::Component;
 use super::bin::Bin;
@@ -184,15 +184,20 @@ pub(crate) fn materials(materials: &[Material]) -> Vec<Value> {
         .collect()
 }
 
-/// Textures and their images (one image per distinct source).
+/// Textures, their images (one per distinct source) and their samplers
+/// (one per distinct non-default sampler; the default, repeat, needs none).
+pub(crate) type TexturesJson = (Vec<Value>, Vec<Value>, Vec<Value>);
+
+/// Textures, images and samplers of the scene; see [`TexturesJson`].
 pub(crate) fn textures(
     scene: &Scene,
     bin: &mut Bin,
     images: &mut ImageWriter,
-) -> Result<(Vec<Value>, Vec<Value>), ErrorKind> {
+) -> Result<TexturesJson, ErrorKind> {
     let mut sources: Vec<&ImageSource> = Vec::new();
     let mut image_json = Vec::new();
     let mut textures = Vec::new();
+    let mut samplers: Vec<Sampler> = Vec::new();
     for (ti, t) in scene.textures.iter().enumerate() {
         let ii = match sources.iter().position(|s| *s == &t.source) {
             Some(i) => i,
@@ -215,7 +220,27 @@ pub(crate) fn textures(
             o.insert("name".into(), json!(t.name));
         }
         o.insert("source".into(), json!(ii));
+        if t.sampler != Sampler::default() {
+            let si = match samplers.iter().position(|s| *s == t.sampler) {
+                Some(i) => i,
+                None => {
+                    samplers.push(t.sampler);
+                    samplers.len() - 1
+                }
+            };
+            o.insert("sampler".into(), json!(si));
+        }
         textures.push(Value::Object(o));
     }
-    Ok((textures, image_json))
+    // glTF's enums: 33071 clamp to edge, 33648 mirrored repeat, 10497 repeat.
+    let code = |w: Wrap| match w {
+        Wrap::ClampToEdge => 33071,
+        Wrap::MirroredRepeat => 33648,
+        Wrap::Repeat => 10497,
+    };
+    let sampler_json = samplers
+        .iter()
+        .map(|s| json!({"wrapS": code(s.wrap_u), "wrapT": code(s.wrap_v)}))
+        .collect();
+    Ok((textures, image_json, sampler_json))
 }

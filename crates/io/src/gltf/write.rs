@@ -148,7 +148,7 @@ fn from_scene(
     }
     let (nodes, roots) = scene_json::nodes(scene, &mesh_map);
     let skins = scene_json::skins(scene, bin);
-    let (textures, imgs) = scene_json::textures(scene, bin, images)?;
+    let (textures, imgs, samplers) = scene_json::textures(scene, bin, images)?;
     if !scene.animations.is_empty() {
         warnings.push(format!(
             "{} animations are not written: the scene holds only their summaries",
@@ -173,6 +173,7 @@ fn from_scene(
     );
     out.insert("textures".into(), Value::Array(textures));
     out.insert("images".into(), Value::Array(imgs));
+    out.insert("samplers".into(), Value::Array(samplers));
     Ok((Value::Object(out), false))
 }
 

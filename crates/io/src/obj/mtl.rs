@@ -107,6 +107,8 @@ pub(crate) fn load(
                         .map(|n| n.to_string_lossy().into_owned())
                         .unwrap_or_default(),
                     source: ImageSource::Path(source),
+                    // OBJ textures tile.
+                    sampler: Default::default(),
                 });
             }
             TextureRef {
