@@ -11,11 +11,28 @@
 //! - [`SuccessiveMap`] (`mapping.rs`): a point of the simplified mesh → the
 //!   input face and barycentrics it came from (W §4.3.1). Public, so engines
 //!   can bake their own channels.
+//! - [`build_atlas`] (`atlas/`): a new injective UV layout, charts packed
+//!   with gutters, and [`atlas_stats`] to measure one.
+//! - [`rasterize`] (`raster.rs`): which texels a bake computes (charts plus
+//!   the bilinear margin) and where each one is on the surface.
+//! - `channels.rs`: every PBR channel at an input point, normals re-expressed
+//!   in the output's MikkTSpace frame.
+//! - [`gutter`]: the rest of the atlas filled from the nearest texel, so
+//!   that no mip level shows background (W App. B).
+//! - [`bake_mesh`] (`bake.rs`): the driver, from a mesh, its materials and
+//!   decoded images to a simplified mesh, new materials and images.
 
 mod atlas;
+mod bake;
+mod channels;
+pub mod gutter;
 mod mapping;
 mod raster;
 
 pub use atlas::{atlas_stats, build_atlas, Atlas, AtlasOptions, AtlasStats};
+pub use bake::{
+    bake_mesh, AtlasReport, BakeError, BakeInput, BakeOptions, BakeReport, Baked, BakedImage,
+};
+pub use channels::Channel;
 pub use mapping::{SuccessiveMap, SurfacePoint};
 pub use raster::{closest_on_triangle_2d, rasterize, Coverage, NO_TRIANGLE};

@@ -1,0 +1,541 @@
+//! The material channels of a point of the input surface, and how they are
+//! stored in re-baked images.
+//!
+//! Every channel of the glTF metallic-roughness model is evaluated as a
+//! renderer would: base color = factor × texture × vertex color, colors
+//! filtered in linear space (GPUs decode sRGB before filtering), metallic
+//! and roughness from the texture's B and G channels times their factors,
+//! occlusion from R, emissive = factor × texture, and the shading normal
+//! from the normal map in the input's own tangent frame. Factors are baked
+//! in, so the output material's factors are 1 and materials with different
+//! factors can share one atlas.
+//!
+//! Normals are re-expressed in the *output* tangent frame (MikkTSpace of
+//! the new UVs, [`wildlod_mesh::tangents`]) at the texel, or lighting
+//! breaks: the same world-space normal has different tangent-space
+//! coordinates under a different parametrization.
+
+use glam::Vec3;
+use wildlod_mesh::{
+    Attribute, Material, Mesh, Rgba8Image, Sampler, Semantic, Texture, TextureRef, Wrap, ABSENT,
+};
+
+use crate::mapping::SurfacePoint;
+
+/// A channel of a re-baked material.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum Channel {
+    /// Base color (sRGB) and alpha.
+    BaseColor,
+    /// Metallic (B) and roughness (G), linear; occlusion in R when the
+    /// material has both (glTF's packed "ORM" layout).
+    MetallicRoughness,
+    /// Tangent-space normal, linear, +Y up the image.
+    Normal,
+    /// Ambient occlusion (R), linear.
+    Occlusion,
+    /// Emissive color, sRGB.
+    Emissive,
+}
+
+impl Channel {
+    /// Every channel, in the order of [`Material::texture_refs`].
+    pub const ALL: [Channel; 5] = [
+        Channel::BaseColor,
+        Channel::MetallicRoughness,
+        Channel::Normal,
+        Channel::Occlusion,
+        Channel::Emissive,
+    ];
+
+    /// Short name, for image file names.
+    pub fn name(self) -> &'static str {
+        match self {
+            Channel::BaseColor => "baseColor",
+            Channel::MetallicRoughness => "metallicRoughness",
+            Channel::Normal => "normal",
+            Channel::Occlusion => "occlusion",
+            Channel::Emissive => "emissive",
+        }
+    }
+
+    /// The material's texture for this channel.
+    pub fn texture(self, m: &Material) -> Option<TextureRef> {
+        match self {
+            Channel::BaseColor => m.base_color_texture,
+            Channel::MetallicRoughness => m.metallic_roughness_texture,
+            Channel::Normal => m.normal_texture,
+            Channel::Occlusion => m.occlusion_texture,
+            Channel::Emissive => m.emissive_texture,
+        }
+    }
+
+    fn index(self) -> usize {
+        self as usize
+    }
+}
+
+/// sRGB-encoded 8-bit value → linear, exact per the sRGB curve.
+pub(crate) fn srgb_to_linear(c: f32) -> f32 {
+    if c <= 0.04045 {
+        c / 12.92
+    } else {
+        ((c + 0.055) / 1.055).powf(2.4)
+    }
+}
+
+/// Linear → sRGB-encoded value in [0, 1].
+pub(crate) fn linear_to_srgb(c: f32) -> f32 {
+    let c = c.clamp(0.0, 1.0);
+    if c <= 0.003_130_8 {
+        c * 12.92
+    } else {
+        1.055 * c.powf(1.0 / 2.4) - 0.055
+    }
+}
+
+/// [0, 1] → u8, rounded.
+pub(crate) fn quantize(c: f32) -> u8 {
+    (c.clamp(0.0, 1.0) * 255.0).round() as u8
+}
+
+/// A decoded texture with its wrap modes, sampled bilinearly.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct TextureSampler<'a> {
+    image: &'a Rgba8Image,
+    sampler: Sampler,
+    /// Whether RGB is sRGB-encoded (decoded to linear before filtering).
+    srgb: bool,
+}
+
+fn wrap(i: i64, n: i64, mode: Wrap) -> i64 {
+    match mode {
+        Wrap::Repeat => i.rem_euclid(n),
+        Wrap::ClampToEdge => i.clamp(0, n - 1),
+        Wrap::MirroredRepeat => {
+            let m = i.rem_euclid(2 * n);
+            if m < n {
+                m
+            } else {
+                2 * n - 1 - m
+            }
+        }
+    }
+}
+
+impl TextureSampler<'_> {
+    fn texel(&self, x: i64, y: i64, lut: &[f32; 256]) -> [f32; 4] {
+        let (w, h) = (self.image.width as i64, self.image.height as i64);
+        let xi = wrap(x, w, self.sampler.wrap_u) as usize;
+        let yi = wrap(y, h, self.sampler.wrap_v) as usize;
+        let p = self.image.pixels[yi * w as usize + xi];
+        let lin = |v: u8| {
+            if self.srgb {
+                lut[v as usize]
+            } else {
+                v as f32 / 255.0
+            }
+        };
+        [lin(p[0]), lin(p[1]), lin(p[2]), p[3] as f32 / 255.0]
+    }
+
+    /// Bilinear lookup at `uv` (glTF: `v = 0` is the top row, texel
+    /// centers at half-integers), linear values.
+    pub(crate) fn sample(&self, uv: [f32; 2], lut: &[f32; 256]) -> [f32; 4] {
+        let (w, h) = (self.image.width, self.image.height);
+        if w == 0 || h == 0 || !(uv[0].is_finite() && uv[1].is_finite()) {
+            return [1.0; 4];
+        }
+        let x = uv[0] as f64 * w as f64 - 0.5;
+        let y = uv[1] as f64 * h as f64 - 0.5;
+        let (x0, y0) = (x.floor(), y.floor());
+        let (fx, fy) = ((x - x0) as f32, (y - y0) as f32);
+        let (x0, y0) = (x0 as i64, y0 as i64);
+        let a = self.texel(x0, y0, lut);
+        let b = self.texel(x0 + 1, y0, lut);
+        let c = self.texel(x0, y0 + 1, lut);
+        let d = self.texel(x0 + 1, y0 + 1, lut);
+        let mut out = [0.0; 4];
+        for k in 0..4 {
+            let top = a[k] + (b[k] - a[k]) * fx;
+            let bottom = c[k] + (d[k] - c[k]) * fx;
+            out[k] = top + (bottom - top) * fy;
+        }
+        out
+    }
+}
+
+/// One input material, resolved for sampling.
+struct Resolved<'a> {
+    material: Material,
+    /// Per channel: the texture and the UV stream it reads.
+    textures: [Option<(TextureSampler<'a>, &'a Attribute)>; 5],
+}
+
+/// Everything needed to evaluate the input's channels at a surface point.
+pub(crate) struct InputChannels<'a> {
+    mesh: &'a Mesh,
+    /// Per part: index into `resolved` (the default material when none).
+    part_material: Vec<usize>,
+    resolved: Vec<Resolved<'a>>,
+    colors: Option<&'a Attribute>,
+    /// Per-corner shading normals (the stream, else face normals).
+    normals: Vec<Vec3>,
+    /// Per-corner tangents (xyz, w) for the normal map's UV set, when a
+    /// normal map exists.
+    tangents: Option<Vec<[f32; 4]>>,
+    lut: [f32; 256],
+}
+
+/// Values of all channels at one point, linear (normals: world space).
+#[derive(Clone, Copy, Debug, Default)]
+pub(crate) struct PointChannels {
+    pub base: [f32; 4],
+    pub metal: f32,
+    pub rough: f32,
+    pub occlusion: f32,
+    pub emissive: [f32; 3],
+    pub normal: Vec3,
+}
+
+impl<'a> InputChannels<'a> {
+    /// Resolves the mesh's materials; `images[t]` is texture `t` decoded
+    /// (or `None` when it could not be: its channel then uses the factor).
+    pub(crate) fn new(
+        mesh: &'a Mesh,
+        materials: &'a [Material],
+        textures: &'a [Texture],
+        images: &'a [Option<Rgba8Image>],
+        tangents: Option<Vec<[f32; 4]>>,
+    ) -> Self {
+        let mut resolved = Vec::with_capacity(materials.len() + 1);
+        let resolve = |m: &Material| {
+            let mut t: [Option<(TextureSampler<'a>, &'a Attribute)>; 5] = [None; 5];
+            for ch in Channel::ALL {
+                let Some(r) = ch.texture(m) else { continue };
+                let image = images.get(r.texture as usize).and_then(Option::as_ref);
+                let uv = mesh.attribute(&Semantic::TexCoord(r.tex_coord));
+                let sampler = textures
+                    .get(r.texture as usize)
+                    .map(|t| t.sampler)
+                    .unwrap_or_default();
+                if let (Some(image), Some(uv)) = (image, uv) {
+                    let srgb = matches!(ch, Channel::BaseColor | Channel::Emissive);
+                    t[ch.index()] = Some((
+                        TextureSampler {
+                            image,
+                            sampler,
+                            srgb,
+                        },
+                        uv,
+                    ));
+                }
+            }
+            t
+        };
+        for m in materials {
+            resolved.push(Resolved {
+                material: m.clone(),
+                textures: resolve(m),
+            });
+        }
+        // glTF's default material for parts without one.
+        let default = resolved.len();
+        resolved.push(Resolved {
+            material: Material::default(),
+            textures: [None; 5],
+        });
+        let part_material = mesh
+            .parts
+            .iter()
+            .map(|p| {
+                p.material
+                    .map(|m| m as usize)
+                    .filter(|&m| m < materials.len())
+                    .unwrap_or(default)
+            })
+            .collect();
+        let mut lut = [0.0f32; 256];
+        for (i, v) in lut.iter_mut().enumerate() {
+            *v = srgb_to_linear(i as f32 / 255.0);
+        }
+        InputChannels {
+            mesh,
+            part_material,
+            resolved,
+            colors: mesh.attribute(&Semantic::Color(0)),
+            normals: corner_normals(mesh),
+            tangents,
+            lut,
+        }
+    }
+
+    fn material_of(&self, face: u32) -> &Resolved<'a> {
+        let part = self.mesh.face_parts[face as usize] as usize;
+        let m = self
+            .part_material
+            .get(part)
+            .copied()
+            .unwrap_or(self.resolved.len() - 1);
+        &self.resolved[m]
+    }
+
+    /// The material (as read) of an input face.
+    pub(crate) fn material(&self, face: u32) -> &Material {
+        &self.material_of(face).material
+    }
+
+    fn interpolate<const N: usize>(a: &Attribute, s: &SurfacePoint) -> Option<[f32; N]> {
+        let mut out = [0.0; N];
+        for (k, &c) in s.corners.iter().enumerate() {
+            let v = a.corner_value(c as usize)?;
+            for (i, o) in out.iter_mut().enumerate() {
+                *o += s.bary[k] * v.get(i).copied().unwrap_or(if i == 3 { 1.0 } else { 0.0 });
+            }
+        }
+        Some(out)
+    }
+
+    /// Every channel at `s`, linear.
+    pub(crate) fn evaluate(&self, s: &SurfacePoint) -> PointChannels {
+        let r = self.material_of(s.face);
+        let m = &r.material;
+        let sample = |ch: Channel| -> Option<[f32; 4]> {
+            let (tex, uv) = r.textures[ch.index()].as_ref()?;
+            let uv = Self::interpolate::<2>(uv, s)?;
+            Some(tex.sample(uv, &self.lut))
+        };
+        let mut base = m.base_color;
+        if let Some(t) = sample(Channel::BaseColor) {
+            for k in 0..4 {
+                base[k] *= t[k];
+            }
+        }
+        if let Some(c) = self.colors.and_then(|a| Self::interpolate::<4>(a, s)) {
+            for k in 0..4 {
+                base[k] *= c[k];
+            }
+        }
+        let (mut metal, mut rough) = (m.metallic, m.roughness);
+        if let Some(t) = sample(Channel::MetallicRoughness) {
+            rough *= t[1];
+            metal *= t[2];
+        }
+        let occlusion = sample(Channel::Occlusion).map_or(1.0, |t| t[0]);
+        let mut emissive = m.emissive;
+        if let Some(t) = sample(Channel::Emissive) {
+            for k in 0..3 {
+                emissive[k] *= t[k];
+            }
+        }
+        let mut n = Vec3::ZERO;
+        for (k, &c) in s.corners.iter().enumerate() {
+            n += self.normals[c as usize] * s.bary[k];
+        }
+        let mut normal = n.normalize_or_zero();
+        if let (Some(t), Some(tangents)) = (sample(Channel::Normal), &self.tangents) {
+            let mut tan = Vec3::ZERO;
+            let mut w = 0.0;
+            for (k, &c) in s.corners.iter().enumerate() {
+                let tc = tangents[c as usize];
+                tan += Vec3::new(tc[0], tc[1], tc[2]) * s.bary[k];
+                w += tc[3] * s.bary[k];
+            }
+            if let Some(frame) = Frame::new(normal, tan, w) {
+                normal = frame.to_world(decode_normal(t));
+            }
+        }
+        PointChannels {
+            base,
+            metal,
+            rough,
+            occlusion,
+            emissive,
+            normal,
+        }
+    }
+}
+
+/// A tangent frame as a glTF shader builds it from interpolated vertex
+/// data: N normalized, T made orthogonal to N and normalized, B = N × T · w.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Frame {
+    t: Vec3,
+    b: Vec3,
+    n: Vec3,
+}
+
+impl Frame {
+    /// `None` when the normal or tangent is degenerate.
+    pub(crate) fn new(n: Vec3, t: Vec3, w: f32) -> Option<Frame> {
+        let n = n.try_normalize()?;
+        let t = (t - n * n.dot(t)).try_normalize()?;
+        let sign = if w < 0.0 { -1.0 } else { 1.0 };
+        Some(Frame {
+            t,
+            b: n.cross(t) * sign,
+            n,
+        })
+    }
+
+    /// A tangent-space vector in world space.
+    pub(crate) fn to_world(self, v: Vec3) -> Vec3 {
+        (self.t * v.x + self.b * v.y + self.n * v.z).normalize_or_zero()
+    }
+
+    /// A world-space vector in tangent space.
+    pub(crate) fn to_tangent(self, v: Vec3) -> Vec3 {
+        Vec3::new(v.dot(self.t), v.dot(self.b), v.dot(self.n))
+    }
+}
+
+/// A normal-map texel (linear [0, 1]) as a unit tangent-space vector.
+pub(crate) fn decode_normal(t: [f32; 4]) -> Vec3 {
+    Vec3::new(2.0 * t[0] - 1.0, 2.0 * t[1] - 1.0, 2.0 * t[2] - 1.0).normalize_or_zero()
+}
+
+/// A unit tangent-space vector as a normal-map texel. Vectors pointing
+/// below the surface (possible where the output surface turned away from
+/// the input's) are lifted to the horizon: a normal map cannot hold them.
+pub(crate) fn encode_normal(v: Vec3) -> [u8; 4] {
+    let mut v = v;
+    if v.z < 0.01 {
+        v.z = 0.01;
+    }
+    let v = v.normalize_or_zero();
+    [
+        quantize(0.5 * v.x + 0.5),
+        quantize(0.5 * v.y + 0.5),
+        quantize(0.5 * v.z + 0.5),
+        255,
+    ]
+}
+
+/// Per-corner shading normals: the mesh's stream where present, else the
+/// face's (flat) normal — what a glTF renderer uses without normals.
+pub(crate) fn corner_normals(mesh: &Mesh) -> Vec<Vec3> {
+    let stream = mesh.attribute(&Semantic::Normal);
+    let mut out = vec![Vec3::ZERO; mesh.faces.corner_count()];
+    for f in 0..mesh.faces.len() {
+        let start = mesh.faces.offsets[f] as usize;
+        let face = mesh.faces.face(f);
+        let p = |k: usize| Vec3::from(mesh.positions[face[k] as usize]);
+        let mut flat = Vec3::ZERO;
+        for k in 1..face.len().saturating_sub(1) {
+            flat += (p(k) - p(0)).cross(p(k + 1) - p(0));
+        }
+        let flat = flat.normalize_or_zero();
+        for k in 0..face.len() {
+            let c = start + k;
+            out[c] = match stream.and_then(|a| {
+                let i = a.indices[c];
+                (i != ABSENT).then(|| a.value(i))
+            }) {
+                Some(v) if v.len() >= 3 => Vec3::new(v[0], v[1], v[2]).normalize_or_zero(),
+                _ => flat,
+            };
+        }
+    }
+    out
+}
+
+/// The output pixel of `ch` for values `v`; `frame` is the output tangent
+/// frame at the texel (for normals).
+pub(crate) fn encode(ch: Channel, v: &PointChannels, frame: Option<&Frame>, orm: bool) -> [u8; 4] {
+    match ch {
+        Channel::BaseColor => [
+            quantize(linear_to_srgb(v.base[0])),
+            quantize(linear_to_srgb(v.base[1])),
+            quantize(linear_to_srgb(v.base[2])),
+            quantize(v.base[3]),
+        ],
+        Channel::MetallicRoughness => [
+            if orm { quantize(v.occlusion) } else { 255 },
+            quantize(v.rough),
+            quantize(v.metal),
+            255,
+        ],
+        Channel::Occlusion => {
+            let o = quantize(v.occlusion);
+            [o, o, o, 255]
+        }
+        Channel::Emissive => [
+            quantize(linear_to_srgb(v.emissive[0])),
+            quantize(linear_to_srgb(v.emissive[1])),
+            quantize(linear_to_srgb(v.emissive[2])),
+            255,
+        ],
+        Channel::Normal => match frame {
+            Some(f) => encode_normal(f.to_tangent(v.normal)),
+            None => [128, 128, 255, 255],
+        },
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn srgb_curve_round_trips_and_hits_known_values() {
+        // sRGB 0.5 is linear 0.2140 (IEC 61966-2-1).
+        assert!((srgb_to_linear(0.5) - 0.214_041).abs() < 1e-5);
+        for i in 0..=255u8 {
+            let c = i as f32 / 255.0;
+            assert_eq!(quantize(linear_to_srgb(srgb_to_linear(c))), i);
+        }
+    }
+
+    #[test]
+    fn wrap_modes_fold_indices_like_gl() {
+        assert_eq!(wrap(-1, 4, Wrap::Repeat), 3);
+        assert_eq!(wrap(5, 4, Wrap::Repeat), 1);
+        assert_eq!(wrap(-1, 4, Wrap::ClampToEdge), 0);
+        assert_eq!(wrap(9, 4, Wrap::ClampToEdge), 3);
+        // Mirrored: 0 1 2 3 | 3 2 1 0 | 0 1 …
+        assert_eq!(wrap(4, 4, Wrap::MirroredRepeat), 3);
+        assert_eq!(wrap(7, 4, Wrap::MirroredRepeat), 0);
+        assert_eq!(wrap(-1, 4, Wrap::MirroredRepeat), 0);
+        assert_eq!(wrap(-2, 4, Wrap::MirroredRepeat), 1);
+    }
+
+    #[test]
+    fn bilinear_sample_between_texel_centers_with_clamp_and_repeat() {
+        // 2×1: black | white (linear data).
+        let img = Rgba8Image {
+            width: 2,
+            height: 1,
+            pixels: vec![[0, 0, 0, 255], [255, 255, 255, 255]],
+        };
+        let lut = [0.0; 256];
+        let mut s = TextureSampler {
+            image: &img,
+            sampler: Sampler::default(),
+            srgb: false,
+        };
+        assert_eq!(s.sample([0.5, 0.5], &lut)[0], 0.5);
+        assert_eq!(s.sample([0.25, 0.5], &lut)[0], 0.0);
+        // u = 0: halfway between the last texel (white, by repeat) and the
+        // first (black).
+        assert_eq!(s.sample([0.0, 0.5], &lut)[0], 0.5);
+        s.sampler.wrap_u = Wrap::ClampToEdge;
+        assert_eq!(s.sample([0.0, 0.5], &lut)[0], 0.0);
+    }
+
+    #[test]
+    fn tangent_frame_round_trips_and_honours_handedness() {
+        let f = Frame::new(Vec3::Z, Vec3::X, 1.0).expect("frame");
+        // +Y of the map is the bitangent N × T = +y.
+        assert!((f.to_world(Vec3::Y) - Vec3::Y).length() < 1e-6);
+        let v = Vec3::new(0.3, -0.4, 0.866).normalize();
+        assert!((f.to_tangent(f.to_world(v)) - v).length() < 1e-6);
+        let mirrored = Frame::new(Vec3::Z, Vec3::X, -1.0).expect("frame");
+        assert!((mirrored.to_world(Vec3::Y) + Vec3::Y).length() < 1e-6);
+    }
+
+    #[test]
+    fn flat_normal_encodes_to_the_neutral_texel() {
+        assert_eq!(encode_normal(Vec3::Z), [128, 128, 255, 255]);
+        assert_eq!(decode_normal([0.5, 0.5, 1.0, 1.0]), Vec3::Z);
+    }
+}

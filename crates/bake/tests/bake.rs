@@ -1,0 +1,452 @@
+//! End-to-end bakes on generated meshes whose right answer is known: a flat
+//! textured plane (the bake must reproduce the input image), a cube with
+//! six UV islands on a magenta background (no background may show at any
+//! mip level), and a bumpy normal-mapped plane (lighting must survive).
+
+use glam::Vec3;
+use wildlod_bake::gutter::mip_chain;
+use wildlod_bake::{bake_mesh, rasterize, BakeInput, BakeOptions, Baked, Channel, NO_TRIANGLE};
+use wildlod_mesh::shapes::{quad_grid, triangulate};
+use wildlod_mesh::{
+    Attribute, ComponentFormat, Faces, ImageSource, Material, Mesh, Part, Rgba8Image, Sampler,
+    Semantic, Texture, TextureRef, Wrap,
+};
+use wildlod_simplify::{Options, Target};
+
+fn srgb_to_linear(c: f32) -> f32 {
+    if c <= 0.04045 {
+        c / 12.92
+    } else {
+        ((c + 0.055) / 1.055).powf(2.4)
+    }
+}
+
+fn linear_to_srgb(c: f32) -> f32 {
+    let c = c.clamp(0.0, 1.0);
+    if c <= 0.003_130_8 {
+        c * 12.92
+    } else {
+        1.055 * c.powf(1.0 / 2.4) - 0.055
+    }
+}
+
+/// Reference bilinear lookup (clamp to edge), written independently of the
+/// baker: `srgb` decodes RGB before filtering, as GPUs do.
+fn bilinear(img: &Rgba8Image, uv: [f32; 2], srgb: bool) -> [f32; 4] {
+    let x = uv[0] as f64 * img.width as f64 - 0.5;
+    let y = uv[1] as f64 * img.height as f64 - 0.5;
+    let (x0, y0) = (x.floor(), y.floor());
+    let (fx, fy) = ((x - x0) as f32, (y - y0) as f32);
+    let at = |xi: f64, yi: f64| {
+        let xi = (xi as i64).clamp(0, img.width as i64 - 1) as usize;
+        let yi = (yi as i64).clamp(0, img.height as i64 - 1) as usize;
+        let p = img.pixels[yi * img.width as usize + xi];
+        let f = |k: usize| {
+            let c = p[k] as f32 / 255.0;
+            if srgb && k < 3 {
+                srgb_to_linear(c)
+            } else {
+                c
+            }
+        };
+        [f(0), f(1), f(2), f(3)]
+    };
+    let (a, b, c, d) = (
+        at(x0, y0),
+        at(x0 + 1.0, y0),
+        at(x0, y0 + 1.0),
+        at(x0 + 1.0, y0 + 1.0),
+    );
+    let mut out = [0.0; 4];
+    for k in 0..4 {
+        let top = a[k] + (b[k] - a[k]) * fx;
+        let bottom = c[k] + (d[k] - c[k]) * fx;
+        out[k] = top + (bottom - top) * fy;
+    }
+    out
+}
+
+fn clamp_sampler() -> Sampler {
+    Sampler {
+        wrap_u: Wrap::ClampToEdge,
+        wrap_v: Wrap::ClampToEdge,
+    }
+}
+
+fn texture() -> Texture {
+    Texture {
+        name: "t".into(),
+        source: ImageSource::Path("t.png".into()),
+        sampler: clamp_sampler(),
+    }
+}
+
+/// `n × n` quads on [0, 1]², triangulated, with UVs `uv(x, y)`.
+fn plane(n: usize, uv: impl Fn(f32, f32) -> [f32; 2]) -> Mesh {
+    let mut m = triangulate(&quad_grid(n, n));
+    let values: Vec<f32> = m.positions.iter().flat_map(|p| uv(p[0], p[1])).collect();
+    let indices = m.faces.indices.clone();
+    m.attributes.retain(|a| a.semantic != Semantic::TexCoord(0));
+    m.attributes.push(Attribute {
+        semantic: Semantic::TexCoord(0),
+        components: 2,
+        values,
+        indices,
+        format: ComponentFormat::F32,
+    });
+    m.parts = vec![Part {
+        name: "p".into(),
+        material: Some(0),
+    }];
+    m
+}
+
+fn options(ratio: f64, size: u32) -> BakeOptions {
+    BakeOptions {
+        simplify: Options {
+            target: Target {
+                ratio: Some(ratio),
+                ..Target::default()
+            },
+            ..Options::default()
+        },
+        texture_size: Some(size),
+        ..BakeOptions::default()
+    }
+}
+
+/// For every texel of `baked`'s image `image` owned by an output triangle
+/// (within 1.5 texels), the surface point it stands for.
+fn texel_points(baked: &Baked, size: u32) -> Vec<(usize, [f32; 3])> {
+    let m = &baked.mesh;
+    let uv = m.attribute(&Semantic::TexCoord(0)).expect("uvs");
+    let corner_uvs: Vec<[f32; 2]> = (0..m.faces.corner_count())
+        .map(|c| {
+            let v = uv.corner_value(c).expect("uv");
+            [v[0] * size as f32, v[1] * size as f32]
+        })
+        .collect();
+    let cov = rasterize(&corner_uvs, size, 1.5);
+    let mut out = Vec::new();
+    for (i, &t) in cov.triangle.iter().enumerate() {
+        if t == NO_TRIANGLE {
+            continue;
+        }
+        let f = m.faces.face(t as usize);
+        let b = cov.bary[i];
+        let p = [0, 1, 2].map(|a| (0..3).map(|k| b[k] * m.positions[f[k] as usize][a]).sum());
+        out.push((i, p));
+    }
+    out
+}
+
+fn image_of(baked: &Baked, ch: Channel) -> &Rgba8Image {
+    &baked
+        .images
+        .iter()
+        .find(|i| i.channel == ch)
+        .expect("channel baked")
+        .image
+}
+
+#[test]
+fn flat_plane_at_one_percent_reproduces_the_input_image_at_every_texel() {
+    // A 32×32 image of unrelated colors, so any misplaced lookup shows.
+    let mut img = Rgba8Image::filled(32, 32, [0; 4]);
+    for (i, p) in img.pixels.iter_mut().enumerate() {
+        let h = (i as u32).wrapping_mul(2_654_435_761);
+        *p = [(h >> 24) as u8, (h >> 16) as u8, (h >> 8) as u8, 255];
+    }
+    let mesh = plane(40, |x, y| [x, 1.0 - y]);
+    let materials = [Material {
+        base_color_texture: Some(TextureRef {
+            texture: 0,
+            tex_coord: 0,
+        }),
+        ..Material::default()
+    }];
+    let textures = [texture()];
+    let images = [Some(img.clone())];
+    let input = BakeInput {
+        mesh: &mesh,
+        materials: &materials,
+        textures: &textures,
+        images: &images,
+    };
+    let baked = bake_mesh(&input, &options(0.01, 128)).expect("bakes");
+    assert!(
+        baked.mesh.triangle_count() <= 33,
+        "{}",
+        baked.mesh.triangle_count()
+    );
+    let out = image_of(&baked, Channel::BaseColor);
+    let points = texel_points(&baked, 128);
+    assert!(points.len() > 4000, "{} texels", points.len());
+    let mut worst = 0i32;
+    for (i, p) in points {
+        // On the plane, the input point is the output point itself.
+        let want = bilinear(&img, [p[0], 1.0 - p[1]], true);
+        for (&got, &w) in out.pixels[i].iter().zip(&want).take(3) {
+            let w = (linear_to_srgb(w) * 255.0).round() as i32;
+            worst = worst.max((got as i32 - w).abs());
+        }
+    }
+    assert!(worst <= 1, "largest difference {worst}/255");
+}
+
+/// A unit cube, each face an `n × n` grid, face `k` mapped to island `k` of
+/// a 3 × 2 layout of a 96 × 64 image: 32 × 32 cells, each island 24 × 24
+/// texels of one color with its color dilated 2 texels around it (as
+/// real atlases are), and magenta in between.
+fn island_cube(n: usize) -> (Mesh, Rgba8Image, [[u8; 4]; 6]) {
+    // Every island color has green 230 and magenta has none: any blend of
+    // surface colors keeps green 230, any background in a blend lowers it.
+    let colors = [
+        [230, 230, 40, 255],
+        [40, 230, 40, 255],
+        [40, 230, 230, 255],
+        [230, 230, 230, 255],
+        [120, 230, 40, 255],
+        [40, 230, 120, 255],
+    ];
+    let magenta = [255, 0, 255, 255];
+    let mut img = Rgba8Image::filled(96, 64, magenta);
+    for (k, c) in colors.iter().enumerate() {
+        let (cx, cy) = ((k % 3) * 32, (k / 3) * 32);
+        for y in cy + 2..cy + 30 {
+            for x in cx + 2..cx + 30 {
+                img.pixels[y * 96 + x] = *c;
+            }
+        }
+    }
+    // Faces: (origin, u axis, v axis), outward normal u × v.
+    let faces: [([f32; 3], [f32; 3], [f32; 3]); 6] = [
+        ([0.0, 0.0, 1.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]),
+        ([1.0, 0.0, 0.0], [-1.0, 0.0, 0.0], [0.0, 1.0, 0.0]),
+        ([1.0, 0.0, 1.0], [0.0, 0.0, -1.0], [0.0, 1.0, 0.0]),
+        ([0.0, 0.0, 0.0], [0.0, 0.0, 1.0], [0.0, 1.0, 0.0]),
+        ([0.0, 1.0, 1.0], [1.0, 0.0, 0.0], [0.0, 0.0, -1.0]),
+        ([0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 1.0]),
+    ];
+    let mut positions = Vec::new();
+    let mut uvs = Vec::new();
+    let mut f = Faces::new();
+    for (k, (o, u, v)) in faces.iter().enumerate() {
+        let base = positions.len() as u32;
+        let (cx, cy) = ((k % 3) as f32 * 32.0 + 4.0, (k / 3) as f32 * 32.0 + 4.0);
+        for j in 0..=n {
+            for i in 0..=n {
+                let (s, t) = (i as f32 / n as f32, j as f32 / n as f32);
+                positions.push([0, 1, 2].map(|a| o[a] + s * u[a] + t * v[a]));
+                uvs.extend_from_slice(&[(cx + 24.0 * s) / 96.0, (cy + 24.0 * t) / 64.0]);
+            }
+        }
+        let id = |i: usize, j: usize| base + (j * (n + 1) + i) as u32;
+        for j in 0..n {
+            for i in 0..n {
+                f.push(&[id(i, j), id(i + 1, j), id(i + 1, j + 1)]);
+                f.push(&[id(i, j), id(i + 1, j + 1), id(i, j + 1)]);
+            }
+        }
+    }
+    let mut m = Mesh::from_polygons(positions, f);
+    let indices = m.faces.indices.clone();
+    m.attributes.push(Attribute {
+        semantic: Semantic::TexCoord(0),
+        components: 2,
+        values: uvs,
+        indices,
+        format: ComponentFormat::F32,
+    });
+    m.parts[0].material = Some(0);
+    (m, img, colors)
+}
+
+#[test]
+fn no_background_color_at_any_mip_level_on_an_island_cube() {
+    let (mesh, img, _) = island_cube(8);
+    let materials = [Material {
+        base_color_texture: Some(TextureRef {
+            texture: 0,
+            tex_coord: 0,
+        }),
+        ..Material::default()
+    }];
+    let textures = [texture()];
+    let images = [Some(img)];
+    let input = BakeInput {
+        mesh: &mesh,
+        materials: &materials,
+        textures: &textures,
+        images: &images,
+    };
+    let size = 128;
+    let baked = bake_mesh(&input, &options(0.1, size)).expect("bakes");
+    let b = baked
+        .images
+        .iter()
+        .find(|i| i.channel == Channel::BaseColor)
+        .expect("base color");
+    let m = &baked.mesh;
+    let uv = m.attribute(&Semantic::TexCoord(0)).expect("uvs");
+    let chain = mip_chain(&b.image);
+    // Interior and edge points of every triangle.
+    let weights: [[f32; 3]; 7] = [
+        [1.0 / 3.0; 3],
+        [0.5, 0.5, 0.0],
+        [0.0, 0.5, 0.5],
+        [0.5, 0.0, 0.5],
+        [0.98, 0.01, 0.01],
+        [0.01, 0.98, 0.01],
+        [0.01, 0.01, 0.98],
+    ];
+    // Green below 230 (less rounding through the mip levels) means some
+    // background was blended in.
+    let magenta_like = |c: [f32; 4]| c[1] < 226.0 / 255.0;
+    let mut samples = 0;
+    for t in 0..m.faces.len() {
+        let q: Vec<[f32; 2]> = (0..3)
+            .map(|k| {
+                let v = uv.corner_value(3 * t + k).expect("uv");
+                [v[0], v[1]]
+            })
+            .collect();
+        for w in &weights {
+            let p = [0, 1].map(|a| w[0] * q[0][a] + w[1] * q[1][a] + w[2] * q[2][a]);
+            // Level 0: every texel bilinear filtering reads holds the
+            // surface's own color (mapped), none is gutter fill.
+            let x = (p[0] * size as f32 - 0.5).floor() as i64;
+            let y = (p[1] * size as f32 - 0.5).floor() as i64;
+            for (dx, dy) in [(0, 0), (1, 0), (0, 1), (1, 1)] {
+                let (xi, yi) = (
+                    (x + dx).clamp(0, size as i64 - 1),
+                    (y + dy).clamp(0, size as i64 - 1),
+                );
+                assert!(
+                    b.mapped[(yi * size as i64 + xi) as usize],
+                    "triangle {t} at {p:?}: texel ({xi}, {yi}) is not mapped"
+                );
+            }
+            // Every mip level down to 4×4: no background color, opaque.
+            for (level, l) in chain.iter().enumerate().take_while(|(_, l)| l.width >= 4) {
+                let c = bilinear(l, p, false);
+                assert!(
+                    !magenta_like(c) && c[3] > 0.999,
+                    "triangle {t} at {p:?}, level {level}: {c:?}"
+                );
+                samples += 1;
+            }
+        }
+    }
+    assert!(samples > 1000, "{samples}");
+    // And no texel of the atlas is left unwritten (transparent black).
+    assert!(b.image.pixels.iter().all(|p| p[3] == 255));
+}
+
+/// Tangent-space normal field of the test: bumps along u and v.
+fn bump(u: f32, v: f32) -> Vec3 {
+    let tau = std::f32::consts::TAU;
+    Vec3::new(
+        0.5 * (tau * 2.0 * u).sin(),
+        0.5 * (tau * 3.0 * v).cos(),
+        1.0,
+    )
+    .normalize()
+}
+
+fn lambert(n: Vec3) -> f32 {
+    n.dot(Vec3::new(0.3, 0.5, 0.8).normalize()).max(0.0)
+}
+
+#[test]
+fn normal_mapped_plane_keeps_its_lighting_under_the_new_tangent_frame() {
+    let size = 64u32;
+    let mut map = Rgba8Image::filled(size, size, [0; 4]);
+    for y in 0..size {
+        for x in 0..size {
+            let n = bump(
+                (x as f32 + 0.5) / size as f32,
+                (y as f32 + 0.5) / size as f32,
+            );
+            let e = |c: f32| ((0.5 * c + 0.5) * 255.0).round() as u8;
+            map.pixels[(y * size + x) as usize] = [e(n.x), e(n.y), e(n.z), 255];
+        }
+    }
+    // UVs turned by 90° (u along +y, v along +x): the input's tangent is
+    // −y and its bitangent +x, unlike any frame an atlas chart gets.
+    let mesh = plane(24, |x, y| [1.0 - y, 1.0 - x]);
+    let materials = [Material {
+        normal_texture: Some(TextureRef {
+            texture: 0,
+            tex_coord: 0,
+        }),
+        ..Material::default()
+    }];
+    let textures = [texture()];
+    let images = [Some(map.clone())];
+    let input = BakeInput {
+        mesh: &mesh,
+        materials: &materials,
+        textures: &textures,
+        images: &images,
+    };
+    let baked = bake_mesh(&input, &options(0.05, 256)).expect("bakes");
+    let out_map = image_of(&baked, Channel::Normal);
+    let m = &baked.mesh;
+    let uv = m.attribute(&Semantic::TexCoord(0)).expect("uvs");
+    let nrm = m.attribute(&Semantic::Normal).expect("normals");
+    let tan = m.attribute(&Semantic::Tangent).expect("tangents written");
+    let decode =
+        |c: [f32; 4]| Vec3::new(2.0 * c[0] - 1.0, 2.0 * c[1] - 1.0, 2.0 * c[2] - 1.0).normalize();
+    let (mut sum, mut worst, mut naive_worst, mut count) = (0.0f32, 0.0f32, 0.0f32, 0);
+    for t in 0..m.faces.len() {
+        for w in [
+            [1.0 / 3.0; 3],
+            [0.6, 0.2, 0.2],
+            [0.2, 0.6, 0.2],
+            [0.2, 0.2, 0.6],
+        ] {
+            let c = |k: usize| 3 * t + k;
+            let mix = |a: &Attribute, n: usize| -> Vec<f32> {
+                (0..n)
+                    .map(|i| {
+                        (0..3)
+                            .map(|k| w[k] * a.corner_value(c(k)).expect("value")[i])
+                            .sum()
+                    })
+                    .collect()
+            };
+            let f = m.faces.face(t);
+            let p: Vec<f32> = (0..3)
+                .map(|a| (0..3).map(|k| w[k] * m.positions[f[k] as usize][a]).sum())
+                .collect();
+            // Input: the map in the input's frame T = −y, B = +x, N = +z.
+            let n_in = decode(bilinear(&map, [1.0 - p[1], 1.0 - p[0]], false));
+            let world_in =
+                (Vec3::new(0.0, -1.0, 0.0) * n_in.x + Vec3::X * n_in.y + Vec3::Z * n_in.z)
+                    .normalize();
+            // Output: the baked map in the output's frame, built as a
+            // glTF shader builds it.
+            let q = mix(uv, 2);
+            let n = Vec3::from_slice(&mix(nrm, 3)).normalize();
+            let tv = mix(tan, 4);
+            let tt = (Vec3::new(tv[0], tv[1], tv[2]) - n * n.dot(Vec3::new(tv[0], tv[1], tv[2])))
+                .normalize();
+            let bb = n.cross(tt) * tv[3].signum();
+            let n_out = decode(bilinear(out_map, [q[0], q[1]], false));
+            let world_out = (tt * n_out.x + bb * n_out.y + n * n_out.z).normalize();
+            let d = (lambert(world_in) - lambert(world_out)).abs();
+            // Copying the input's tangent-space values without
+            // re-expressing them would light the surface like this:
+            let naive = (tt * n_in.x + bb * n_in.y + n * n_in.z).normalize();
+            naive_worst = naive_worst.max((lambert(world_in) - lambert(naive)).abs());
+            sum += d;
+            worst = worst.max(d);
+            count += 1;
+        }
+    }
+    let mean = sum / count as f32;
+    assert!(mean < 0.01 && worst < 0.05, "mean {mean}, worst {worst}");
+    // The test can tell: ignoring the change of frame breaks lighting.
+    assert!(naive_worst > 0.2, "naive {naive_worst}");
+}
