@@ -18,7 +18,7 @@ use wildlod_simplify::{simplify_polygons, Options, Report};
 
 use crate::atlas::{atlas_stats, build_atlas, AtlasOptions, AtlasStats};
 use crate::channels::{corner_normals, encode, Channel, Frame, InputChannels};
-use crate::gutter::dilate;
+use crate::gutter::{apply_fill, nearest_owned};
 use crate::mapping::SuccessiveMap;
 use crate::raster::{rasterize, NO_TRIANGLE};
 
@@ -412,6 +412,7 @@ pub fn bake_mesh(input: &BakeInput, options: &BakeOptions) -> Result<Baked, Bake
             .iter()
             .map(|&t| t != NO_TRIANGLE)
             .collect();
+        let fill = nearest_owned(size, size, &mapped);
         let seconds = t0.elapsed().as_secs_f64();
         let mut material = without_textures(
             &group_first_material[g]
@@ -430,7 +431,7 @@ pub fn bake_mesh(input: &BakeInput, options: &BakeOptions) -> Result<Baked, Bake
                 height: size,
                 pixels: std::mem::take(&mut pixels[ci]),
             };
-            dilate(&mut image, &mapped);
+            apply_fill(&mut image, &fill);
             let r = Some(TextureRef {
                 texture: images.len() as u32,
                 tex_coord: 0,

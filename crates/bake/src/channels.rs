@@ -124,25 +124,10 @@ fn wrap(i: i64, n: i64, mode: Wrap) -> i64 {
 }
 
 impl TextureSampler<'_> {
-    fn texel(&self, x: i64, y: i64, lut: &[f32; 256]) -> [f32; 4] {
-        let (w, h) = (self.image.width as i64, self.image.height as i64);
-        let xi = wrap(x, w, self.sampler.wrap_u) as usize;
-        let yi = wrap(y, h, self.sampler.wrap_v) as usize;
-        let p = self.image.pixels[yi * w as usize + xi];
-        let lin = |v: u8| {
-            if self.srgb {
-                lut[v as usize]
-            } else {
-                v as f32 / 255.0
-            }
-        };
-        [lin(p[0]), lin(p[1]), lin(p[2]), p[3] as f32 / 255.0]
-    }
-
     /// Bilinear lookup at `uv` (glTF: `v = 0` is the top row, texel
     /// centers at half-integers), linear values.
     pub(crate) fn sample(&self, uv: [f32; 2], lut: &[f32; 256]) -> [f32; 4] {
-        let (w, h) = (self.image.width, self.image.height);
+        let (w, h) = (self.image.width as i64, self.image.height as i64);
         if w == 0 || h == 0 || !(uv[0].is_finite() && uv[1].is_finite()) {
             return [1.0; 4];
         }
@@ -151,10 +136,21 @@ impl TextureSampler<'_> {
         let (x0, y0) = (x.floor(), y.floor());
         let (fx, fy) = ((x - x0) as f32, (y - y0) as f32);
         let (x0, y0) = (x0 as i64, y0 as i64);
-        let a = self.texel(x0, y0, lut);
-        let b = self.texel(x0 + 1, y0, lut);
-        let c = self.texel(x0, y0 + 1, lut);
-        let d = self.texel(x0 + 1, y0 + 1, lut);
+        let xs = [x0, x0 + 1].map(|i| wrap(i, w, self.sampler.wrap_u) as usize);
+        let ys = [y0, y0 + 1].map(|i| wrap(i, h, self.sampler.wrap_v) as usize);
+        let texel = |xi: usize, yi: usize| {
+            let p = self.image.pixels[yi * w as usize + xi];
+            let lin = |v: u8| {
+                if self.srgb {
+                    lut[v as usize]
+                } else {
+                    v as f32 / 255.0
+                }
+            };
+            [lin(p[0]), lin(p[1]), lin(p[2]), p[3] as f32 / 255.0]
+        };
+        let (a, b) = (texel(xs[0], ys[0]), texel(xs[1], ys[0]));
+        let (c, d) = (texel(xs[0], ys[1]), texel(xs[1], ys[1]));
         let mut out = [0.0; 4];
         for k in 0..4 {
             let top = a[k] + (b[k] - a[k]) * fx;

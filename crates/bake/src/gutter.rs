@@ -21,9 +21,22 @@ use wildlod_mesh::Rgba8Image;
 /// Fills every texel with `owned[i] == false` from the nearest owned texel.
 /// Leaves the image unchanged when nothing is owned.
 pub fn dilate(image: &mut Rgba8Image, owned: &[bool]) {
-    let (w, h) = (image.width as usize, image.height as usize);
-    let mut done = owned.to_vec();
-    let mut queue: VecDeque<usize> = (0..w * h).filter(|&i| done[i]).collect();
+    apply_fill(image, &nearest_owned(image.width, image.height, owned));
+}
+
+/// For every texel of a `width × height` atlas, the index of the nearest
+/// owned texel (itself when owned; `u32::MAX` when nothing is owned):
+/// computed once, applied to every channel of an atlas.
+pub fn nearest_owned(width: u32, height: u32, owned: &[bool]) -> Vec<u32> {
+    let (w, h) = (width as usize, height as usize);
+    let mut source = vec![u32::MAX; w * h];
+    let mut queue: VecDeque<usize> = VecDeque::new();
+    for (i, &o) in owned.iter().enumerate().take(w * h) {
+        if o {
+            source[i] = i as u32;
+            queue.push_back(i);
+        }
+    }
     while let Some(i) = queue.pop_front() {
         let (x, y) = ((i % w) as i64, (i / w) as i64);
         for dy in -1..=1i64 {
@@ -33,12 +46,23 @@ pub fn dilate(image: &mut Rgba8Image, owned: &[bool]) {
                     continue;
                 }
                 let j = ny as usize * w + nx as usize;
-                if !done[j] {
-                    done[j] = true;
-                    image.pixels[j] = image.pixels[i];
+                if source[j] == u32::MAX {
+                    source[j] = source[i];
                     queue.push_back(j);
                 }
             }
+        }
+    }
+    source
+}
+
+/// Copies into every texel the value of its source texel
+/// ([`nearest_owned`]).
+pub fn apply_fill(image: &mut Rgba8Image, source: &[u32]) {
+    for (i, &s) in source.iter().enumerate().take(image.pixels.len()) {
+        let s = s as usize;
+        if s != i && s < image.pixels.len() {
+            image.pixels[i] = image.pixels[s];
         }
     }
 }

@@ -23,7 +23,7 @@
 //! merged. So the last projection lands on the input face itself, and its
 //! barycentrics are taken on the input polygon (fan-triangulated).
 
-use glam::DVec3;
+use glam::{DVec3, Vec3};
 use wildlod_geometry::closest_point_on_triangle;
 use wildlod_mesh::Faces;
 use wildlod_simplify::History;
@@ -78,6 +78,21 @@ pub struct SuccessiveMap<'a> {
     /// collapses (ascending) whose vertex one-ring holds `f`.
     touch_start: Vec<u32>,
     touch: Vec<u32>,
+    /// The edge one-ring of every collapse as flat triangles (polygons
+    /// fanned), `ring_start[k]..ring_start[k + 1]`: the hot loop reads
+    /// them contiguously.
+    ring_start: Vec<u32>,
+    rings: Vec<RingTriangle>,
+}
+
+/// A triangle of a recorded edge one-ring, with a bounding sphere for
+/// skipping triangles that cannot be the closest.
+#[derive(Clone, Copy, Debug)]
+struct RingTriangle {
+    corners: [Vec3; 3],
+    center: Vec3,
+    radius: f32,
+    face: u32,
 }
 
 impl<'a> SuccessiveMap<'a> {
@@ -111,12 +126,39 @@ impl<'a> SuccessiveMap<'a> {
                 }
             }
         }
+        let mut ring_start = Vec::with_capacity(history.len() + 1);
+        let mut rings = Vec::new();
+        for k in 0..history.len() {
+            ring_start.push(rings.len() as u32);
+            for rf in history.before(k) {
+                let c = history.positions(rf);
+                for t in 1..c.len().saturating_sub(1) {
+                    let corners = [c[0], c[t], c[t + 1]].map(Vec3::from);
+                    let center = (corners[0] + corners[1] + corners[2]) / 3.0;
+                    let radius = corners
+                        .iter()
+                        .map(|&q| q.distance(center))
+                        .fold(0.0f32, f32::max);
+                    rings.push(RingTriangle {
+                        corners,
+                        center,
+                        // Rounding of the distances above: a bound a
+                        // hair too small would skip the true closest.
+                        radius: radius * (1.0 + 1e-5) + 1e-12,
+                        face: rf.face,
+                    });
+                }
+            }
+        }
+        ring_start.push(rings.len() as u32);
         SuccessiveMap {
             history,
             positions,
             faces,
             touch_start,
             touch,
+            ring_start,
+            rings,
         }
     }
 
@@ -133,7 +175,7 @@ impl<'a> SuccessiveMap<'a> {
         let mut bound = self.history.len() as u32;
         // Each step strictly lowers `bound`: at most one step per collapse.
         while let Some(k) = self.previous_touch(face, bound) {
-            if let Some((f, point)) = self.project_on_edge_ring(k as usize, target) {
+            if let Some((f, point)) = self.project_on_edge_ring(k as usize, face, target) {
                 face = f;
                 q = point;
             }
@@ -152,23 +194,33 @@ impl<'a> SuccessiveMap<'a> {
 
     /// The closest point to `p` on collapse `k`'s edge one-ring, as the
     /// ring recorded it (positions before the collapse); ties keep the
-    /// earlier face, so the answer is deterministic.
-    fn project_on_edge_ring(&self, k: usize, p: DVec3) -> Option<(u32, DVec3)> {
-        let mut best: Option<(f64, u32, DVec3)> = None;
-        for rf in self.history.before(k) {
-            let corners = self.history.positions(rf);
-            let c0 = DVec3::from(corners[0].map(f64::from));
-            for t in 1..corners.len().saturating_sub(1) {
-                let c1 = DVec3::from(corners[t].map(f64::from));
-                let c2 = DVec3::from(corners[t + 1].map(f64::from));
-                let (point, _) = closest_point_on_triangle(p, c0, c1, c2);
-                let d2 = (point - p).length_squared();
-                if best.map_or(true, |b| d2 < b.0) {
-                    best = Some((d2, rf.face, point));
-                }
+    /// earlier triangle, so the answer is deterministic. The search starts
+    /// on the point's current face (in the ring: the vertex one-ring after
+    /// a collapse is part of the edge one-ring before it), usually the
+    /// answer or close to it, and skips every triangle whose bounding
+    /// sphere lies farther than the best distance so far.
+    fn project_on_edge_ring(&self, k: usize, face: u32, p: DVec3) -> Option<(u32, DVec3)> {
+        let ring = &self.rings[self.ring_start[k] as usize..self.ring_start[k + 1] as usize];
+        let pf = p.as_vec3();
+        let first = ring.iter().position(|t| t.face == face).unwrap_or(0);
+        let t0 = ring.get(first)?;
+        let (mut best_i, mut best_q) = (first, closest_on_triangle(pf, &t0.corners));
+        let mut best_d2 = pf.distance_squared(best_q);
+        let mut best_d = best_d2.sqrt();
+        for (i, t) in ring.iter().enumerate() {
+            // Every point of the triangle is at least |p − c| − r away.
+            let reach = t.radius + best_d;
+            if i == first || pf.distance_squared(t.center) > reach * reach {
+                continue;
+            }
+            let q = closest_on_triangle(pf, &t.corners);
+            let d2 = pf.distance_squared(q);
+            if d2 < best_d2 || (d2 == best_d2 && i < best_i) {
+                (best_i, best_q, best_d2) = (i, q, d2);
+                best_d = d2.sqrt();
             }
         }
-        best.map(|(_, f, point)| (f, point))
+        Some((ring[best_i].face, best_q.as_dvec3()))
     }
 
     /// Barycentrics of `q` on input face `face` (fan-triangulated; the
@@ -211,6 +263,55 @@ impl<'a> SuccessiveMap<'a> {
     pub fn touches(&self, face: u32) -> usize {
         let f = face as usize;
         (self.touch_start[f + 1] - self.touch_start[f]) as usize
+    }
+}
+
+/// The point of triangle `t` closest to `p` (Ericson, *Real-Time Collision
+/// Detection*, §5.1.5, by Voronoi regions), in `f32`: the hot path. A
+/// degenerate triangle can divide by zero there; it then goes to the exact
+/// `f64` routine of `wildlod-geometry`.
+#[inline]
+fn closest_on_triangle(p: Vec3, t: &[Vec3; 3]) -> Vec3 {
+    let [a, b, c] = *t;
+    let (ab, ac, ap) = (b - a, c - a, p - a);
+    let (d1, d2) = (ab.dot(ap), ac.dot(ap));
+    if d1 <= 0.0 && d2 <= 0.0 {
+        return a;
+    }
+    let bp = p - b;
+    let (d3, d4) = (ab.dot(bp), ac.dot(bp));
+    if d3 >= 0.0 && d4 <= d3 {
+        return b;
+    }
+    let vc = d1 * d4 - d3 * d2;
+    if vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0 {
+        let v = d1 / (d1 - d3);
+        return a + ab * v;
+    }
+    let cp = p - c;
+    let (d5, d6) = (ab.dot(cp), ac.dot(cp));
+    if d6 >= 0.0 && d5 <= d6 {
+        return c;
+    }
+    let vb = d5 * d2 - d1 * d6;
+    if vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0 {
+        let w = d2 / (d2 - d6);
+        return a + ac * w;
+    }
+    let va = d3 * d6 - d5 * d4;
+    if va <= 0.0 && (d4 - d3) >= 0.0 && (d5 - d6) >= 0.0 {
+        let w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
+        return b + (c - b) * w;
+    }
+    let denom = 1.0 / (va + vb + vc);
+    let (v, w) = (vb * denom, vc * denom);
+    let q = a + ab * v + ac * w;
+    if q.is_finite() {
+        q
+    } else {
+        let (q, _) =
+            closest_point_on_triangle(p.as_dvec3(), a.as_dvec3(), b.as_dvec3(), c.as_dvec3());
+        q.as_vec3()
     }
 }
 
@@ -365,6 +466,35 @@ mod tests {
             [0, 2, 3],
             [0.25, 0.25, 0.5],
         );
+    }
+
+    #[test]
+    fn fast_closest_point_agrees_with_the_exact_one() {
+        let t = [
+            Vec3::new(0.0, 0.0, 0.0),
+            Vec3::new(2.0, 0.1, 0.0),
+            Vec3::new(0.3, 1.5, 0.2),
+        ];
+        // A grid of query points around the triangle hits every region.
+        for i in -4..=8 {
+            for j in -4..=8 {
+                for k in -2..=2 {
+                    let p = Vec3::new(i as f32 * 0.3, j as f32 * 0.3, k as f32 * 0.4);
+                    let fast = closest_on_triangle(p, &t);
+                    let (exact, _) = closest_point_on_triangle(
+                        p.as_dvec3(),
+                        t[0].as_dvec3(),
+                        t[1].as_dvec3(),
+                        t[2].as_dvec3(),
+                    );
+                    assert!((fast.as_dvec3() - exact).length() < 1e-5, "{p:?}");
+                }
+            }
+        }
+        // Degenerate (collinear) triangles still give a point on them.
+        let flat = [Vec3::ZERO, Vec3::X, Vec3::X * 2.0];
+        let q = closest_on_triangle(Vec3::new(1.5, 1.0, 0.0), &flat);
+        assert!((q - Vec3::new(1.5, 0.0, 0.0)).length() < 1e-6, "{q:?}");
     }
 
     /// W Fig. 17: a thin shell (two sheets 0.01 apart, the lower one

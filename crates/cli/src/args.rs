@@ -162,6 +162,27 @@ pub struct SimplifyArgs {
     /// the simplified faces, keeping the input's hard edges.
     #[arg(long, value_enum, default_value_t = NormalArg::Fit)]
     pub normals: NormalArg,
+    /// Re-bake textures (Liu, Zhang & Yuksel 2025 §4.3): collapses cross UV
+    /// seams freely, the simplified mesh gets a new atlas, and every texel
+    /// of it is mapped back to the input through the collapse history to
+    /// bake every channel of its material (base color with vertex colors,
+    /// metallic-roughness, normal, occlusion, emissive) with no bleeding.
+    /// Reaches targets that seam-keeping cannot on meshes with many UV
+    /// islands. Without it the input's UVs and textures are kept.
+    #[arg(long)]
+    pub bake: bool,
+    /// With --bake: atlas width and height in texels (default: keep the
+    /// input's texel density, rounded to a power of two, at most 4096).
+    #[arg(long, value_name = "N", requires = "bake")]
+    pub texture_size: Option<u32>,
+    /// With --bake: bake every material with the same alpha mode and
+    /// sidedness into one atlas and one material (fewer draw calls).
+    #[arg(long, requires = "bake")]
+    pub merge_materials: bool,
+    /// With --bake: JPEG quality (1 to 100) of baked images when the
+    /// input's textures were all JPEG (else PNG is written).
+    #[arg(long, value_name = "Q", default_value_t = 90)]
+    pub jpeg_quality: u8,
     /// Allow the output to replace the input file.
     #[arg(long)]
     pub overwrite: bool,

@@ -1,5 +1,6 @@
 //! One module per command.
 
+mod bake;
 mod compare;
 mod demo;
 mod info;

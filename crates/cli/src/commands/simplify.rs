@@ -27,6 +27,8 @@ pub struct Config {
     pub error: Option<f64>,
     pub overwrite: bool,
     pub quiet: bool,
+    /// Re-bake textures (`--bake`), with these settings.
+    pub bake: Option<super::bake::BakeConfig>,
 }
 
 impl Config {
@@ -120,7 +122,24 @@ impl Config {
             keep_topology: a.keep_topology,
             lock_borders: a.lock_borders,
         };
+        if let Some(n) = a.texture_size {
+            if !(16..=16384).contains(&n) {
+                bail!("--texture-size must be between 16 and 16384, got {n}");
+            }
+        }
+        if !(1..=100).contains(&a.jpeg_quality) {
+            bail!(
+                "--jpeg-quality must be between 1 and 100, got {}",
+                a.jpeg_quality
+            );
+        }
+        let bake = a.bake.then_some(super::bake::BakeConfig {
+            texture_size: a.texture_size,
+            merge_materials: a.merge_materials,
+            jpeg_quality: a.jpeg_quality,
+        });
         Ok(Config {
+            bake,
             input: a.input,
             output: a.output,
             options,
@@ -147,6 +166,10 @@ pub fn run(cfg: &Config) -> anyhow::Result<()> {
         .file_stem()
         .map(|s| s.to_string_lossy().into_owned())
         .unwrap_or_default();
+    if let Some(b) = &cfg.bake {
+        super::bake::bake_scene(&mut doc, cfg, b, &targets, &stem)?;
+        return write(&doc, cfg);
+    }
     for (m, target) in targets.into_iter().enumerate() {
         let mesh = &doc.scene.meshes[m];
         if mesh.faces.is_empty() {
@@ -174,7 +197,7 @@ pub fn run(cfg: &Config) -> anyhow::Result<()> {
     write(&doc, cfg)
 }
 
-fn write(doc: &Document, cfg: &Config) -> anyhow::Result<()> {
+pub(super) fn write(doc: &Document, cfg: &Config) -> anyhow::Result<()> {
     let warnings = wildlod_io::write(
         doc,
         &cfg.output,
@@ -217,7 +240,7 @@ pub fn summary(name: &str, r: &Report, seconds: f64) -> String {
 /// budget shared in proportion to triangle counts (largest remainders, so
 /// the shares sum to the budget); `--error` converted from the file's
 /// diagonal to each mesh's own.
-fn mesh_targets(scene: &Scene, cfg: &Config) -> Vec<Target> {
+pub(super) fn mesh_targets(scene: &Scene, cfg: &Config) -> Vec<Target> {
     let tris: Vec<usize> = scene.meshes.iter().map(|m| m.triangle_count()).collect();
     let shares = cfg.faces.map(|n| share_budget(n, &tris));
     let file_diag = scene_diagonal(scene);

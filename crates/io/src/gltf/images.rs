@@ -23,6 +23,8 @@ pub(crate) struct ImageWriter {
     copied: HashMap<PathBuf, PathBuf>,
     /// Problems that do not stop the write.
     pub warnings: Vec<String>,
+    /// Output paths of images written from memory.
+    written: std::collections::HashSet<PathBuf>,
 }
 
 impl ImageWriter {
@@ -37,6 +39,7 @@ impl ImageWriter {
             sidecars: Vec::new(),
             copied: HashMap::new(),
             warnings: Vec::new(),
+            written: std::collections::HashSet::new(),
         }
     }
 
@@ -52,6 +55,59 @@ impl ImageWriter {
         let v = bin.view(bytes, None, None);
         m.insert("bufferView".into(), json!(v));
         m.insert("mimeType".into(), json!(mime));
+        m
+    }
+
+    /// The location properties of an image held in memory under a name (a
+    /// re-baked texture): in a `.glb` embedded; beside a `.gltf` as the file
+    /// `<name>.<ext>` (`<name>_2.<ext>`… when taken), so that artists see
+    /// the images as files.
+    pub(crate) fn named(
+        &mut self,
+        bin: &mut Bin,
+        name: &str,
+        bytes: &[u8],
+        mime: &str,
+    ) -> Map<String, Value> {
+        let ext = match mime {
+            "image/png" => "png",
+            "image/jpeg" => "jpg",
+            _ => "",
+        };
+        let safe: String = name
+            .chars()
+            .map(|c| {
+                if c.is_ascii_alphanumeric() || "-_.".contains(c) {
+                    c
+                } else {
+                    '_'
+                }
+            })
+            .collect();
+        if self.format == Format::Glb || ext.is_empty() || safe.trim_matches('.').is_empty() {
+            return self.embedded(bin, bytes, mime);
+        }
+        let mut k = 1;
+        let file = loop {
+            let f = if k == 1 {
+                format!("{safe}.{ext}")
+            } else {
+                format!("{safe}_{k}.{ext}")
+            };
+            let target = self.out_dir.join(&f);
+            if !self.written.contains(&target) && !self.copied.contains_key(&target) {
+                break f;
+            }
+            k += 1;
+        };
+        let target = self.out_dir.join(&file);
+        self.written.insert(target.clone());
+        self.sidecars.push((target, bytes.to_vec()));
+        let mut m = Map::new();
+        m.insert(
+            "uri".into(),
+            json!(uri::percent_encode_path(Path::new(&file))),
+        );
         m
     }
 

@@ -203,6 +203,9 @@ pub(crate) fn textures(
             Some(i) => i,
             None => {
                 let placed = match &t.source {
+                    ImageSource::Embedded { bytes, mime_type } if !t.name.is_empty() => {
+                        images.named(bin, &t.name, bytes, mime_type)
+                    }
                     ImageSource::Embedded { bytes, mime_type } => {
                         images.embedded(bin, bytes, mime_type)
                     }
