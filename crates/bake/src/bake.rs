@@ -31,6 +31,64 @@ const BILINEAR_MARGIN: f32 = 1.5;
 /// atlas size.
 const BAND_ROWS: u32 = 64;
 
+/// Faces meeting at a larger angle keep separate normals at their shared
+/// vertices: the usual "auto smooth" angle of modelling tools.
+const CREASE_DEGREES: f32 = 60.0;
+
+/// Per-corner normals of `triangles`: at each corner, the area-weighted
+/// normals of the triangles around its vertex that turn by at most
+/// `crease` degrees from its own triangle; equal values shared.
+fn smooth_normals(positions: &[[f32; 3]], triangles: &[[u32; 3]], crease: f32) -> Attribute {
+    let cos = crease.to_radians().cos();
+    let face_n: Vec<glam::Vec3> = triangles
+        .iter()
+        .map(|t| {
+            let p = t.map(|v| glam::Vec3::from(positions[v as usize]));
+            (p[1] - p[0]).cross(p[2] - p[0])
+        })
+        .collect();
+    let mut around: Vec<Vec<u32>> = vec![Vec::new(); positions.len()];
+    for (f, t) in triangles.iter().enumerate() {
+        for &v in t {
+            around[v as usize].push(f as u32);
+        }
+    }
+    let mut values: Vec<f32> = Vec::new();
+    let mut indices = Vec::with_capacity(3 * triangles.len());
+    let mut seen = std::collections::HashMap::new();
+    for (f, t) in triangles.iter().enumerate() {
+        let own = face_n[f].normalize_or_zero();
+        for &v in t {
+            let mut n = glam::Vec3::ZERO;
+            for &g in &around[v as usize] {
+                let other = face_n[g as usize];
+                if own == glam::Vec3::ZERO || other.normalize_or_zero().dot(own) >= cos {
+                    n += other;
+                }
+            }
+            let n = n.try_normalize().unwrap_or(if own == glam::Vec3::ZERO {
+                glam::Vec3::Z
+            } else {
+                own
+            });
+            let key = n.to_array().map(f32::to_bits);
+            let next = seen.len() as u32;
+            let i = *seen.entry(key).or_insert_with(|| {
+                values.extend_from_slice(&n.to_array());
+                next
+            });
+            indices.push(i);
+        }
+    }
+    Attribute {
+        semantic: Semantic::Normal,
+        components: 3,
+        values,
+        indices,
+        format: ComponentFormat::F32,
+    }
+}
+
 /// Options of [`bake_mesh`].
 #[derive(Clone, Debug)]
 pub struct BakeOptions {
@@ -219,6 +277,15 @@ pub fn bake_mesh(input: &BakeInput, options: &BakeOptions) -> Result<Baked, Bake
     }
 
     let mut out = carried_mesh(mesh, &s, &triangles, &tri_corners);
+    if mesh.attribute(&Semantic::Normal).is_some() {
+        // Carried corner normals belong to whichever input vertex each
+        // corner was, so one output vertex gets several: faceted shading.
+        // Fresh normals, smooth up to a crease angle, shade the new
+        // geometry (and the normal map is baked relative to them).
+        out.attributes.retain(|a| a.semantic != Semantic::Normal);
+        out.attributes
+            .push(smooth_normals(&s.positions, &triangles, CREASE_DEGREES));
+    }
     out.face_parts = tri_group.clone();
     out.parts = group_first_material
         .iter()
@@ -718,4 +785,35 @@ fn vertex_joints(mesh: &Mesh) -> Vec<Vec<(u32, f32)>> {
             .collect();
     }
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn smooth_normals_average_within_the_crease_and_split_beyond_it() {
+        // Two triangles hinged along x at 30° (smoothed) and at 90° (split).
+        for (angle, split) in [(30f32, false), (90f32, true)] {
+            let (c, s) = (angle.to_radians().cos(), angle.to_radians().sin());
+            let p = vec![
+                [0.0, 0.0, 0.0],
+                [1.0, 0.0, 0.0],
+                [0.0, 1.0, 0.0],
+                [0.5, -c, s],
+            ];
+            let t = [[0u32, 1, 2], [1, 0, 3]];
+            let a = smooth_normals(&p, &t, 60.0);
+            let n0 = a.corner_value(0).expect("normal");
+            let n3 = a.corner_value(4).expect("normal");
+            if split {
+                assert!((n0[2] - 1.0).abs() < 1e-6, "{n0:?}");
+                assert!(n3[2] < 0.1, "{n3:?}");
+            } else {
+                // Vertex 0 is shared: both corners get the same average.
+                assert_eq!(n0, n3);
+                assert!(n0[2] < 1.0 && n0[2] > 0.9, "{n0:?}");
+            }
+        }
+    }
 }
