@@ -194,7 +194,8 @@ impl<'a> SuccessiveMap<'a> {
 
     /// The closest point to `p` on collapse `k`'s edge one-ring, as the
     /// ring recorded it (positions before the collapse); ties keep the
-    /// earlier triangle, so the answer is deterministic. The search starts
+    /// point's current face, then the earlier triangle, so the answer is
+    /// deterministic. The search starts
     /// on the point's current face (in the ring: the vertex one-ring after
     /// a collapse is part of the edge one-ring before it), usually the
     /// answer or close to it, and skips every triangle whose bounding
@@ -206,6 +207,12 @@ impl<'a> SuccessiveMap<'a> {
         let t0 = ring.get(first)?;
         let (mut best_i, mut best_q) = (first, closest_on_triangle(pf, &t0.corners));
         let mut best_d2 = pf.distance_squared(best_q);
+        // On its own face already (flat regions, untouched geometry):
+        // nothing can be closer. The tolerance is far below f32 rounding
+        // of the triangle's size, so this only skips exact ties.
+        if best_d2 <= (1e-7 * t0.radius).powi(2) {
+            return Some((t0.face, best_q.as_dvec3()));
+        }
         let mut best_d = best_d2.sqrt();
         for (i, t) in ring.iter().enumerate() {
             // Every point of the triangle is at least |p − c| − r away.
