@@ -158,6 +158,9 @@ pub struct AtlasReport {
     pub size: u32,
     /// Layout statistics.
     pub stats: AtlasStats,
+    /// Seconds spent laying out the atlas (charts, parametrization,
+    /// packing).
+    pub layout_seconds: f64,
     /// Texels mapped to the input through the history.
     pub texels_mapped: usize,
     /// Seconds spent mapping texels and evaluating channels.
@@ -343,6 +346,7 @@ pub fn bake_mesh(input: &BakeInput, options: &BakeOptions) -> Result<Baked, Bake
         let size = options
             .texture_size
             .unwrap_or_else(|| density_size(input, &s.positions, &group_tris, options));
+        let t_layout = Instant::now();
         let atlas = build_atlas(
             &s.positions,
             &group_tris,
@@ -359,8 +363,9 @@ pub fn bake_mesh(input: &BakeInput, options: &BakeOptions) -> Result<Baked, Bake
                 corner_uv[3 * t as usize + k] = [uv[0] / size as f32, uv[1] / size as f32];
             }
         }
+        let layout_seconds = t_layout.elapsed().as_secs_f64();
         let stats = atlas_stats(&s.positions, &group_tris, &atlas);
-        group_work.push((members, atlas, stats));
+        group_work.push((members, atlas, stats, layout_seconds));
     }
     set_uvs(&mut out, &corner_uv);
 
@@ -369,7 +374,7 @@ pub fn bake_mesh(input: &BakeInput, options: &BakeOptions) -> Result<Baked, Bake
     // materials), base color always.
     let mut any_normal_map = false;
     let mut group_channels: Vec<Vec<Channel>> = Vec::new();
-    for (members, _, _) in &group_work {
+    for (members, _, _, _) in &group_work {
         let mut chans = vec![Channel::BaseColor];
         for ch in Channel::ALL {
             if ch == Channel::BaseColor {
@@ -408,7 +413,7 @@ pub fn bake_mesh(input: &BakeInput, options: &BakeOptions) -> Result<Baked, Bake
         None
     };
 
-    for (g, (members, atlas, stats)) in group_work.iter().enumerate() {
+    for (g, (members, atlas, stats, layout_seconds)) in group_work.iter().enumerate() {
         let t0 = Instant::now();
         let size = atlas.size;
         let coverage = rasterize(&atlas.corner_uvs, size, BILINEAR_MARGIN);
@@ -547,6 +552,7 @@ pub fn bake_mesh(input: &BakeInput, options: &BakeOptions) -> Result<Baked, Bake
         atlases.push(AtlasReport {
             size,
             stats: *stats,
+            layout_seconds: *layout_seconds,
             texels_mapped: coverage.owned(),
             seconds,
         });

@@ -56,6 +56,8 @@ def main():
     ap.add_argument('--ratios', default='0.5,0.1,0.01')
     ap.add_argument('--work', default='/tmp/wildlod-appearance')
     ap.add_argument('--out', required=True)
+    ap.add_argument('--compare-only', action='store_true',
+                    help='measure the outputs a previous run left in --work again')
     a = ap.parse_args()
     os.makedirs(a.work, exist_ok=True)
     ratios = [float(r) for r in a.ratios.split(',')]
@@ -74,10 +76,13 @@ def main():
             }
             for name, cmd in methods.items():
                 out = os.path.join(a.work, f'{stem}_{r}_{name}.glb')
-                if os.path.exists(out):
-                    os.remove(out)
                 cmd = [out if c is None else c for c in cmd]
-                p, secs = run(cmd)
+                if a.compare_only:
+                    p, secs = subprocess.CompletedProcess(cmd, 0 if os.path.exists(out) else 1, '', 'missing'), 0.0
+                else:
+                    if os.path.exists(out):
+                        os.remove(out)
+                    p, secs = run(cmd)
                 row = {'file': rel, 'ratio': r, 'method': name, 'seconds': round(secs, 2),
                        'status': 'ok', 'triangles': '', 'target': '', 'texture_chamfer': '',
                        'hausdorff': ''}

@@ -351,10 +351,14 @@ impl<'a> EvalMesh<'a> {
             .any(|&s| self.colors[s as usize].image.is_some())
     }
 
-    /// Color (RGB in [0, 1]) at barycentrics `bary` of triangle `t`: the
-    /// base color image looked up bilinearly at the interpolated UV, times
-    /// the base color factor, clamped. Triangles without an image have the
-    /// factor's color.
+    /// Color (RGB in [0, 1], sRGB-encoded as images store it) at
+    /// barycentrics `bary` of triangle `t`: the base color image looked up
+    /// bilinearly at the interpolated UV, times the base color factor.
+    /// glTF's factor is linear and its image sRGB, so the product is taken
+    /// in linear space and encoded back: what a renderer displays, and the
+    /// same number whether a re-baker folded the factor into its image or
+    /// not. A factor of 1 leaves the image's values untouched; triangles
+    /// without an image have the factor's color (sRGB-encoded).
     pub fn color_at(&self, t: usize, bary: [f64; 3]) -> [f32; 3] {
         let src = &self.colors[self.sources[t] as usize];
         let texel = match src.image {
@@ -369,7 +373,32 @@ impl<'a> EvalMesh<'a> {
             }
             None => [1.0; 4],
         };
-        std::array::from_fn(|k| (texel[k] * src.factor[k]).clamp(0.0, 1.0))
+        std::array::from_fn(|k| {
+            let (t, f) = (texel[k].clamp(0.0, 1.0), src.factor[k]);
+            if f == 1.0 {
+                t
+            } else {
+                linear_to_srgb(srgb_to_linear(t) * f.clamp(0.0, 1.0))
+            }
+        })
+    }
+}
+
+/// sRGB-encoded value → linear (IEC 61966-2-1).
+pub(crate) fn srgb_to_linear(c: f32) -> f32 {
+    if c <= 0.04045 {
+        c / 12.92
+    } else {
+        ((c + 0.055) / 1.055).powf(2.4)
+    }
+}
+
+/// Linear value in [0, 1] → sRGB-encoded.
+pub(crate) fn linear_to_srgb(c: f32) -> f32 {
+    if c <= 0.003_130_8 {
+        c * 12.92
+    } else {
+        1.055 * c.powf(1.0 / 2.4) - 0.055
     }
 }
 
@@ -462,12 +491,17 @@ mod tests {
         let images = [Some(img)];
         let e = EvalMesh::from_scene(&s, &images);
         assert!(e.has_texture());
-        assert_eq!(e.color_at(0, [1.0 / 3.0; 3]), [0.5, 0.25, 1.0]);
+        // White times the linear factor, displayed in sRGB: linear 0.5 is
+        // sRGB 0.7354, 0.25 is 0.5371.
+        let c = e.color_at(0, [1.0 / 3.0; 3]);
+        let want = [0.735_357, 0.537_098, 1.0];
+        assert!((0..3).all(|k| (c[k] - want[k]).abs() < 1e-5), "{c:?}");
         // Without the decoded image the factor alone colors the triangle.
         let none: [Option<Image>; 1] = [None];
         let e = EvalMesh::from_scene(&s, &none);
         assert!(!e.has_texture());
-        assert_eq!(e.color_at(0, [1.0, 0.0, 0.0]), [0.5, 0.25, 1.0]);
+        let c = e.color_at(0, [1.0, 0.0, 0.0]);
+        assert!((0..3).all(|k| (c[k] - want[k]).abs() < 1e-5), "{c:?}");
         // A texture index past the images is treated the same way.
         let e = EvalMesh::from_scene(&s, &[]);
         assert!(!e.has_texture());

@@ -223,10 +223,12 @@ fn atlas_summary(b: &Baked) -> String {
         .iter()
         .map(|a| {
             format!(
-                "{}² ({} charts, {:.0}% used, {:.0} ms)",
+                "{}² ({} charts, {:.0}% used, stretch {:.3}, layout {:.0} ms, bake {:.0} ms)",
                 a.size,
                 a.stats.charts,
                 100.0 * a.stats.utilization,
+                a.stats.stretch_l2,
+                1000.0 * a.layout_seconds,
                 1000.0 * a.seconds
             )
         })
