@@ -14,7 +14,9 @@ use wildlod_mesh::{
     AlphaMode, Attribute, ComponentFormat, Faces, Material, Mesh, Part, Rgba8Image, Semantic,
     Texture, TextureRef, ABSENT,
 };
-use wildlod_simplify::{simplify_polygons, Options, Report};
+use wildlod_simplify::{
+    simplify_with_attributes, AttributeInput, FittedSkin, Options, Report, SkinStream,
+};
 
 use crate::atlas::{atlas_stats, build_atlas, AtlasOptions, AtlasStats};
 use crate::channels::{corner_normals, encode, Channel, Frame, InputChannels};
@@ -220,7 +222,20 @@ pub fn bake_mesh(input: &BakeInput, options: &BakeOptions) -> Result<Baked, Bake
     if opts.vertex_joints.is_empty() {
         opts.vertex_joints = vertex_joints(mesh);
     }
-    let mut s = simplify_polygons(&mesh.positions, &mesh.faces, &opts)?;
+    // Positions and faces steer the collapses, UVs do not (W: collapses
+    // cross seams freely); skin influences are fitted through every
+    // collapse (Knodt 2024 §3) so that the LOD deforms like the input.
+    let attributes = AttributeInput {
+        skin: mesh.skinning.as_ref().map(|sk| SkinStream {
+            influences: sk.influences as usize,
+            joints: &sk.joints,
+            weights: &sk.weights,
+            indices: &sk.indices,
+            weight: opts.attributes.skin_weight,
+        }),
+        ..AttributeInput::default()
+    };
+    let mut s = simplify_with_attributes(&mesh.positions, &mesh.faces, &attributes, &opts)?;
     let history = s.history.take().unwrap_or_default();
     // Triangles of the output, each remembering its output face and the
     // output corners it uses.
@@ -280,6 +295,9 @@ pub fn bake_mesh(input: &BakeInput, options: &BakeOptions) -> Result<Baked, Bake
     }
 
     let mut out = carried_mesh(mesh, &s, &triangles, &tri_corners);
+    if let (Some(fitted), Some(input_skin)) = (&s.skin, &mesh.skinning) {
+        out.skinning = Some(fitted_skinning(fitted, input_skin, &triangles));
+    }
     if mesh.attribute(&Semantic::Normal).is_some() {
         // Carried corner normals belong to whichever input vertex each
         // corner was, so one output vertex gets several: faceted shading.
@@ -629,6 +647,36 @@ fn carried_mesh(
     };
     out.compact();
     out
+}
+
+/// The simplifier's fitted influences (one set per output vertex) as the
+/// triangulated mesh's per-corner skinning; a vertex no skinned corner
+/// reached (all weights 0) has none.
+fn fitted_skinning(
+    fitted: &FittedSkin,
+    input: &wildlod_mesh::Skinning,
+    triangles: &[[u32; 3]],
+) -> wildlod_mesh::Skinning {
+    let k = fitted.influences.max(1);
+    let indices = triangles
+        .iter()
+        .flatten()
+        .map(|&v| {
+            let w = fitted.weights.get(v as usize * k..(v as usize + 1) * k);
+            match w {
+                Some(w) if w.iter().any(|&x| x > 0.0) => v,
+                _ => ABSENT,
+            }
+        })
+        .collect();
+    wildlod_mesh::Skinning {
+        influences: fitted.influences as u8,
+        joints: fitted.joints.clone(),
+        weights: fitted.weights.clone(),
+        indices,
+        weight_format: input.weight_format,
+        joint_format: input.joint_format,
+    }
 }
 
 /// Sets `TEXCOORD_0` from per-corner UVs, sharing equal values.

@@ -92,6 +92,11 @@ struct RingTriangle {
     corners: [Vec3; 3],
     center: Vec3,
     radius: f32,
+    /// Unit normal (zero for a degenerate triangle) and `normal · corner`:
+    /// the distance to the plane is a second lower bound, tighter than the
+    /// sphere for the ring's tilted neighbours of a point on the surface.
+    normal: Vec3,
+    offset: f32,
     face: u32,
 }
 
@@ -139,9 +144,14 @@ impl<'a> SuccessiveMap<'a> {
                         .iter()
                         .map(|&q| q.distance(center))
                         .fold(0.0f32, f32::max);
+                    let normal = (corners[1] - corners[0])
+                        .cross(corners[2] - corners[0])
+                        .normalize_or_zero();
                     rings.push(RingTriangle {
                         corners,
                         center,
+                        normal,
+                        offset: normal.dot(corners[0]),
                         // Rounding of the distances above: a bound a
                         // hair too small would skip the true closest.
                         radius: radius * (1.0 + 1e-5) + 1e-12,
@@ -215,9 +225,13 @@ impl<'a> SuccessiveMap<'a> {
         }
         let mut best_d = best_d2.sqrt();
         for (i, t) in ring.iter().enumerate() {
-            // Every point of the triangle is at least |p − c| − r away.
+            // Every point of the triangle is at least |p − c| − r away, and
+            // at least as far as its plane (a hair of slack for rounding).
             let reach = t.radius + best_d;
-            if i == first || pf.distance_squared(t.center) > reach * reach {
+            if i == first
+                || pf.distance_squared(t.center) > reach * reach
+                || (t.normal.dot(pf) - t.offset).abs() > best_d * (1.0 + 1e-5) + 1e-12
+            {
                 continue;
             }
             let q = closest_on_triangle(pf, &t.corners);

@@ -10,9 +10,12 @@
 //! - `bake 2048 <ratio>`: [`bake_mesh`] with a 2048² atlas, simplification
 //!   included (all threads), and `simplify <ratio>` alone for comparison.
 //!
-//! Then it prints µs per texel (mapping alone, one core) and the whole
-//! bake's µs per mapped texel. Under `cargo test` it runs once on a small
-//! generated mesh so that it keeps compiling and working.
+//! Then it prints µs per texel: mapping alone on one core, as wall time
+//! and as the thread's CPU time (`/proc/thread-self/schedstat`, Linux), and
+//! the whole bake per mapped texel as wall time and as the process's CPU
+//! time. CPU time is what a texel costs a core even when other work shares
+//! the machine; wall time is what a user waits. Under `cargo test` it runs
+//! once on a small generated mesh so that it keeps compiling and working.
 
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
@@ -160,6 +163,24 @@ fn texel_points(
     (s, points)
 }
 
+/// CPU time of the calling thread in seconds (Linux; `None` elsewhere).
+fn thread_cpu_seconds() -> Option<f64> {
+    let s = std::fs::read_to_string("/proc/thread-self/schedstat").ok()?;
+    let ns: f64 = s.split_whitespace().next()?.parse().ok()?;
+    Some(ns * 1e-9)
+}
+
+/// CPU time (user + system) of the whole process in seconds (Linux).
+fn process_cpu_seconds() -> Option<f64> {
+    let s = std::fs::read_to_string("/proc/self/stat").ok()?;
+    // Fields after the parenthesized command name; utime and stime are the
+    // 14th and 15th fields, in clock ticks (100 per second on Linux).
+    let rest = s.rsplit_once(')')?.1;
+    let f: Vec<&str> = rest.split_whitespace().collect();
+    let ticks: f64 = f.get(11)?.parse::<f64>().ok()? + f.get(12)?.parse::<f64>().ok()?;
+    Some(ticks / 100.0)
+}
+
 fn main() {
     let bench_mode = std::env::args().any(|a| a == "--bench");
     let corpus = std::env::var_os("WILDLOD_CORPUS")
@@ -199,11 +220,13 @@ fn main() {
                 },
             );
             // One timed pass for the summary table.
-            let t0 = Instant::now();
+            let (t0, c0) = (Instant::now(), thread_cpu_seconds());
             for &(f, p) in &points {
                 std::hint::black_box(map.map(f, p));
             }
-            let per_point = t0.elapsed().as_secs_f64() / points.len().max(1) as f64;
+            let n = points.len().max(1) as f64;
+            let per_point = t0.elapsed().as_secs_f64() / n;
+            let cpu_per_point = c0.zip(thread_cpu_seconds()).map(|(a, b)| (b - a) / n);
             let input = BakeInput {
                 mesh,
                 materials: &case.scene.materials,
@@ -229,17 +252,22 @@ fn main() {
                         .output_triangles
                 })
             });
-            let t0 = Instant::now();
+            let (t0, c0) = (Instant::now(), process_cpu_seconds());
             let baked = bake_mesh(&input, &bo).expect("bakes");
             let bake_s = t0.elapsed().as_secs_f64();
+            let bake_cpu = c0.zip(process_cpu_seconds()).map(|(a, b)| b - a);
             let texels: usize = baked.report.atlases.iter().map(|a| a.texels_mapped).sum();
             let baking: f64 = baked.report.atlases.iter().map(|a| a.seconds).sum();
+            let t = texels.max(1) as f64;
+            let opt = |v: Option<f64>| v.map_or("n/a".to_string(), |x| format!("{x:.2}"));
             rows.push(format!(
-                "| {} | {label} | {} | {:.2} | {:.2} | {:.2} | {} |",
+                "| {} | {label} | {} | {:.2} | {} | {:.2} | {} | {:.1} | {} |",
                 case.name,
                 baked.mesh.triangle_count(),
                 per_point * 1e6,
-                baking * 1e6 / texels.max(1) as f64,
+                opt(cpu_per_point.map(|x| x * 1e6)),
+                baking * 1e6 / t,
+                opt(bake_cpu.map(|x| x * 1e6 / t)),
                 bake_s,
                 texels
             ));
@@ -247,8 +275,10 @@ fn main() {
         group.finish();
     }
     c.final_summary();
-    println!("\n| mesh | ratio | triangles | map µs/texel (1 core) | bake µs/texel (all cores) | bake total s | texels mapped |");
-    println!("|---|---|---|---|---|---|---|");
+    println!(
+        "\n| mesh | ratio | triangles | map µs/texel, wall (1 thread) | map µs/texel, CPU | bake µs/texel, wall (all threads) | bake µs/texel, CPU (all threads) | bake total s, wall | texels mapped |"
+    );
+    println!("|---|---|---|---|---|---|---|---|---|");
     for r in rows {
         println!("{r}");
     }

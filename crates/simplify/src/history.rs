@@ -87,13 +87,7 @@ impl History {
     ///
     /// # Panics
     /// When a ring face's vertex and position lists differ in length.
-    pub fn push(
-        &mut self,
-        kept: u32,
-        removed: u32,
-        before: &[RingInput<'_>],
-        after: &[u32],
-    ) {
+    pub fn push(&mut self, kept: u32, removed: u32, before: &[RingInput<'_>], after: &[u32]) {
         let start = self.ring_faces.len() as u32;
         for &(face, vertices, positions) in before {
             assert_eq!(
