@@ -56,6 +56,8 @@ def main():
     ap.add_argument('--ratios', default='0.5,0.1,0.01')
     ap.add_argument('--work', default='/tmp/wildlod-appearance')
     ap.add_argument('--out', required=True)
+    ap.add_argument('--methods', default='keep-UV,re-bake,gltfpack,blender',
+                    help='which of keep-UV, re-bake, gltfpack, blender to run')
     ap.add_argument('--compare-only', action='store_true',
                     help='measure the outputs a previous run left in --work again')
     a = ap.parse_args()
@@ -75,6 +77,8 @@ def main():
                             str(r)],
             }
             for name, cmd in methods.items():
+                if name not in a.methods.split(','):
+                    continue
                 out = os.path.join(a.work, f'{stem}_{r}_{name}.glb')
                 cmd = [out if c is None else c for c in cmd]
                 if a.compare_only:
