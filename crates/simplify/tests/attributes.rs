@@ -342,6 +342,7 @@ fn textured(mesh: Mesh) -> Scene {
     s.textures.push(Texture {
         name: "checker".into(),
         source: ImageSource::Path("checker.png".into()),
+        sampler: Default::default(),
     });
     s
 }
