@@ -1,4 +1,4 @@
-"""Blender's Decimate (Collapse) on a glTF file, keeping UVs, materials,
+"""Blender's Decimate (Collapse) on a glTF (or OBJ) file, keeping UVs, materials,
 skins and animations, for wildlod's appearance evaluation (a peer, not part
 of wildlod).
 
@@ -21,8 +21,11 @@ def main():
     argv = sys.argv[sys.argv.index('--') + 1:] if '--' in sys.argv else sys.argv[1:]
     inp, out, ratio = argv[0], argv[1], float(argv[2])
     bpy.ops.wm.read_factory_settings(use_empty=True)
-    # Merged vertices, as a user would decimate: glTF stores seams split.
-    bpy.ops.import_scene.gltf(filepath=inp, merge_vertices=True)
+    if inp.lower().endswith('.obj'):
+        bpy.ops.wm.obj_import(filepath=inp)
+    else:
+        # Merged vertices, as a user would decimate: glTF stores seams split.
+        bpy.ops.import_scene.gltf(filepath=inp, merge_vertices=True)
     tris_in = tris_out = 0
     for obj in [o for o in bpy.context.scene.objects if o.type == 'MESH']:
         bpy.context.view_layer.objects.active = obj

@@ -1,5 +1,5 @@
 //! `evaluate-appearance`: wildlod against gltfpack and Blender's Decimate on
-//! the corpus's textured and skinned glTF files (texture and normal Chamfer,
+//! the corpus's textured and skinned files (texture and normal Chamfer,
 //! distances at rest and posed at animation frames), as markdown.
 //!
 //! ```text
@@ -109,7 +109,12 @@ fn main() -> ExitCode {
     let files: Vec<(String, PathBuf)> = ["textured", "skinned"]
         .iter()
         .flat_map(|c| mesh_files(&a.corpus, c))
-        .filter(|p| matches!(p.extension().and_then(|e| e.to_str()), Some("gltf" | "glb")))
+        .filter(|p| {
+            matches!(
+                p.extension().and_then(|e| e.to_str()),
+                Some("gltf" | "glb" | "obj")
+            )
+        })
         .map(|p| (short(&a.corpus, &p), p))
         .collect();
     let work = std::env::temp_dir().join(format!("wildlod-appearance-{}", std::process::id()));
