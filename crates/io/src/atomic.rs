@@ -81,7 +81,12 @@ impl OutputFiles {
             builder.prefix(".wildlod-").suffix(".tmp");
             #[cfg(unix)]
             builder.permissions(output_permissions(path));
-            let mut tmp = builder.tempfile_in(&dir)?;
+            let mut tmp = builder
+                .tempfile_in(&dir)
+                .map_err(|source| ErrorKind::OutputFolder {
+                    folder: dir.clone(),
+                    source,
+                })?;
             tmp.write_all(bytes)?;
             tmp.as_file().sync_all()?;
             staged.push((tmp, path));

@@ -74,8 +74,28 @@ pub enum ErrorKind {
     #[error("invalid mesh: {0}")]
     Invalid(ValidationErrors),
     /// Writing would replace an input file.
-    #[error("refusing to overwrite the input file {}; pass the overwrite option to allow it", .0.display())]
+    /// (The library cannot know what its caller calls the permission: the
+    /// `wildlod` binary adds "pass --overwrite to allow it".)
+    #[error("refusing to overwrite the input file {} (WriteOptions::allow_overwrite_input allows it)", .0.display())]
     WouldOverwriteInput(PathBuf),
+    /// A path to read is not a regular file (a FIFO, a device, a folder):
+    /// refused before opening it, which could block forever.
+    #[error("{} is {what}, not a regular file; refused without reading it", path.display())]
+    NotAFile {
+        /// The path (the input itself, or an MTL, buffer or image it names).
+        path: PathBuf,
+        /// What it is instead.
+        what: &'static str,
+    },
+    /// The folder an output goes into cannot take a file (it does not
+    /// exist, is not a folder, or is not writable).
+    #[error("cannot write into the folder {}: {source}", folder.display())]
+    OutputFolder {
+        /// The folder.
+        folder: PathBuf,
+        /// Why.
+        source: std::io::Error,
+    },
     /// The content cannot be expressed in the output format.
     #[error("{0}")]
     Unsupported(String),

@@ -20,7 +20,8 @@ use crate::{Error, ErrorKind};
 pub fn decode_image(source: &ImageSource) -> Result<Image, Error> {
     match source {
         ImageSource::Path(p) => {
-            let bytes = std::fs::read(p).map_err(|e| Error::new(p, ErrorKind::Io(e)))?;
+            let bytes =
+                crate::regular::read(p, crate::MAX_FILE_BYTES).map_err(|e| Error::new(p, e))?;
             decode_bytes(&bytes).map_err(|m| Error::new(p, ErrorKind::malformed("image", m)))
         }
         ImageSource::Embedded { bytes, mime_type } => decode_bytes(bytes).map_err(|m| {

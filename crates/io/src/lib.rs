@@ -15,6 +15,7 @@ mod gltf;
 mod image;
 mod obj;
 mod ply;
+mod regular;
 mod stl;
 
 use std::path::{Path, PathBuf};
@@ -74,11 +75,7 @@ pub fn read(path: impl AsRef<Path>) -> Result<Document, Error> {
     let path = path.as_ref();
     let at = |kind| Error::new(path, kind);
     let format = Format::from_path(path).map_err(at)?;
-    let meta = std::fs::metadata(path).map_err(|e| at(ErrorKind::Io(e)))?;
-    if meta.len() > MAX_FILE_BYTES {
-        return Err(at(ErrorKind::TooLarge { bytes: meta.len() }));
-    }
-    let data = std::fs::read(path).map_err(|e| at(ErrorKind::Io(e)))?;
+    let data = regular::read(path, MAX_FILE_BYTES).map_err(at)?;
     if data.is_empty() {
         return Err(at(ErrorKind::EmptyFile));
     }
@@ -87,6 +84,9 @@ pub fn read(path: impl AsRef<Path>) -> Result<Document, Error> {
         format: Some(format),
         ..Document::default()
     };
+    if let Some(w) = misnamed_gltf(format, &data) {
+        doc.warnings.push(w);
+    }
     match format {
         Format::Gltf | Format::Glb => {
             let (scene, pass) = gltf::read(path, &data, &mut doc.warnings).map_err(at)?;
@@ -101,6 +101,26 @@ pub fn read(path: impl AsRef<Path>) -> Result<Document, Error> {
         .validate()
         .map_err(|e| at(ErrorKind::Invalid(e)))?;
     Ok(doc)
+}
+
+/// A glTF whose content disagrees with its extension: it still reads (the
+/// glTF reader goes by content), but tools that trust the extension will
+/// not, so the user should hear of it.
+fn misnamed_gltf(format: Format, data: &[u8]) -> Option<String> {
+    let binary = data.starts_with(b"glTF");
+    let json = data
+        .iter()
+        .find(|b| !b.is_ascii_whitespace())
+        .is_some_and(|&b| b == b'{');
+    match format {
+        Format::Gltf if binary => Some(
+            "the file is binary glTF (GLB) but named .gltf; read as GLB (rename it to .glb)".into(),
+        ),
+        Format::Glb if json => Some(
+            "the file is glTF JSON but named .glb; read as JSON glTF (rename it to .gltf)".into(),
+        ),
+        _ => None,
+    }
 }
 
 /// Writes a document; the format follows the output extension.

@@ -25,6 +25,9 @@ pub(crate) struct ImageWriter {
     pub warnings: Vec<String>,
     /// Output paths of images written from memory.
     written: std::collections::HashSet<PathBuf>,
+    /// Views already holding an image, by a hash of its bytes: an image
+    /// two materials (or two image objects) share is stored once.
+    image_views: HashMap<u64, Vec<usize>>,
 }
 
 impl ImageWriter {
@@ -40,7 +43,33 @@ impl ImageWriter {
             copied: HashMap::new(),
             warnings: Vec::new(),
             written: std::collections::HashSet::new(),
+            image_views: HashMap::new(),
         }
+    }
+
+    /// A view holding `bytes`: an earlier image view with the same bytes,
+    /// or a new one.
+    fn image_view(&mut self, bin: &mut Bin, bytes: &[u8]) -> usize {
+        use std::hash::{Hash, Hasher};
+        let mut h = std::collections::hash_map::DefaultHasher::new();
+        bytes.hash(&mut h);
+        let key = h.finish();
+        let same = |v: usize| {
+            let o = &bin.views[v];
+            let at = o.get("byteOffset").and_then(Value::as_u64).unwrap_or(0) as usize;
+            let len = o.get("byteLength").and_then(Value::as_u64).unwrap_or(0) as usize;
+            bin.data.get(at..at + len) == Some(bytes)
+        };
+        if let Some(&v) = self
+            .image_views
+            .get(&key)
+            .and_then(|vs| vs.iter().find(|&&v| same(v)))
+        {
+            return v;
+        }
+        let v = bin.view(bytes, None, None);
+        self.image_views.entry(key).or_default().push(v);
+        v
     }
 
     /// The location properties (`uri`, or `bufferView` and `mimeType`) of
@@ -52,7 +81,7 @@ impl ImageWriter {
         mime: &str,
     ) -> Map<String, Value> {
         let mut m = Map::new();
-        let v = bin.view(bytes, None, None);
+        let v = self.image_view(bin, bytes);
         m.insert("bufferView".into(), json!(v));
         m.insert("mimeType".into(), json!(mime));
         m
@@ -122,7 +151,7 @@ impl ImageWriter {
         mime: Option<&str>,
     ) -> Result<Map<String, Value>, ErrorKind> {
         if self.format == Format::Glb {
-            match std::fs::read(path) {
+            match crate::regular::read(path, crate::MAX_FILE_BYTES) {
                 Ok(bytes) => {
                     let mime = mime
                         .map(str::to_string)
@@ -194,7 +223,7 @@ impl ImageWriter {
         let rel = self.free_name(rel, &abs);
         let target = self.out_dir.join(&rel);
         if !self.copied.contains_key(&target) {
-            match std::fs::read(&abs) {
+            match crate::regular::read(&abs, crate::MAX_FILE_BYTES) {
                 Ok(bytes) => self.sidecars.push((target.clone(), bytes)),
                 Err(e) => self.warnings.push(format!(
                     "{label}: cannot read {} ({e}); its URI is written but the file is not copied",
@@ -258,7 +287,7 @@ impl ImageWriter {
                     format!("bufferView {v} lies outside its buffer"),
                 )
             })?;
-            let nv = bin.view(&bytes, None, None);
+            let nv = self.image_view(bin, &bytes);
             out.insert("bufferView".into(), json!(nv));
             return Ok(Value::Object(out));
         }

@@ -169,6 +169,7 @@ pub(crate) fn load(
 /// Reads an external buffer, refusing a file larger than any mesh file we
 /// accept before allocating for it.
 fn read_external(file: &Path, declared: u64) -> Result<Vec<u8>, String> {
+    crate::regular::not_regular(file).map_err(|e| e.to_string())?;
     let meta = std::fs::metadata(file).map_err(|e| e.to_string())?;
     if meta.len() > crate::MAX_FILE_BYTES {
         return Err(format!("{} bytes is more than wildlod reads", meta.len()));

@@ -1079,8 +1079,15 @@ fn read_image(
             }
             UriKind::Relative(rel) => {
                 let p = uri::resolve(dir, &rel);
-                if !p.is_file() {
-                    warnings.push(format!("{}: file {} not found", name(), p.display()));
+                // Missing: a warning (the output keeps the URI). There but
+                // not a regular file (a FIFO would block the writer that
+                // embeds it): refused now.
+                match crate::regular::not_regular(&p) {
+                    Ok(()) => {}
+                    Err(ErrorKind::Io(e)) if e.kind() == std::io::ErrorKind::NotFound => {
+                        warnings.push(format!("{}: file {} not found", name(), p.display()));
+                    }
+                    Err(e) => return Err(ErrorKind::malformed(name(), e.to_string())),
                 }
                 external.push(p.clone());
                 ImageSource::Path(p)

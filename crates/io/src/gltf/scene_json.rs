@@ -202,7 +202,7 @@ pub(crate) fn textures(
         let ii = match sources.iter().position(|s| *s == &t.source) {
             Some(i) => i,
             None => {
-                let placed = match &t.source {
+                let mut placed = match &t.source {
                     ImageSource::Embedded { bytes, mime_type } if !t.name.is_empty() => {
                         images.named(bin, &t.name, bytes, mime_type)
                     }
@@ -213,6 +213,12 @@ pub(crate) fn textures(
                         images.file(bin, &format!("texture {ti}"), p, None, None)?
                     }
                 };
+                // The image is named after the texture (an OBJ's texture is
+                // named after its file): without it viewers list images
+                // as numbers.
+                if !t.name.is_empty() {
+                    placed.insert("name".into(), json!(t.name));
+                }
                 sources.push(&t.source);
                 image_json.push(Value::Object(placed));
                 sources.len() - 1

@@ -12,6 +12,8 @@ use std::path::{Path, PathBuf};
 
 use wildlod_mesh::{AlphaMode, ImageSource, Material, Texture, TextureRef};
 
+use crate::error::ErrorKind;
+
 use super::text::{self, parse_f32, split_keyword, tokens, trim, trim_start, Lines};
 
 /// What an OBJ material is before any MTL statement: white, dielectric,
@@ -54,21 +56,34 @@ pub(crate) struct Library {
 
 /// Loads the `mtllib`s of an OBJ in `obj_dir` and builds the materials named
 /// in `used`, in that order.
+///
+/// A library or image that is missing is a warning (assets often travel
+/// without them); one that exists but cannot be read as a regular file (a
+/// FIFO, a device, a folder, a symlink loop, no permission) is an error:
+/// the files are broken or hostile, and reading on could block forever.
 pub(crate) fn load(
     obj_dir: &Path,
     mtllibs: &[(usize, Vec<u8>)],
     used: &[String],
     warnings: &mut Vec<String>,
-) -> Library {
+) -> Result<Library, ErrorKind> {
     let mut defs: HashMap<String, Definition> = HashMap::new();
     for (ln, arg) in mtllibs {
         for file in library_paths(obj_dir, arg) {
-            match std::fs::read(&file) {
+            match crate::regular::read(&file, crate::MAX_FILE_BYTES) {
                 Ok(data) => parse(&file, &data, &mut defs, warnings),
-                Err(e) => warnings.push(format!(
-                    "line {ln}: material library {} cannot be read ({e}); its materials get defaults",
-                    file.display()
-                )),
+                Err(ErrorKind::Io(e)) if e.kind() == std::io::ErrorKind::NotFound => {
+                    warnings.push(format!(
+                        "line {ln}: material library {} cannot be read ({e}); its materials get defaults",
+                        file.display()
+                    ))
+                }
+                Err(e) => {
+                    return Err(ErrorKind::syntax(
+                        *ln,
+                        format!("material library {}: {e}", file.display()),
+                    ))
+                }
             }
         }
     }
@@ -89,36 +104,38 @@ pub(crate) fn load(
         if m.base_color[3] < 1.0 {
             m.alpha_mode = AlphaMode::Blend;
         }
-        let mut texture = |path: &Path, ln: usize, warnings: &mut Vec<String>| -> TextureRef {
-            let next = lib.textures.len() as u32;
-            let id = *texture_ids.entry(path.to_path_buf()).or_insert(next);
-            if id == next {
-                let source = existing_image(path).unwrap_or_else(|| {
-                    warnings.push(format!(
-                        "{} line {ln}: image {} of material '{name}' is not on disk",
-                        def.file.display(),
-                        path.display()
-                    ));
-                    path.to_path_buf()
-                });
-                lib.textures.push(Texture {
-                    name: source
-                        .file_name()
-                        .map(|n| n.to_string_lossy().into_owned())
-                        .unwrap_or_default(),
-                    source: ImageSource::Path(source),
-                    // OBJ textures tile.
-                    sampler: Default::default(),
-                });
-            }
-            TextureRef {
-                texture: id,
-                tex_coord: 0,
-            }
-        };
+        let mut texture =
+            |path: &Path, ln: usize, warnings: &mut Vec<String>| -> Result<TextureRef, ErrorKind> {
+                let next = lib.textures.len() as u32;
+                let id = *texture_ids.entry(path.to_path_buf()).or_insert(next);
+                if id == next {
+                    refuse_unreadable_image(&def.file, ln, path)?;
+                    let source = existing_image(path).unwrap_or_else(|| {
+                        warnings.push(format!(
+                            "{} line {ln}: image {} of material '{name}' is not on disk",
+                            def.file.display(),
+                            path.display()
+                        ));
+                        path.to_path_buf()
+                    });
+                    lib.textures.push(Texture {
+                        name: source
+                            .file_name()
+                            .map(|n| n.to_string_lossy().into_owned())
+                            .unwrap_or_default(),
+                        source: ImageSource::Path(source),
+                        // OBJ textures tile.
+                        sampler: Default::default(),
+                    });
+                }
+                Ok(TextureRef {
+                    texture: id,
+                    tex_coord: 0,
+                })
+            };
         let (mut rough, mut metal) = (None, None);
         for (slot, path, ln) in &def.maps {
-            let r = texture(path, *ln, warnings);
+            let r = texture(path, *ln, warnings)?;
             match slot {
                 Slot::BaseColor => m.base_color_texture = Some(r),
                 Slot::Normal => m.normal_texture = Some(r),
@@ -147,7 +164,21 @@ pub(crate) fn load(
             unknown.join(", ")
         ));
     }
-    lib
+    Ok(lib)
+}
+
+/// An image path that exists but is no regular file (a FIFO, a device, a
+/// folder, a link loop) is refused at once: writing the output would read
+/// it. A missing one is left to the caller's warning.
+fn refuse_unreadable_image(mtl: &Path, ln: usize, path: &Path) -> Result<(), ErrorKind> {
+    match crate::regular::not_regular(path) {
+        Ok(()) => Ok(()),
+        Err(ErrorKind::Io(e)) if e.kind() == std::io::ErrorKind::NotFound => Ok(()),
+        Err(e) => Err(ErrorKind::malformed(
+            format!("{} line {ln}", mtl.display()),
+            format!("image {}: {e}", path.display()),
+        )),
+    }
 }
 
 /// Alpha from `d` (opacity) or `Tr` (transparency, 1 − d); `d` wins.

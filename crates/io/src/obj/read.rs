@@ -30,7 +30,7 @@ pub(crate) fn read(
 ) -> Result<Scene, ErrorKind> {
     let parsed = parse(data, warnings)?;
     let dir = super::absolute_dir(path);
-    let lib = mtl::load(&dir, &parsed.mtllibs, &parsed.used_materials, warnings);
+    let lib = mtl::load(&dir, &parsed.mtllibs, &parsed.used_materials, warnings)?;
     let mut mesh = parsed.mesh;
     mesh.name = path
         .file_stem()

@@ -53,6 +53,7 @@ pub(crate) fn write(doc: &Document, path: &Path, files: &mut OutputFiles) -> Res
         base: [0; 3],
         material: None,
         object_names: HashSet::new(),
+        next_suffix: HashMap::new(),
     };
     for (mesh_index, matrix) in &instances {
         let Some(mesh) = scene.meshes.get(*mesh_index as usize) else {
@@ -92,7 +93,7 @@ fn protect_source_libraries(doc: &Document, mtl_path: &Path, files: &mut OutputF
     if !mtl_path.exists() {
         return;
     }
-    let Ok(data) = std::fs::read(src) else {
+    let Ok(data) = crate::regular::read(src, crate::MAX_FILE_BYTES) else {
         return;
     };
     let dir = super::absolute_dir(src);
@@ -184,6 +185,8 @@ struct ObjWriter {
     /// The material in effect: `usemtl` state carries across objects.
     material: Option<u32>,
     object_names: HashSet<String>,
+    /// Next suffix to try per base name.
+    next_suffix: HashMap<String, usize>,
 }
 
 impl ObjWriter {
@@ -201,11 +204,14 @@ impl ObjWriter {
         } else {
             base
         };
+        // Each base name remembers the next suffix to try: n instances of
+        // one mesh (a deep node chain) cost O(n), not O(n²) probes. The
+        // loop still runs past a suffix some mesh took as its own name.
         let mut name = base.clone();
-        let mut k = 1;
+        let next = self.next_suffix.entry(base.clone()).or_insert(1);
         while !self.object_names.insert(name.clone()) {
-            name = format!("{base}_{k}");
-            k += 1;
+            name = format!("{base}_{next}");
+            *next += 1;
         }
         writeln!(out, "o {name}")?;
 
