@@ -22,6 +22,7 @@ pub mod disjoint_sets;
 mod faces;
 mod image;
 mod mesh;
+pub mod polygon;
 mod scene;
 pub mod shapes;
 pub mod stats;

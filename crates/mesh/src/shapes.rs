@@ -4,6 +4,7 @@
 use crate::attribute::{Attribute, ComponentFormat, Semantic};
 use crate::faces::Faces;
 use crate::mesh::Mesh;
+use crate::polygon;
 
 /// An axis-aligned box from `lo` to `hi` as six outward-facing quads over
 /// eight shared vertices: a closed manifold.
@@ -152,21 +153,46 @@ pub fn box_grid(lo: [f32; 3], hi: [f32; 3], n: usize) -> Mesh {
     m
 }
 
-/// Fan-triangulates every polygon: face `[a, b, c, d]` becomes `[a, b, c]`
-/// and `[a, c, d]`. Attribute and skinning indices follow their corners;
-/// parts are kept. Triangles are returned unchanged.
+/// Triangulates every polygon: a polygon of up to
+/// [`polygon::FAN_MAX_CORNERS`] corners by a fan (face `[a, b, c, d]`
+/// becomes `[a, b, c]` and `[a, c, d]`), a larger one by
+/// [`polygon::split_polygon`] (a fan there would give one vertex of valence
+/// k and k overlapping slivers). Attribute and skinning indices follow their
+/// corners; parts are kept. Triangles are returned unchanged.
 pub fn triangulate(mesh: &Mesh) -> Mesh {
     let tri = mesh.faces.triangulated_count();
     let mut faces = Faces::with_capacity(tri, 3 * tri);
     let mut corner_src: Vec<usize> = Vec::with_capacity(3 * tri);
     let mut face_parts = Vec::with_capacity(tri);
+    let mut pieces = Faces::new();
+    let mut points = Vec::new();
     for f in 0..mesh.faces.len() {
         let r = mesh.faces.corner_range(f);
-        for k in 1..r.len().saturating_sub(1) {
-            let cs = [r.start, r.start + k, r.start + k + 1];
+        let part = mesh.face_parts.get(f).copied().unwrap_or(0);
+        if r.len() <= polygon::FAN_MAX_CORNERS {
+            for k in 1..r.len().saturating_sub(1) {
+                let cs = [r.start, r.start + k, r.start + k + 1];
+                faces.push(&cs.map(|c| mesh.faces.indices[c]));
+                corner_src.extend_from_slice(&cs);
+                face_parts.push(part);
+            }
+            continue;
+        }
+        points.clear();
+        points.extend(r.clone().map(|c| {
+            mesh.positions
+                .get(mesh.faces.indices[c] as usize)
+                .copied()
+                .unwrap_or([0.0; 3])
+        }));
+        pieces.offsets.truncate(1);
+        pieces.indices.clear();
+        polygon::split_polygon(&points, 3, &mut pieces);
+        for t in pieces.iter() {
+            let cs = [0, 1, 2].map(|i| r.start + t[i] as usize);
             faces.push(&cs.map(|c| mesh.faces.indices[c]));
             corner_src.extend_from_slice(&cs);
-            face_parts.push(mesh.face_parts.get(f).copied().unwrap_or(0));
+            face_parts.push(part);
         }
     }
     let mut out = Mesh {

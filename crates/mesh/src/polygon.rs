@@ -1,0 +1,368 @@
+//! Splitting large polygons into small pieces along diagonals, in
+//! O(k log k) for a k-gon.
+//!
+//! CAD exports and scanned caps carry polygons of thousands of corners.
+//! Anything that is linear per face and runs once per corner of the face
+//! is quadratic on them, and a fan triangulation makes one vertex of
+//! valence k and k slivers whose bounding boxes all overlap. Both the
+//! simplifier (pieces of at most 32 corners) and [`crate::shapes::triangulate`]
+//! (triangles) split such polygons here instead.
+//!
+//! The split is a balanced recursion: cut the polygon by a diagonal between
+//! two corners about half its size apart, then cut both halves the same
+//! way, until every piece is small. Each level costs O(k), there are
+//! log₂(k / max) levels. Among a few candidate diagonals, one that stays
+//! inside the polygon (checked in its best-fit plane) is preferred, so
+//! planar non-convex polygons get non-overlapping pieces whenever such a
+//! diagonal is among the candidates; when none is (deeply spiralled
+//! outlines), the shortest candidate is used and pieces may overlap, which
+//! costs accuracy but never time.
+
+use crate::faces::Faces;
+
+/// Polygons up to this many corners are fan-triangulated by
+/// [`crate::shapes::triangulate`] (as they always were: the corpus's largest
+/// polygon has 16); larger ones are split here into triangles.
+pub const FAN_MAX_CORNERS: usize = 32;
+
+/// Diagonals tried per cut: enough that one stays inside most non-convex
+/// outlines, few enough that a cut stays O(k).
+const CANDIDATES: usize = 8;
+
+/// Splits one polygon, given by the positions of its corners in order, into
+/// pieces of at most `max_corners` corners (at least 3), and appends them to
+/// `out` as local corner numbers (`0..points.len()`), in the polygon's
+/// orientation. The pieces' triangle counts add up to the polygon's
+/// (`k − 2`). A polygon of at most `max_corners` corners is appended whole.
+pub fn split_polygon(points: &[[f32; 3]], max_corners: usize, out: &mut Faces) {
+    let k = points.len();
+    let max = max_corners.max(3);
+    if k < 3 {
+        return;
+    }
+    if k <= max {
+        out.push(&(0..k as u32).collect::<Vec<u32>>());
+        return;
+    }
+    let plane = Plane::fit(points);
+    let uv: Vec<[f64; 2]> = points.iter().map(|p| plane.project(*p)).collect();
+    // Sub-polygons of a convex polygon are convex: then any diagonal is
+    // inside, and the checks are skipped at every level.
+    let convex = is_convex(&uv);
+    let mut stack: Vec<Vec<u32>> = vec![(0..k as u32).collect()];
+    while let Some(piece) = stack.pop() {
+        let m = piece.len();
+        if m <= max {
+            out.push(&piece);
+            continue;
+        }
+        let (a, b) = choose_diagonal(&piece, &uv, convex);
+        // a < b; the pieces are a..=b and b..=a (wrapping).
+        let first: Vec<u32> = piece[a..=b].to_vec();
+        let mut second: Vec<u32> = piece[b..].to_vec();
+        second.extend_from_slice(&piece[..=a]);
+        stack.push(second);
+        stack.push(first);
+    }
+}
+
+/// The diagonal (local positions `a < b` in `piece`) to cut along: the
+/// first candidate inside the polygon, else the shortest candidate.
+/// Candidates start at eight corners spread around the piece and end about
+/// half the piece further (then a third or two thirds): pieces shrink by a
+/// constant factor per cut whatever is chosen, so the depth stays
+/// logarithmic. The offsets next to one half catch outlines with a short
+/// period (a comb's teeth).
+fn choose_diagonal(piece: &[u32], uv: &[[f64; 2]], convex: bool) -> (usize, usize) {
+    let m = piece.len();
+    let half = m / 2;
+    if convex {
+        return (0, half);
+    }
+    let offsets = [
+        half,
+        half - 1,
+        half + 1,
+        half - 2,
+        half + 2,
+        m / 3,
+        2 * m / 3,
+    ];
+    let starts = CANDIDATES.min(m);
+    let mut shortest: Option<(f64, usize, usize)> = None;
+    for &offset in &offsets {
+        if offset < 2 || offset + 2 > m {
+            continue;
+        }
+        for t in 0..starts {
+            let a = t * m / starts;
+            let b = (a + offset) % m;
+            let (a, b) = (a.min(b), a.max(b));
+            if diagonal_inside(piece, uv, a, b) {
+                return (a, b);
+            }
+            let p = uv[piece[a] as usize];
+            let q = uv[piece[b] as usize];
+            let len = (p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2);
+            // NaN lengths (degenerate projections) never win over a number.
+            if shortest.map_or(true, |(l, _, _)| len < l) {
+                shortest = Some((len, a, b));
+            }
+        }
+    }
+    match shortest {
+        Some((_, a, b)) => (a, b),
+        None => (0, half),
+    }
+}
+
+/// Whether the segment between corners `a` and `b` of `piece` crosses no
+/// side of the piece and its midpoint lies inside it (in the plane).
+fn diagonal_inside(piece: &[u32], uv: &[[f64; 2]], a: usize, b: usize) -> bool {
+    let m = piece.len();
+    let p = uv[piece[a] as usize];
+    let q = uv[piece[b] as usize];
+    for s in 0..m {
+        let t = if s + 1 == m { 0 } else { s + 1 };
+        if s == a || t == a || s == b || t == b {
+            continue;
+        }
+        if segments_cross(p, q, uv[piece[s] as usize], uv[piece[t] as usize]) {
+            return false;
+        }
+    }
+    let mid = [0.5 * (p[0] + q[0]), 0.5 * (p[1] + q[1])];
+    contains(piece, uv, mid)
+}
+
+/// Proper or touching intersection of segments pq and rs.
+fn segments_cross(p: [f64; 2], q: [f64; 2], r: [f64; 2], s: [f64; 2]) -> bool {
+    let d1 = orient(r, s, p);
+    let d2 = orient(r, s, q);
+    let d3 = orient(p, q, r);
+    let d4 = orient(p, q, s);
+    if ((d1 > 0.0 && d2 < 0.0) || (d1 < 0.0 && d2 > 0.0))
+        && ((d3 > 0.0 && d4 < 0.0) || (d3 < 0.0 && d4 > 0.0))
+    {
+        return true;
+    }
+    // A corner of the side lying on the diagonal blocks it too.
+    (d3 == 0.0 && on_segment(p, q, r)) || (d4 == 0.0 && on_segment(p, q, s))
+}
+
+fn orient(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> f64 {
+    (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0])
+}
+
+fn on_segment(p: [f64; 2], q: [f64; 2], r: [f64; 2]) -> bool {
+    r[0] >= p[0].min(q[0])
+        && r[0] <= p[0].max(q[0])
+        && r[1] >= p[1].min(q[1])
+        && r[1] <= p[1].max(q[1])
+}
+
+/// Even-odd point-in-polygon test.
+fn contains(piece: &[u32], uv: &[[f64; 2]], x: [f64; 2]) -> bool {
+    let m = piece.len();
+    let mut inside = false;
+    for s in 0..m {
+        let a = uv[piece[s] as usize];
+        let b = uv[piece[(s + 1) % m] as usize];
+        if (a[1] > x[1]) != (b[1] > x[1]) {
+            let t = (x[1] - a[1]) / (b[1] - a[1]);
+            if x[0] < a[0] + t * (b[0] - a[0]) {
+                inside = !inside;
+            }
+        }
+    }
+    inside
+}
+
+/// Strictly convex and simple in the plane: every turn has the same sign
+/// and the outline winds once.
+fn is_convex(uv: &[[f64; 2]]) -> bool {
+    let k = uv.len();
+    let mut sign = 0.0f64;
+    let mut winding = 0.0f64;
+    for i in 0..k {
+        let a = uv[i];
+        let b = uv[(i + 1) % k];
+        let c = uv[(i + 2) % k];
+        let turn = orient(a, b, c);
+        if !turn.is_finite() || turn == 0.0 {
+            return false;
+        }
+        if sign == 0.0 {
+            sign = turn.signum();
+        } else if turn.signum() != sign {
+            return false;
+        }
+        let e1 = [b[0] - a[0], b[1] - a[1]];
+        let e2 = [c[0] - b[0], c[1] - b[1]];
+        winding += (e1[0] * e2[1] - e1[1] * e2[0]).atan2(e1[0] * e2[0] + e1[1] * e2[1]);
+    }
+    // One full turn (2π); a star polygon turns several times.
+    (winding.abs() - std::f64::consts::TAU).abs() < 1e-6
+}
+
+/// The polygon's best-fit plane (Newell normal) as an orthonormal basis.
+struct Plane {
+    u: [f64; 3],
+    v: [f64; 3],
+}
+
+impl Plane {
+    fn fit(points: &[[f32; 3]]) -> Plane {
+        let k = points.len();
+        let mut n = [0.0f64; 3];
+        for i in 0..k {
+            let a = points[i].map(f64::from);
+            let b = points[(i + 1) % k].map(f64::from);
+            n[0] += (a[1] - b[1]) * (a[2] + b[2]);
+            n[1] += (a[2] - b[2]) * (a[0] + b[0]);
+            n[2] += (a[0] - b[0]) * (a[1] + b[1]);
+        }
+        let len = dot(n, n).sqrt();
+        let n = if len > 0.0 && len.is_finite() {
+            n.map(|c| c / len)
+        } else {
+            // No area (a line, a point): any plane serves; diagonals then
+            // fall back to the shortest, which is all a line allows.
+            [0.0, 0.0, 1.0]
+        };
+        // A unit vector orthogonal to n from the axis n is least along,
+        // then the third completes a right-handed basis, so the projection
+        // keeps the polygon's orientation.
+        let axis = if n[0].abs() <= n[1].abs() && n[0].abs() <= n[2].abs() {
+            [1.0, 0.0, 0.0]
+        } else if n[1].abs() <= n[2].abs() {
+            [0.0, 1.0, 0.0]
+        } else {
+            [0.0, 0.0, 1.0]
+        };
+        let u = cross(n, axis);
+        let ul = dot(u, u).sqrt();
+        let u = u.map(|c| c / ul);
+        Plane { u, v: cross(n, u) }
+    }
+
+    fn project(&self, p: [f32; 3]) -> [f64; 2] {
+        let p = p.map(f64::from);
+        [dot(p, self.u), dot(p, self.v)]
+    }
+}
+
+fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn circle(k: usize) -> Vec<[f32; 3]> {
+        (0..k)
+            .map(|i| {
+                let a = i as f32 / k as f32 * std::f32::consts::TAU;
+                [a.cos(), a.sin(), 0.0]
+            })
+            .collect()
+    }
+
+    fn pieces(points: &[[f32; 3]], max: usize) -> Faces {
+        let mut out = Faces::new();
+        split_polygon(points, max, &mut out);
+        out
+    }
+
+    #[test]
+    fn split_keeps_the_triangle_count_and_the_piece_bound() {
+        for k in [3, 4, 5, 33, 100, 1000] {
+            for max in [3, 4, 32] {
+                let f = pieces(&circle(k), max);
+                assert_eq!(f.triangulated_count(), k - 2, "k {k} max {max}");
+                assert!(f.iter().all(|p| p.len() <= max.max(3) && p.len() >= 3));
+            }
+        }
+    }
+
+    #[test]
+    fn every_side_of_the_polygon_is_a_side_of_exactly_one_piece() {
+        let k = 257;
+        let f = pieces(&circle(k), 5);
+        let mut count = vec![0; k];
+        for p in f.iter() {
+            for s in 0..p.len() {
+                let (a, b) = (p[s] as usize, p[(s + 1) % p.len()] as usize);
+                if b == (a + 1) % k {
+                    count[a] += 1;
+                }
+            }
+        }
+        assert!(count.iter().all(|&c| c == 1), "{count:?}");
+    }
+
+    #[test]
+    fn large_triangulation_has_no_vertex_of_high_valence() {
+        // A fan gives corner 0 valence k; the balanced split keeps every
+        // corner in O(log k) triangles.
+        let k = 4096;
+        let f = pieces(&circle(k), 3);
+        let mut valence = vec![0usize; k];
+        for t in f.iter() {
+            for &v in t {
+                valence[v as usize] += 1;
+            }
+        }
+        let worst = valence.iter().copied().max().unwrap_or(0);
+        assert!(worst <= 2 * 13 + 2, "a corner is in {worst} triangles");
+    }
+
+    #[test]
+    fn concave_comb_is_cut_inside_the_outline() {
+        // A comb: a base and 20 thin teeth. Every piece's centroid must lie
+        // inside the outline, which a fan from corner 0 would break.
+        let mut pts = vec![[0.0f32, 0.0, 0.0], [40.0, 0.0, 0.0]];
+        for t in (0..20).rev() {
+            let x = 2.0 * t as f32;
+            pts.push([x + 2.0, 10.0, 0.0]);
+            pts.push([x + 1.0, 10.0, 0.0]);
+            pts.push([x + 1.0, 1.0, 0.0]);
+            pts.push([x, 1.0, 0.0]);
+        }
+        pts.pop();
+        let f = pieces(&pts, 3);
+        let uv: Vec<[f64; 2]> = pts.iter().map(|p| [p[0] as f64, p[1] as f64]).collect();
+        let all: Vec<u32> = (0..pts.len() as u32).collect();
+        let outside = f
+            .iter()
+            .filter(|t| {
+                let c = t.iter().fold([0.0, 0.0], |s, &v| {
+                    [
+                        s[0] + uv[v as usize][0] / 3.0,
+                        s[1] + uv[v as usize][1] / 3.0,
+                    ]
+                });
+                !contains(&all, &uv, c)
+            })
+            .count();
+        assert_eq!(f.triangulated_count(), pts.len() - 2);
+        assert_eq!(outside, 0, "{outside} triangles outside the comb");
+    }
+
+    #[test]
+    fn degenerate_polygons_split_without_panicking() {
+        let same = vec![[1.0f32, 1.0, 1.0]; 50];
+        assert_eq!(pieces(&same, 4).triangulated_count(), 48);
+        let line: Vec<[f32; 3]> = (0..50).map(|i| [i as f32, 0.0, 0.0]).collect();
+        assert_eq!(pieces(&line, 3).triangulated_count(), 48);
+    }
+}
