@@ -57,6 +57,18 @@ impl History {
         self.records.is_empty()
     }
 
+    /// Renames every recorded face id through `f` (faces split before
+    /// simplifying are recorded by piece; this points them at the input
+    /// face).
+    pub(crate) fn map_faces(&mut self, f: impl Fn(u32) -> u32) {
+        for r in &mut self.ring_faces {
+            r.face = f(r.face);
+        }
+        for a in &mut self.after_faces {
+            *a = f(*a);
+        }
+    }
+
     /// The faces of the edge one-ring before collapse `k`.
     pub fn before(&self, k: usize) -> &[RingFace] {
         let (a, b) = self.records[k].before;

@@ -33,6 +33,7 @@ mod error;
 mod guards;
 mod heap;
 mod history;
+mod large_polygons;
 mod mesh;
 mod options;
 mod ordering;
@@ -49,6 +50,7 @@ pub use attributes::{
 };
 pub use error::Error;
 pub use history::{CollapseRecord, History, RingFace, RingInput};
+pub use large_polygons::MAX_POLYGON_CORNERS;
 pub use mesh::{simplify_mesh, simplify_mesh_with_progress};
 pub use options::{
     AttributeOptions, Guards, Metric, NormalMode, Options, Partition, QuadMode, QuadSettings,

@@ -73,4 +73,8 @@ pub struct Report {
     pub stop: Option<StopReason>,
     /// Collapses refused, by guard.
     pub rejected: Rejections,
+    /// Input polygons of more than [`crate::MAX_POLYGON_CORNERS`] corners,
+    /// split into smaller pieces before simplifying (their pieces are
+    /// output faces of the same input face).
+    pub split_polygons: usize,
 }

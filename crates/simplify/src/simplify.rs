@@ -46,7 +46,11 @@ pub struct Simplified {
 /// the simplicial complex with virtual edges and the area-aware quadric.
 ///
 /// Faces may be triangles, quads or n-gons, non-manifold, duplicated or
-/// degenerate, in any number of components. Equal positions are welded
+/// degenerate, in any number of components. Polygons of more than
+/// [`crate::MAX_POLYGON_CORNERS`] corners are split into pieces of at most
+/// that many first, so time stays near-linear in corners; the pieces are
+/// output faces of the same input face ([`Report::split_polygons`] counts
+/// the polygons split). Equal positions are welded
 /// first. The result reaches the target within one triangle whenever the
 /// complex has enough collapsible edges; otherwise the report says why not.
 /// Deterministic: the same input and options give the same output on any
@@ -132,6 +136,17 @@ pub fn simplify_with_attributes_and_progress(
     progress: &dyn Fn(f64),
 ) -> Result<Simplified, Error> {
     check_input(positions, faces, options)?;
+    // Polygons above a few dozen corners are worked on in pieces (see
+    // `large_polygons.rs`): otherwise their collapses cost O(k²) each. The
+    // per-corner streams and per-face groups follow the pieces.
+    let split = crate::large_polygons::split_large(positions, faces, attributes);
+    let split_attributes = split.as_ref().map(|s| s.attributes(attributes));
+    let attributes = match &split_attributes {
+        Some(a) => a.input(attributes),
+        None => attributes.clone(),
+    };
+    let attributes = &attributes;
+    let faces = split.as_ref().map_or(faces, |s| &s.faces);
     if !(options.attributes.seam_weight >= 0.0 && options.attributes.seam_weight.is_finite()) {
         return Err(Error::BadOption {
             name: "attributes.seam_weight",
@@ -167,7 +182,11 @@ pub fn simplify_with_attributes_and_progress(
     run.start(progress);
     run.collapse_loop(progress);
     progress(1.0);
-    Ok(run.assemble(attributes))
+    let mut out = run.assemble(attributes);
+    if let Some(s) = &split {
+        s.map_back(&mut out);
+    }
+    Ok(out)
 }
 
 /// Simplifies a triangle list (three indices per triangle); see
