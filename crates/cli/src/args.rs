@@ -24,16 +24,17 @@ pub struct Cli {
 pub enum Command {
     /// Simplify a mesh file to a target triangle count, ratio or error.
     ///
-    /// Examples:
-    ///   wildlod simplify bunny.obj -o bunny_lod.obj --ratio 0.1
-    ///   wildlod simplify truck.glb -o truck_lod.glb --faces 2000
-    ///   wildlod simplify scan.ply -o scan_lod.stl --error 0.001
-    ///
     /// Every mesh of the file is simplified: with --ratio each to that
     /// ratio; with --faces the budget is shared among the file's stored
     /// meshes in proportion to their triangles; with --error every collapse
     /// stays within that distance (relative to the whole file's size).
-    /// Materials, nodes, skins and animations are written back unchanged.
+    /// Every mesh keeps at least one triangle, so --ratio 0 gives the
+    /// smallest valid result. Polygons of more than 32 corners are
+    /// simplified (and written) as pieces of at most 32. Materials, nodes,
+    /// skins and animations are written back unchanged.
+    // The examples go in `after_help`: clap rewraps doc-comment paragraphs,
+    // which ran the three of them into one line.
+    #[command(after_help = SIMPLIFY_EXAMPLES, allow_negative_numbers = true)]
     Simplify(SimplifyArgs),
     /// Describe a mesh file: faces by arity, topology, UVs, materials, skins.
     ///
@@ -50,25 +51,38 @@ pub enum Command {
     /// Chamfer as mean distance and as mean squared distance, the quad ratio
     /// (Knodt 2024) and, when both have a base color texture, the texture
     /// Chamfer distance (Liu et al. 2025). Deterministic for a given seed.
-    ///
-    /// Example:
-    ///   wildlod compare bunny.obj bunny_lod.obj --json
+    #[command(after_help = COMPARE_EXAMPLES, allow_negative_numbers = true)]
     Compare(CompareArgs),
     /// Run the main job on a built-in example: write a wild mesh generated
     /// in code and its level of detail, and describe both.
+    #[command(allow_negative_numbers = true)]
     Demo(DemoArgs),
 }
+
+/// Shown after `wildlod simplify --help`, one example per line.
+const SIMPLIFY_EXAMPLES: &str = "\
+Examples:
+  wildlod simplify bunny.obj -o bunny_lod.obj --ratio 0.1
+  wildlod simplify truck.glb -o truck_lod.glb --faces 2000
+  wildlod simplify scan.ply -o scan_lod.stl --error 0.001";
+
+/// Shown after `wildlod compare --help`.
+const COMPARE_EXAMPLES: &str = "\
+Example:
+  wildlod compare bunny.obj bunny_lod.obj --json";
 
 /// Arguments of `wildlod simplify`.
 #[derive(Args, Debug)]
 pub struct SimplifyArgs {
     /// The mesh to simplify (.gltf, .glb, .obj, .ply, .stl).
     pub input: PathBuf,
-    /// Where to write the result; its extension picks the format.
+    /// Where to write the result; its extension picks the format. Its
+    /// folder must exist.
     #[arg(short, long)]
     pub output: PathBuf,
     /// Keep this fraction of the triangles (0 to 1; a quad counts as two).
-    /// Default 0.5 when no target is given.
+    /// Default 0.5 when no target is given. 0 keeps as few as possible:
+    /// one triangle per mesh, or what the guards leave.
     #[arg(long, value_name = "R")]
     pub ratio: Option<f64>,
     /// Keep at most this many triangles (a quad counts as two), shared among

@@ -1,10 +1,10 @@
 //! `wildlod simplify`: read → simplify every mesh → write.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use anyhow::{bail, Context};
-use wildlod_io::{Document, WriteOptions};
+use wildlod_io::{Document, ErrorKind, WriteOptions};
 use wildlod_mesh::Scene;
 use wildlod_simplify::{
     simplify_mesh_with_progress, AttributeOptions, Guards, NormalMode, Options, QuadMode, Report,
@@ -75,6 +75,7 @@ impl Config {
                 a.max_normal_turn
             );
         }
+        check_output(&a.input, &a.output, a.overwrite)?;
         let ratio = match (a.ratio, a.faces, a.error) {
             (None, None, None) => Some(0.5),
             (r, _, _) => r,
@@ -152,6 +153,52 @@ impl Config {
     }
 }
 
+/// What can be known about the output before any work: its format, its
+/// folder, and whether it would replace the input. (The writer checks all
+/// of this again; checking here saves the user the wait, which on a large
+/// mesh is seconds, and names the problem in the user's terms.)
+fn check_output(input: &Path, output: &Path, overwrite: bool) -> anyhow::Result<()> {
+    wildlod_io::Format::from_path(output).map_err(|kind| wildlod_io::Error::new(output, kind))?;
+    let folder = match output.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d,
+        _ => Path::new("."),
+    };
+    match std::fs::metadata(folder) {
+        Ok(m) if m.is_dir() => {}
+        Ok(_) => bail!(
+            "{}: cannot write there: {} is not a folder",
+            output.display(),
+            folder.display()
+        ),
+        Err(e) => bail!(
+            "{}: cannot write there: the folder {} {}",
+            output.display(),
+            folder.display(),
+            if e.kind() == std::io::ErrorKind::NotFound {
+                "does not exist".to_string()
+            } else {
+                format!("cannot be read ({e})")
+            }
+        ),
+    }
+    if !overwrite && same_file(input, output) {
+        bail!(
+            "{}: refusing to overwrite the input file; pass --overwrite to allow it",
+            output.display()
+        );
+    }
+    Ok(())
+}
+
+/// Whether two paths name the same existing file (through links, `.` and
+/// `..`).
+fn same_file(a: &Path, b: &Path) -> bool {
+    match (a.canonicalize(), b.canonicalize()) {
+        (Ok(x), Ok(y)) => x == y,
+        _ => false,
+    }
+}
+
 /// Runs `simplify`.
 pub fn run(cfg: &Config) -> anyhow::Result<()> {
     let mut doc = wildlod_io::read(&cfg.input)?;
@@ -204,7 +251,16 @@ pub(super) fn write(doc: &Document, cfg: &Config) -> anyhow::Result<()> {
         &WriteOptions {
             allow_overwrite_input: cfg.overwrite,
         },
-    )?;
+    )
+    .map_err(|e| match &e.kind {
+        // The library names its option; the user knows the flag.
+        ErrorKind::WouldOverwriteInput(p) => anyhow::anyhow!(
+            "{}: refusing to overwrite the input file {}; pass --overwrite to allow it",
+            cfg.output.display(),
+            p.display()
+        ),
+        _ => e.into(),
+    })?;
     if !cfg.quiet {
         for w in warnings {
             eprintln!("warning: {}: {w}", cfg.output.display());
@@ -240,6 +296,12 @@ pub fn summary(name: &str, r: &Report, seconds: f64) -> String {
 /// budget shared in proportion to triangle counts (largest remainders, so
 /// the shares sum to the budget); `--error` converted from the file's
 /// diagonal to each mesh's own.
+///
+/// Every mesh keeps at least one triangle, whatever the targets: a mesh
+/// simplified to nothing would leave its nodes, skins and instances
+/// pointing at an empty mesh, and `--ratio 0` would write a file with no
+/// geometry and exit 0. "As small as possible" is what a user asking for 0
+/// wants; one triangle per mesh is the smallest valid result.
 pub(super) fn mesh_targets(scene: &Scene, cfg: &Config) -> Vec<Target> {
     let tris: Vec<usize> = scene.meshes.iter().map(|m| m.triangle_count()).collect();
     let shares = cfg.faces.map(|n| share_budget(n, &tris));
@@ -248,7 +310,11 @@ pub(super) fn mesh_targets(scene: &Scene, cfg: &Config) -> Vec<Target> {
         .enumerate()
         .map(|(m, _)| Target {
             ratio: cfg.ratio,
-            triangles: shares.as_ref().map(|s| s[m]),
+            triangles: Some(
+                shares
+                    .as_ref()
+                    .map_or(MIN_TRIANGLES, |s| s[m].max(MIN_TRIANGLES)),
+            ),
             error: cfg.error.map(|e| {
                 let d = world_diagonal(scene, m);
                 if d > 0.0 && file_diag > 0.0 {
@@ -260,6 +326,9 @@ pub(super) fn mesh_targets(scene: &Scene, cfg: &Config) -> Vec<Target> {
         })
         .collect()
 }
+
+/// Triangles every mesh keeps (see [`mesh_targets`]).
+const MIN_TRIANGLES: usize = 1;
 
 /// Splits `n` among items in proportion to `weights`, summing to `n`
 /// (or less when the weights sum to less).
