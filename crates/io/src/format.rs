@@ -43,6 +43,12 @@ impl Format {
         matches!(self, Format::Obj | Format::Ply)
     }
 
+    /// Whether a file of this format must hold a face to be read (OBJ, PLY
+    /// and STL readers refuse a file with none).
+    pub fn needs_faces(self) -> bool {
+        matches!(self, Format::Obj | Format::Ply | Format::Stl)
+    }
+
     /// The usual extension, without the dot.
     pub fn extension(self) -> &'static str {
         match self {

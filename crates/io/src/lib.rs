@@ -140,6 +140,15 @@ pub fn write(
     doc.scene
         .validate()
         .map_err(|e| at(ErrorKind::Invalid(e)))?;
+    // OBJ, PLY and STL readers refuse a file without faces (it is a point
+    // cloud or not a mesh at all); writing one would make a file wildlod
+    // itself cannot read back.
+    if format.needs_faces() && doc.scene.meshes.iter().all(|m| m.faces.is_empty()) {
+        return Err(at(ErrorKind::Unsupported(format!(
+            "nothing to write: no mesh has a face, and a .{} file without faces is not a mesh",
+            format.extension()
+        ))));
+    }
     let mut files = OutputFiles::new(doc.source.as_deref(), options.allow_overwrite_input);
     match format {
         Format::Gltf | Format::Glb => gltf::write(doc, path, format, &mut files),
