@@ -433,6 +433,12 @@ fn one_polygon_of_twenty_thousand_corners_simplifies_and_compares() {
         )
         .expect("simplifying one large polygon did not finish");
         assert!(o.status.success(), "{}", stderr(&o));
+        assert!(
+            stdout(&o)
+                .contains("1 polygon of more than 32 corners simplified and written as pieces"),
+            "{}",
+            stdout(&o)
+        );
         let doc = wildlod_io::read(&out).unwrap();
         let tris = doc.scene.meshes[0].triangle_count();
         let want: usize = if ratio == "1" { 19_998 } else { 9_999 };

@@ -289,6 +289,14 @@ pub fn summary(name: &str, r: &Report, seconds: f64) -> String {
     } else if short && r.stop == Some(StopReason::ErrorLimit) {
         s.push_str(" (stopped at the error limit)");
     }
+    if r.split_polygons > 0 {
+        s.push_str(&format!(
+            "; {} polygon{} of more than {} corners simplified and written as pieces",
+            r.split_polygons,
+            if r.split_polygons == 1 { "" } else { "s" },
+            wildlod_simplify::MAX_POLYGON_CORNERS
+        ));
+    }
     s
 }
 
