@@ -81,9 +81,9 @@ const DEFAULT_SOURCE: u32 = 0;
 /// A world-space triangle set for measuring.
 ///
 /// Every instance of the scene is moved by its world matrix and
-/// fan-triangulated. Triangles that refer to a missing position or have a
-/// non-finite corner are left out (they have no surface to measure); face
-/// counts still count them, as the file has them. Skinned meshes are
+/// triangulated (`shapes::triangulate`). Triangles that refer to a missing
+/// position or have a non-finite corner are left out (they have no surface
+/// to measure); face counts still count them, as the file has them. Skinned meshes are
 /// measured as stored (bind pose).
 ///
 /// For the texture metric every triangle corner keeps the UV of the set its

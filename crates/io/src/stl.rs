@@ -325,7 +325,8 @@ fn read_ascii(data: &[u8]) -> Result<Mesh, ErrorKind> {
 }
 
 /// Writes a binary STL: every mesh instance moved by its world matrix,
-/// polygons fan-triangulated, facet normals computed from the triangles.
+/// polygons triangulated (a fan up to 32 corners, inner diagonals beyond),
+/// facet normals computed from the triangles.
 pub(crate) fn write(scene: &Scene, path: &Path, files: &mut OutputFiles) -> Result<(), ErrorKind> {
     let instances = scene.instances();
     let meshes: Vec<&Mesh> = instances
