@@ -49,6 +49,9 @@ pub fn split_polygon(points: &[[f32; 3]], max_corners: usize, out: &mut Faces) {
     // Sub-polygons of a convex polygon are convex: then any diagonal is
     // inside, and the checks are skipped at every level.
     let convex = is_convex(&uv);
+    // Work allowed for ear cuts (see `ear_diagonal`): they can be as
+    // unbalanced as 3 and m − 1, so they are bounded to keep O(k log k).
+    let mut ear_budget = 32 * k;
     let mut stack: Vec<Vec<u32>> = vec![(0..k as u32).collect()];
     while let Some(piece) = stack.pop() {
         let m = piece.len();
@@ -56,7 +59,14 @@ pub fn split_polygon(points: &[[f32; 3]], max_corners: usize, out: &mut Faces) {
             out.push(&piece);
             continue;
         }
-        let (a, b) = choose_diagonal(&piece, &uv, convex);
+        let (a, b) = match choose_diagonal(&piece, &uv, convex) {
+            (a, b, true) => (a, b),
+            (a, b, false) if ear_budget < m => (a, b),
+            (a, b, false) => {
+                ear_budget -= m;
+                ear_diagonal(&piece, &uv).unwrap_or((a, b))
+            }
+        };
         // a < b; the pieces are a..=b and b..=a (wrapping).
         let first: Vec<u32> = piece[a..=b].to_vec();
         let mut second: Vec<u32> = piece[b..].to_vec();
@@ -67,17 +77,18 @@ pub fn split_polygon(points: &[[f32; 3]], max_corners: usize, out: &mut Faces) {
 }
 
 /// The diagonal (local positions `a < b` in `piece`) to cut along: the
-/// first candidate inside the polygon, else the shortest candidate.
+/// first candidate inside the polygon, else the shortest candidate (and
+/// `false`: the caller may look for an inner one the slow way).
 /// Candidates start at eight corners spread around the piece and end about
 /// half the piece further (then a third or two thirds): pieces shrink by a
 /// constant factor per cut whatever is chosen, so the depth stays
 /// logarithmic. The offsets next to one half catch outlines with a short
 /// period (a comb's teeth).
-fn choose_diagonal(piece: &[u32], uv: &[[f64; 2]], convex: bool) -> (usize, usize) {
+fn choose_diagonal(piece: &[u32], uv: &[[f64; 2]], convex: bool) -> (usize, usize, bool) {
     let m = piece.len();
     let half = m / 2;
     if convex {
-        return (0, half);
+        return (0, half, true);
     }
     let offsets = [
         half,
@@ -99,7 +110,7 @@ fn choose_diagonal(piece: &[u32], uv: &[[f64; 2]], convex: bool) -> (usize, usiz
             let b = (a + offset) % m;
             let (a, b) = (a.min(b), a.max(b));
             if diagonal_inside(piece, uv, a, b) {
-                return (a, b);
+                return (a, b, true);
             }
             let p = uv[piece[a] as usize];
             let q = uv[piece[b] as usize];
@@ -111,9 +122,47 @@ fn choose_diagonal(piece: &[u32], uv: &[[f64; 2]], convex: bool) -> (usize, usiz
         }
     }
     match shortest {
-        Some((_, a, b)) => (a, b),
-        None => (0, half),
+        Some((_, a, b)) => (a, b, false),
+        None => (0, half, false),
     }
+}
+
+/// An inner diagonal of a simple polygon in O(m), however unbalanced: the
+/// leftmost corner v is convex; with neighbours u and w, either no corner
+/// lies in triangle uvw and uw is a diagonal, or the corner in it farthest
+/// from uw sees v (the classic two-ears argument).
+fn ear_diagonal(piece: &[u32], uv: &[[f64; 2]]) -> Option<(usize, usize)> {
+    let m = piece.len();
+    let at = |i: usize| uv[piece[i] as usize];
+    let v = (0..m).min_by(|&a, &b| {
+        let (p, q) = (at(a), at(b));
+        p[0].total_cmp(&q[0]).then(p[1].total_cmp(&q[1]))
+    })?;
+    let u = (v + m - 1) % m;
+    let w = (v + 1) % m;
+    let (pu, pv, pw) = (at(u), at(v), at(w));
+    let mut farthest: Option<(f64, usize)> = None;
+    for i in 0..m {
+        if i == u || i == v || i == w {
+            continue;
+        }
+        let p = at(i);
+        let s = [orient(pu, pv, p), orient(pv, pw, p), orient(pw, pu, p)];
+        let inside = s.iter().all(|&x| x >= 0.0) || s.iter().all(|&x| x <= 0.0);
+        if inside {
+            let d = orient(pu, pw, p).abs();
+            if farthest.map_or(true, |(fd, _)| d > fd) {
+                farthest = Some((d, i));
+            }
+        }
+    }
+    let (a, b) = match farthest {
+        None => (u, w),
+        Some((_, z)) => (v, z),
+    };
+    let (a, b) = (a.min(b), a.max(b));
+    // Both pieces need three corners.
+    (b - a >= 2 && m - (b - a) >= 2).then_some((a, b))
 }
 
 /// Whether the segment between corners `a` and `b` of `piece` crosses no
