@@ -92,6 +92,7 @@ pub fn sample_scene() -> Scene {
                 bytes: TINY_PNG.to_vec(),
                 mime_type: "image/png".into(),
             },
+            sampler: Default::default(),
         }],
         nodes: vec![
             Node {
