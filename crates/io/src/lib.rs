@@ -24,7 +24,7 @@ pub use atomic::OutputFiles;
 pub use error::{Error, ErrorKind};
 pub use format::Format;
 pub use image::{decode_image, decode_image_rgba8, encode_image, ImageEncoding};
-use wildlod_mesh::Scene;
+use wildlod_mesh::{Mesh, Scene};
 
 /// Files larger than this are refused before reading: every format we read
 /// stores a mesh in far less, and a bogus path to a disk image should fail
@@ -157,5 +157,52 @@ pub fn write(
         Format::Stl => stl::write(&doc.scene, path, &mut files),
     }
     .map_err(at)?;
+    files.commit().map_err(at)
+}
+
+/// Lower levels of detail written with a document by [`write_lods`].
+#[derive(Clone, Copy, Debug)]
+pub struct LodLevels<'a> {
+    /// One entry per lower level, coarsest last (LOD1, LOD2, …); each holds
+    /// one mesh per mesh of the document's scene, in the same order, with
+    /// the same parts (materials) and skin.
+    pub levels: &'a [Vec<Mesh>],
+    /// Per scene mesh, the `MSFT_screencoverage` hints of the nodes showing
+    /// it: `levels.len() + 1` values, the screen fraction below which each
+    /// level hands over to the next and, last, below which nothing is
+    /// drawn. Empty: no hints.
+    pub screen_coverage: &'a [Vec<f64>],
+}
+
+/// Writes a document with lower levels of detail in the same glTF file, as
+/// the `MSFT_lod` extension on nodes: every node showing a mesh keeps it as
+/// the highest level and lists one extra node per lower level (same
+/// transform and skin, that level's mesh, in no scene), so a viewer that
+/// ignores the extension shows the highest level. Meshes share the
+/// document's materials and textures.
+///
+/// Only `.gltf` and `.glb` hold levels; other formats are refused (write
+/// one file per level with [`write`]). Written all-or-nothing like
+/// [`write`].
+pub fn write_lods(
+    doc: &Document,
+    lods: &LodLevels<'_>,
+    path: impl AsRef<Path>,
+    options: &WriteOptions,
+) -> Result<Vec<String>, Error> {
+    let path = path.as_ref();
+    let at = |kind| Error::new(path, kind);
+    let format = Format::from_path(path).map_err(at)?;
+    if !matches!(format, Format::Gltf | Format::Glb) {
+        return Err(at(ErrorKind::Unsupported(format!(
+            "levels of detail in one file need glTF (.gltf or .glb), not .{}; write one file per level",
+            format.extension()
+        ))));
+    }
+    doc.scene
+        .validate()
+        .map_err(|e| at(ErrorKind::Invalid(e)))?;
+    let mut files = OutputFiles::new(doc.source.as_deref(), options.allow_overwrite_input);
+    gltf::write_with_lods(doc, Some(lods), path, format, &mut files).map_err(at)?;
     files.commit().map_err(at)
 }

@@ -11,6 +11,7 @@ mod encode;
 mod glb;
 mod images;
 mod load;
+mod lod;
 mod passthrough;
 mod read;
 mod rewrite;
@@ -20,4 +21,4 @@ mod write;
 
 pub(crate) use passthrough::Passthrough;
 pub(crate) use read::read;
-pub(crate) use write::write;
+pub(crate) use write::{write, write_with_lods};

@@ -18,7 +18,7 @@ use super::scene_json;
 use crate::ErrorKind;
 
 /// Old index → new index (`None`: not written).
-type IndexMap = Vec<Option<usize>>;
+pub(crate) type IndexMap = Vec<Option<usize>>;
 
 fn array<'a>(json: &'a Value, key: &str) -> &'a [Value] {
     json.get(key)
@@ -39,15 +39,16 @@ fn remap(v: &mut Value, map: &[Option<usize>]) {
     }
 }
 
-/// The JSON of a document read from glTF, with meshes rebuilt; returns it
-/// and whether quantized encodings were used.
+/// The JSON of a document read from glTF, with meshes rebuilt; returns it,
+/// whether quantized encodings were used, and the written index of every
+/// scene mesh (`None`: not written).
 pub(crate) fn from_passthrough(
     scene: &Scene,
     p: &Passthrough,
     bin: &mut Bin,
     images: &mut ImageWriter,
     warnings: &mut Vec<String>,
-) -> Result<(Value, bool), ErrorKind> {
+) -> Result<(Value, bool, IndexMap), ErrorKind> {
     let src = &p.json;
     let mut out = src.as_object().cloned().unwrap_or_default();
     let keep = kept_accessors(src, &p.meshes);
@@ -57,7 +58,7 @@ pub(crate) fn from_passthrough(
     out.insert("meshes".into(), Value::Array(meshes.json));
     remap_references(&mut out, src, &meshes.map, &acc_map);
     materials_and_images(&mut out, scene, p, bin, images)?;
-    Ok((Value::Object(out), meshes.used_quantization))
+    Ok((Value::Object(out), meshes.used_quantization, meshes.map))
 }
 
 /// Accessor indices a primitive refers to (attributes, indices, morph targets).

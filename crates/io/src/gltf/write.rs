@@ -26,6 +26,18 @@ pub(crate) fn write(
     format: Format,
     files: &mut OutputFiles,
 ) -> Result<(), ErrorKind> {
+    write_with_lods(doc, None, path, format, files)
+}
+
+/// [`write`], with lower levels of detail added as `MSFT_lod` nodes when
+/// `lods` is given (see [`super::lod`]).
+pub(crate) fn write_with_lods(
+    doc: &Document,
+    lods: Option<&crate::LodLevels>,
+    path: &Path,
+    format: Format,
+    files: &mut OutputFiles,
+) -> Result<(), ErrorKind> {
     let mut warnings = Vec::new();
     if let Some(p) = &doc.gltf {
         for f in &p.external {
@@ -53,10 +65,17 @@ pub(crate) fn write(
     };
     let mut images = ImageWriter::new(path, format, source_dir.as_deref());
     let mut bin = Bin::default();
-    let (json, used_quantization) = match pass {
+    let (mut json, mut used_quantization, mesh_map) = match pass {
         Some(p) => rewrite::from_passthrough(&doc.scene, p, &mut bin, &mut images, &mut warnings)?,
         None => from_scene(&doc.scene, &mut bin, &mut images, &mut warnings)?,
     };
+    if let Some(lods) = lods {
+        let opts = EncodeOptions {
+            quantization: pass.is_some_and(|p| p.quantization),
+        };
+        used_quantization |=
+            super::lod::add_levels(&mut json, lods, &mesh_map, &mut bin, &opts, &mut warnings)?;
+    }
     let source_lists = pass.map(|p| &p.json);
     let json = finish(json, &bin, path, format, source_lists, used_quantization);
     // Refuse to write what readers would reject: the same validation the
@@ -123,7 +142,7 @@ fn from_scene(
     bin: &mut Bin,
     images: &mut ImageWriter,
     warnings: &mut Vec<String>,
-) -> Result<(Value, bool), ErrorKind> {
+) -> Result<(Value, bool, Vec<Option<usize>>), ErrorKind> {
     let opts = EncodeOptions {
         quantization: false,
     };
@@ -174,7 +193,7 @@ fn from_scene(
     out.insert("textures".into(), Value::Array(textures));
     out.insert("images".into(), Value::Array(imgs));
     out.insert("samplers".into(), Value::Array(samplers));
-    Ok((Value::Object(out), false))
+    Ok((Value::Object(out), false, mesh_map))
 }
 
 /// Adds the binary data's views, accessors and buffer, drops empty
