@@ -57,6 +57,38 @@ pub enum Command {
     /// in code and its level of detail, and describe both.
     #[command(allow_negative_numbers = true)]
     Demo(DemoArgs),
+    /// Make a chain of levels of detail, each simplified from the one
+    /// before, sharing the input's materials and textures.
+    ///
+    /// Examples:
+    ///   wildlod lod chair.glb -o chair_lods.glb --ratios 0.5,0.25,0.1
+    ///   wildlod lod scan.obj -o out/scan.obj --errors 0.001,0.005,0.02
+    ///   wildlod lod truck.glb -o truck.glb --faces 20000,5000,1000 --split
+    ///
+    /// glTF output holds every level in one file as MSFT_lod (nodes listing
+    /// their lower levels, with MSFT_screencoverage hints from each level's
+    /// error); --split, OBJ, PLY and STL write NAME_lod0…NAME_lodN, level 0
+    /// being the input.
+    Lod(crate::args_assets::LodArgs),
+    /// Simplify every mesh file below a folder into another folder, in
+    /// parallel, and write a summary.
+    ///
+    /// Examples:
+    ///   wildlod batch assets/ -o lods/ --ratio 0.25
+    ///   wildlod batch assets/ -o lods/ --lod-ratios 0.5,0.25,0.1 --jobs 4
+    ///   wildlod batch assets/ -o lods/ --ratio 0.25 --skip-existing
+    ///
+    /// The output mirrors the input's tree. A file that fails is listed in
+    /// the summary (OUTPUT/wildlod-summary.json and .csv) and the run goes
+    /// on; the exit code is 1 if any failed.
+    Batch(crate::args_assets::BatchArgs),
+    /// Write one self-contained HTML page comparing two meshes: both in
+    /// synchronized 3D views, the candidate colored by its distance to the
+    /// reference, and the metrics of `compare`.
+    ///
+    /// Example:
+    ///   wildlod report bunny.obj bunny_lod.obj -o report.html
+    Report(crate::args_assets::ReportArgs),
 }
 
 /// Shown after `wildlod simplify --help`, one example per line.
@@ -94,6 +126,45 @@ pub struct SimplifyArgs {
     /// the first limit reached stops.
     #[arg(long, value_name = "E")]
     pub error: Option<f64>,
+    /// Re-bake textures (Liu, Zhang & Yuksel 2025 §4.3): collapses cross UV
+    /// seams freely, the simplified mesh gets a new atlas, and every texel
+    /// of it is mapped back to the input through the collapse history to
+    /// bake every channel of its material (base color with vertex colors,
+    /// metallic-roughness, normal, occlusion, emissive) with no bleeding.
+    /// Reaches targets that seam-keeping cannot on meshes with many UV
+    /// islands. Without it the input's UVs and textures are kept.
+    #[arg(long)]
+    pub bake: bool,
+    /// With --bake: atlas width and height in texels (default: keep the
+    /// input's texel density, rounded to a power of two, at most 4096).
+    #[arg(long, value_name = "N", requires = "bake")]
+    pub texture_size: Option<u32>,
+    /// With --bake: bake every material with the same alpha mode and
+    /// sidedness into one atlas and one material (fewer draw calls).
+    #[arg(long, requires = "bake")]
+    pub merge_materials: bool,
+    /// With --bake: JPEG quality (1 to 100) of baked images when the
+    /// input's textures were all JPEG (else PNG is written).
+    #[arg(long, value_name = "Q", default_value_t = 90)]
+    pub jpeg_quality: u8,
+    /// Allow the output to replace the input file.
+    #[arg(long)]
+    pub overwrite: bool,
+    /// Print nothing but errors.
+    #[arg(short, long)]
+    pub quiet: bool,
+    /// Print a JSON report (stable keys, documented in docs/cli.md) instead
+    /// of one line per mesh.
+    #[arg(long, conflicts_with = "bake")]
+    pub json: bool,
+    /// How to simplify: metric, guards, attributes.
+    #[command(flatten)]
+    pub tuning: TuningArgs,
+}
+
+/// How to simplify, shared by `simplify`, `lod` and `batch`.
+#[derive(Args, Debug, Clone)]
+pub struct TuningArgs {
     /// Radius r of virtual edges, relative to the bounding-box diagonal:
     /// parts of different components closer than 2r may merge. 0 disables.
     #[arg(long, value_name = "R", default_value_t = wildlod_simplify::Options::default().virtual_edge_radius)]
@@ -176,33 +247,6 @@ pub struct SimplifyArgs {
     /// the simplified faces, keeping the input's hard edges.
     #[arg(long, value_enum, default_value_t = NormalArg::Fit)]
     pub normals: NormalArg,
-    /// Re-bake textures (Liu, Zhang & Yuksel 2025 §4.3): collapses cross UV
-    /// seams freely, the simplified mesh gets a new atlas, and every texel
-    /// of it is mapped back to the input through the collapse history to
-    /// bake every channel of its material (base color with vertex colors,
-    /// metallic-roughness, normal, occlusion, emissive) with no bleeding.
-    /// Reaches targets that seam-keeping cannot on meshes with many UV
-    /// islands. Without it the input's UVs and textures are kept.
-    #[arg(long)]
-    pub bake: bool,
-    /// With --bake: atlas width and height in texels (default: keep the
-    /// input's texel density, rounded to a power of two, at most 4096).
-    #[arg(long, value_name = "N", requires = "bake")]
-    pub texture_size: Option<u32>,
-    /// With --bake: bake every material with the same alpha mode and
-    /// sidedness into one atlas and one material (fewer draw calls).
-    #[arg(long, requires = "bake")]
-    pub merge_materials: bool,
-    /// With --bake: JPEG quality (1 to 100) of baked images when the
-    /// input's textures were all JPEG (else PNG is written).
-    #[arg(long, value_name = "Q", default_value_t = 90)]
-    pub jpeg_quality: u8,
-    /// Allow the output to replace the input file.
-    #[arg(long)]
-    pub overwrite: bool,
-    /// Print nothing but errors.
-    #[arg(short, long)]
-    pub quiet: bool,
 }
 
 /// Arguments of `wildlod info`.

@@ -4,6 +4,7 @@
 //! then each command runs a pipeline of the library crates.
 
 mod args;
+mod args_assets;
 mod commands;
 mod progress;
 mod stdout;

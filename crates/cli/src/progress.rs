@@ -4,7 +4,7 @@
 use std::sync::Mutex;
 use std::time::{Duration, Instant};
 
-use indicatif::{ProgressBar, ProgressStyle};
+use indicatif::{MultiProgress, ProgressBar, ProgressStyle};
 
 /// Shows progress of one long task.
 pub struct Progress {
@@ -12,6 +12,8 @@ pub struct Progress {
     label: String,
     bar: Mutex<Option<ProgressBar>>,
     enabled: bool,
+    /// Where the bar goes when several run at once (`batch`).
+    multi: Option<MultiProgress>,
 }
 
 impl Progress {
@@ -22,6 +24,15 @@ impl Progress {
             label: label.to_string(),
             bar: Mutex::new(None),
             enabled: enabled && std::io::IsTerminal::is_terminal(&std::io::stderr()),
+            multi: None,
+        }
+    }
+
+    /// A progress display for `label` shown among the bars of `multi`.
+    pub fn in_multi(label: &str, multi: &MultiProgress, enabled: bool) -> Self {
+        Progress {
+            multi: Some(multi.clone()),
+            ..Progress::new(label, enabled)
         }
     }
 
@@ -40,7 +51,10 @@ impl Progress {
                 b.set_style(style.progress_chars("=> "));
             }
             b.set_message(self.label.clone());
-            b
+            match &self.multi {
+                Some(m) => m.add(b),
+                None => b,
+            }
         });
         bar.set_position((fraction.clamp(0.0, 1.0) * 1000.0) as u64);
     }

@@ -1,9 +1,12 @@
 //! One module per command.
 
 mod bake;
+mod batch;
 mod compare;
 mod demo;
 mod info;
+mod lod;
+mod report;
 mod simplify;
 
 use crate::args::{Cli, Command};
@@ -15,5 +18,8 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Info(a) => info::run(&a),
         Command::Compare(a) => compare::run(&a),
         Command::Demo(a) => demo::run(&a),
+        Command::Lod(a) => lod::run(a),
+        Command::Batch(a) => batch::run(a),
+        Command::Report(a) => report::run(&a),
     }
 }

@@ -11,7 +11,7 @@ use wildlod_simplify::{
     SeamPolicy, StopReason, Target,
 };
 
-use crate::args::{NormalArg, SeamArg, SimplifyArgs};
+use crate::args::{NormalArg, SeamArg, SimplifyArgs, TuningArgs};
 use crate::progress::Progress;
 use crate::stdout::emit;
 
@@ -29,6 +29,8 @@ pub struct Config {
     pub quiet: bool,
     /// Re-bake textures (`--bake`), with these settings.
     pub bake: Option<super::bake::BakeConfig>,
+    /// Print the JSON report instead of lines.
+    pub json: bool,
 }
 
 impl Config {
@@ -44,85 +46,8 @@ impl Config {
                 bail!("--error must be a non-negative number, got {e}");
             }
         }
-        if !(a.virtual_radius.is_finite() && a.virtual_radius >= 0.0) {
-            bail!(
-                "--virtual-radius must be a non-negative number, got {}",
-                a.virtual_radius
-            );
-        }
-        if !(a.quad_epsilon.is_finite() && a.quad_epsilon >= 0.0) {
-            bail!(
-                "--quad-epsilon must be a non-negative number, got {}",
-                a.quad_epsilon
-            );
-        }
-        for (flag, value) in [
-            ("--tangent-weight", a.tangent_weight),
-            ("--symmetry", a.symmetry),
-            ("--uv-weight", a.uv_weight),
-            ("--normal-weight", a.normal_weight),
-            ("--color-weight", a.color_weight),
-            ("--skin-weight", a.skin_weight),
-            ("--seam-weight", a.seam_weight),
-        ] {
-            if !(value.is_finite() && value >= 0.0) {
-                bail!("{flag} must be a non-negative number, got {value}");
-            }
-        }
-        if !(a.max_normal_turn > 0.0 && a.max_normal_turn <= 180.0) {
-            bail!(
-                "--max-normal-turn must be in (0, 180], got {}",
-                a.max_normal_turn
-            );
-        }
+        let options = tuning_options(&a.tuning)?;
         check_output(&a.input, &a.output, a.overwrite)?;
-        let ratio = match (a.ratio, a.faces, a.error) {
-            (None, None, None) => Some(0.5),
-            (r, _, _) => r,
-        };
-        let mut options = if a.classic {
-            Options::classic_qem()
-        } else {
-            Options {
-                virtual_edge_radius: a.virtual_radius,
-                ..Options::default()
-            }
-        };
-        if a.no_quads {
-            options.quad_mode = QuadMode::Never;
-        }
-        options.quad.epsilon = a.quad_epsilon;
-        // Knodt's balance of tangent planes against face planes, when only
-        // the symmetry term asks for them.
-        let tangent = if a.tangent_weight == 0.0 && a.symmetry > 0.0 {
-            1.0 / 3.0
-        } else {
-            a.tangent_weight
-        };
-        options.metric.tangent_weight = tangent;
-        options.quad.tangent_weight = tangent;
-        options.quad.symmetry = a.symmetry;
-        options.attributes = AttributeOptions {
-            tex_coord_weight: a.uv_weight,
-            normal_weight: a.normal_weight,
-            color_weight: a.color_weight,
-            skin_weight: a.skin_weight,
-            seams: match a.seams {
-                SeamArg::Keep => SeamPolicy::Keep,
-                SeamArg::Penalize => SeamPolicy::Penalize,
-                SeamArg::Ignore => SeamPolicy::Ignore,
-            },
-            normals: match a.normals {
-                NormalArg::Fit => NormalMode::Fit,
-                NormalArg::Recompute => NormalMode::Recompute,
-            },
-            seam_weight: a.seam_weight,
-        };
-        options.guards = Guards {
-            max_normal_turn_degrees: (a.max_normal_turn < 180.0).then_some(a.max_normal_turn),
-            keep_topology: a.keep_topology,
-            lock_borders: a.lock_borders,
-        };
         if let Some(n) = a.texture_size {
             if !(16..=16384).contains(&n) {
                 bail!("--texture-size must be between 16 and 16384, got {n}");
@@ -139,7 +64,12 @@ impl Config {
             merge_materials: a.merge_materials,
             jpeg_quality: a.jpeg_quality,
         });
+        let ratio = match (a.ratio, a.faces, a.error) {
+            (None, None, None) => Some(0.5),
+            (r, _, _) => r,
+        };
         Ok(Config {
+            json: a.json,
             bake,
             input: a.input,
             output: a.output,
@@ -199,8 +129,163 @@ fn same_file(a: &Path, b: &Path) -> bool {
     }
 }
 
+/// The simplifier's options from the tuning flags shared by `simplify`,
+/// `lod` and `batch`, with their ranges checked; targets are set per mesh.
+pub(crate) fn tuning_options(t: &TuningArgs) -> anyhow::Result<Options> {
+    if !(t.virtual_radius.is_finite() && t.virtual_radius >= 0.0) {
+        bail!(
+            "--virtual-radius must be a non-negative number, got {}",
+            t.virtual_radius
+        );
+    }
+    if !(t.quad_epsilon.is_finite() && t.quad_epsilon >= 0.0) {
+        bail!(
+            "--quad-epsilon must be a non-negative number, got {}",
+            t.quad_epsilon
+        );
+    }
+    for (flag, value) in [
+        ("--tangent-weight", t.tangent_weight),
+        ("--symmetry", t.symmetry),
+        ("--uv-weight", t.uv_weight),
+        ("--normal-weight", t.normal_weight),
+        ("--color-weight", t.color_weight),
+        ("--skin-weight", t.skin_weight),
+        ("--seam-weight", t.seam_weight),
+    ] {
+        if !(value.is_finite() && value >= 0.0) {
+            bail!("{flag} must be a non-negative number, got {value}");
+        }
+    }
+    if !(t.max_normal_turn > 0.0 && t.max_normal_turn <= 180.0) {
+        bail!(
+            "--max-normal-turn must be in (0, 180], got {}",
+            t.max_normal_turn
+        );
+    }
+    let mut options = if t.classic {
+        Options::classic_qem()
+    } else {
+        Options {
+            virtual_edge_radius: t.virtual_radius,
+            ..Options::default()
+        }
+    };
+    if t.no_quads {
+        options.quad_mode = QuadMode::Never;
+    }
+    options.quad.epsilon = t.quad_epsilon;
+    // Knodt's balance of tangent planes against face planes, when only
+    // the symmetry term asks for them.
+    let tangent = if t.tangent_weight == 0.0 && t.symmetry > 0.0 {
+        1.0 / 3.0
+    } else {
+        t.tangent_weight
+    };
+    options.metric.tangent_weight = tangent;
+    options.quad.tangent_weight = tangent;
+    options.quad.symmetry = t.symmetry;
+    options.attributes = AttributeOptions {
+        tex_coord_weight: t.uv_weight,
+        normal_weight: t.normal_weight,
+        color_weight: t.color_weight,
+        skin_weight: t.skin_weight,
+        seams: match t.seams {
+            SeamArg::Keep => SeamPolicy::Keep,
+            SeamArg::Penalize => SeamPolicy::Penalize,
+            SeamArg::Ignore => SeamPolicy::Ignore,
+        },
+        normals: match t.normals {
+            NormalArg::Fit => NormalMode::Fit,
+            NormalArg::Recompute => NormalMode::Recompute,
+        },
+        seam_weight: t.seam_weight,
+    };
+    options.guards = Guards {
+        max_normal_turn_degrees: (t.max_normal_turn < 180.0).then_some(t.max_normal_turn),
+        keep_topology: t.keep_topology,
+        lock_borders: t.lock_borders,
+    };
+    Ok(options)
+}
+
+/// One simplified mesh of a file: what the per-mesh line and the JSON
+/// report say.
+#[derive(Clone, Debug)]
+pub(crate) struct MeshRun {
+    /// Index of the mesh in the scene.
+    pub mesh: usize,
+    /// Its name for messages (the file stem for a lone unnamed mesh).
+    pub name: String,
+    /// What the simplifier reached.
+    pub report: Report,
+    /// Wall time of this mesh.
+    pub seconds: f64,
+}
+
+/// How a mesh is named in messages: its own name, the file's stem when it
+/// is the file's only mesh, else `mesh N`.
+pub(crate) fn mesh_name(scene: &Scene, m: usize, stem: &str) -> String {
+    match (
+        scene.meshes.get(m).map_or("", |x| x.name.as_str()),
+        scene.meshes.len(),
+    ) {
+        ("", 1) => stem.to_string(),
+        ("", _) => format!("mesh {m}"),
+        (n, _) => n.to_string(),
+    }
+}
+
+/// The stem of a file name, for messages and output names.
+pub(crate) fn file_stem(path: &Path) -> String {
+    path.file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_default()
+}
+
+/// Simplifies every mesh of `scene` in place to its target (keep-UV mode:
+/// every stream fitted, textures shared), one after the other; `progress`
+/// makes the display for a mesh's name. Errors name `input` and the mesh.
+pub(crate) fn simplify_scene(
+    scene: &mut Scene,
+    input: &Path,
+    options: &Options,
+    targets: &[Target],
+    stem: &str,
+    progress: &dyn Fn(&str) -> Progress,
+) -> anyhow::Result<Vec<MeshRun>> {
+    let mut runs = Vec::new();
+    for (m, target) in targets.iter().enumerate() {
+        let Some(mesh) = scene.meshes.get(m) else {
+            continue;
+        };
+        if mesh.faces.is_empty() {
+            continue;
+        }
+        let name = mesh_name(scene, m, stem);
+        let options = Options {
+            target: *target,
+            ..options.clone()
+        };
+        let bar = progress(&name);
+        let t0 = Instant::now();
+        let (lod, report) = simplify_mesh_with_progress(mesh, &options, &|f| bar.set(f))
+            .with_context(|| format!("{}: simplifying {name}", input.display()))?;
+        bar.finish();
+        runs.push(MeshRun {
+            mesh: m,
+            name,
+            report,
+            seconds: t0.elapsed().as_secs_f64(),
+        });
+        scene.meshes[m] = lod;
+    }
+    Ok(runs)
+}
+
 /// Runs `simplify`.
 pub fn run(cfg: &Config) -> anyhow::Result<()> {
+    let t0 = Instant::now();
     let mut doc = wildlod_io::read(&cfg.input)?;
     if !cfg.quiet {
         for w in &doc.warnings {
@@ -208,40 +293,100 @@ pub fn run(cfg: &Config) -> anyhow::Result<()> {
         }
     }
     let targets = mesh_targets(&doc.scene, cfg);
-    let stem = cfg
-        .input
-        .file_stem()
-        .map(|s| s.to_string_lossy().into_owned())
-        .unwrap_or_default();
+    let stem = file_stem(&cfg.input);
     if let Some(b) = &cfg.bake {
         super::bake::bake_scene(&mut doc, cfg, b, &targets, &stem)?;
         return write(&doc, cfg);
     }
-    for (m, target) in targets.into_iter().enumerate() {
-        let mesh = &doc.scene.meshes[m];
-        if mesh.faces.is_empty() {
-            continue;
+    let show = !cfg.quiet && !cfg.json;
+    let runs = simplify_scene(
+        &mut doc.scene,
+        &cfg.input,
+        &cfg.options,
+        &targets,
+        &stem,
+        &|name| Progress::new(name, show),
+    )?;
+    if show {
+        for r in &runs {
+            emit(&(summary(&r.name, &r.report, r.seconds) + "\n"))?;
         }
-        let name = match (mesh.name.as_str(), doc.scene.meshes.len()) {
-            ("", 1) => stem.clone(),
-            ("", _) => format!("mesh {m}"),
-            (n, _) => n.to_string(),
-        };
-        let options = Options {
-            target,
-            ..cfg.options.clone()
-        };
-        let progress = Progress::new(&name, !cfg.quiet);
-        let t0 = Instant::now();
-        let (lod, report) = simplify_mesh_with_progress(mesh, &options, &|f| progress.set(f))
-            .with_context(|| format!("{}: simplifying {name}", cfg.input.display()))?;
-        progress.finish();
-        if !cfg.quiet {
-            emit(&(summary(&name, &report, t0.elapsed().as_secs_f64()) + "\n"))?;
-        }
-        doc.scene.meshes[m] = lod;
     }
-    write(&doc, cfg)
+    write(&doc, cfg)?;
+    if cfg.json {
+        let json = RunJson::new(&cfg.input, &cfg.output, &runs, t0.elapsed().as_secs_f64());
+        let text = serde_json::to_string_pretty(&json).context("serializing the report")?;
+        emit(&(text + "\n"))?;
+    }
+    Ok(())
+}
+
+/// One mesh in the JSON report (`meshes` of `simplify --json`, of each
+/// level of `lod --json`, of each file of `batch`'s summary).
+#[derive(Clone, Debug, serde::Serialize)]
+pub(crate) struct MeshJson {
+    pub name: String,
+    pub mesh: usize,
+    pub input_triangles: usize,
+    pub target_triangles: usize,
+    pub output_triangles: usize,
+    pub error: f64,
+    pub stop: Option<String>,
+    pub collapses: usize,
+    pub seconds: f64,
+}
+
+impl MeshJson {
+    pub(crate) fn new(r: &MeshRun) -> Self {
+        MeshJson {
+            name: r.name.clone(),
+            mesh: r.mesh,
+            input_triangles: r.report.input_triangles,
+            target_triangles: r.report.target_triangles,
+            output_triangles: r.report.output_triangles,
+            error: r.report.error,
+            stop: r.report.stop.map(|s| stop_key(s).to_string()),
+            collapses: r.report.collapses,
+            seconds: r.seconds,
+        }
+    }
+}
+
+/// The stable JSON name of a stop reason.
+pub(crate) fn stop_key(s: StopReason) -> &'static str {
+    match s {
+        StopReason::TargetReached => "target_reached",
+        StopReason::ErrorLimit => "error_limit",
+        StopReason::NoCollapsibleEdges => "no_collapsible_edges",
+        StopReason::NothingToDo => "nothing_to_do",
+    }
+}
+
+/// `simplify --json`.
+#[derive(Clone, Debug, serde::Serialize)]
+pub(crate) struct RunJson {
+    pub input: String,
+    pub output: String,
+    pub input_triangles: usize,
+    pub output_triangles: usize,
+    /// Largest error over the meshes (each relative to its own diagonal).
+    pub error: f64,
+    pub seconds: f64,
+    pub meshes: Vec<MeshJson>,
+}
+
+impl RunJson {
+    pub(crate) fn new(input: &Path, output: &Path, runs: &[MeshRun], seconds: f64) -> Self {
+        RunJson {
+            input: input.display().to_string(),
+            output: output.display().to_string(),
+            input_triangles: runs.iter().map(|r| r.report.input_triangles).sum(),
+            output_triangles: runs.iter().map(|r| r.report.output_triangles).sum(),
+            error: runs.iter().map(|r| r.report.error).fold(0.0, f64::max),
+            seconds,
+            meshes: runs.iter().map(MeshJson::new).collect(),
+        }
+    }
 }
 
 pub(super) fn write(doc: &Document, cfg: &Config) -> anyhow::Result<()> {
@@ -311,19 +456,29 @@ pub fn summary(name: &str, r: &Report, seconds: f64) -> String {
 /// geometry and exit 0. "As small as possible" is what a user asking for 0
 /// wants; one triangle per mesh is the smallest valid result.
 pub(super) fn mesh_targets(scene: &Scene, cfg: &Config) -> Vec<Target> {
+    targets_for(scene, cfg.ratio, cfg.faces, cfg.error)
+}
+
+/// [`mesh_targets`] from the three limits.
+pub(crate) fn targets_for(
+    scene: &Scene,
+    ratio: Option<f64>,
+    faces: Option<usize>,
+    error: Option<f64>,
+) -> Vec<Target> {
     let tris: Vec<usize> = scene.meshes.iter().map(|m| m.triangle_count()).collect();
-    let shares = cfg.faces.map(|n| share_budget(n, &tris));
+    let shares = faces.map(|n| share_budget(n, &tris));
     let file_diag = scene_diagonal(scene);
     tris.iter()
         .enumerate()
         .map(|(m, _)| Target {
-            ratio: cfg.ratio,
+            ratio,
             triangles: Some(
                 shares
                     .as_ref()
                     .map_or(MIN_TRIANGLES, |s| s[m].max(MIN_TRIANGLES)),
             ),
-            error: cfg.error.map(|e| {
+            error: error.map(|e| {
                 let d = world_diagonal(scene, m);
                 if d > 0.0 && file_diag > 0.0 {
                     e * file_diag / d
@@ -340,7 +495,7 @@ const MIN_TRIANGLES: usize = 1;
 
 /// Splits `n` among items in proportion to `weights`, summing to `n`
 /// (or less when the weights sum to less).
-fn share_budget(n: usize, weights: &[usize]) -> Vec<usize> {
+pub(crate) fn share_budget(n: usize, weights: &[usize]) -> Vec<usize> {
     let total: usize = weights.iter().sum();
     if total == 0 {
         return vec![0; weights.len()];
@@ -369,7 +524,7 @@ fn share_budget(n: usize, weights: &[usize]) -> Vec<usize> {
 }
 
 /// Bounding-box diagonal of everything the scene shows, in world space.
-fn scene_diagonal(scene: &Scene) -> f64 {
+pub(crate) fn scene_diagonal(scene: &Scene) -> f64 {
     let mut lo = [f64::INFINITY; 3];
     let mut hi = [f64::NEG_INFINITY; 3];
     for (m, world) in scene.instances() {
@@ -385,7 +540,7 @@ fn scene_diagonal(scene: &Scene) -> f64 {
 }
 
 /// Diagonal of mesh `m` as its first instance shows it.
-fn world_diagonal(scene: &Scene, m: usize) -> f64 {
+pub(crate) fn world_diagonal(scene: &Scene, m: usize) -> f64 {
     let world = scene
         .instances()
         .into_iter()
