@@ -26,11 +26,19 @@ const executablePath = process.env.CHROMIUM || '/usr/bin/chromium';
     });
     const page = await browser.newPage({ viewport: { width: 1200, height: 800 } });
     page.on('console', (m) => { if (m.type() === 'error') errors.push(`console: ${m.text()}`); });
-    page.on('pageerror', (e) => errors.push(`page: ${e.message}`));
+    // A script error means the page will never be ready: stop waiting.
+    const crashed = new Promise((_, reject) => page.on('pageerror', (e) => {
+      errors.push(`page: ${e.message}`);
+      reject(new Error('the page threw'));
+    }));
+    crashed.catch(() => {});
     page.on('requestfailed', (r) => errors.push(`request failed: ${r.url().slice(0, 80)}`));
     await page.goto('file://' + path.resolve(report), { waitUntil: 'load', timeout: 120000 });
     try {
-      await page.waitForFunction(() => window.wildlodReady === true, null, { timeout: 120000 });
+      await Promise.race([
+        page.waitForFunction(() => window.wildlodReady === true, null, { timeout: 120000 }),
+        crashed,
+      ]);
       ready = true;
       // Let the first animation frames draw.
       await page.waitForTimeout(500);

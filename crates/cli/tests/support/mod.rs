@@ -1,0 +1,134 @@
+//! Helpers shared by the CLI tests of the asset-library commands: running
+//! the binary, generated inputs, and the external checkers (the Khronos
+//! glTF validator, headless Chromium), each installed from the npm
+//! registry on first use and skipped with a loud message where they
+//! cannot run, except under `CI=true`, where that is a failure.
+#![allow(dead_code, clippy::unwrap_used, clippy::expect_used)] // test code
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+use wildlod_io::{Document, WriteOptions};
+use wildlod_mesh::{shapes, Scene};
+
+pub fn wildlod(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_wildlod"))
+        .args(args)
+        .output()
+        .expect("run wildlod")
+}
+
+pub fn stdout(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stdout).into_owned()
+}
+
+pub fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+pub fn s(p: &Path) -> &str {
+    p.to_str().unwrap()
+}
+
+fn in_ci() -> bool {
+    std::env::var("CI").is_ok_and(|v| v == "true")
+}
+
+/// A bumpy torus of quads (2304 triangles) written to `path` (any format).
+pub fn torus(path: &Path) -> PathBuf {
+    let mut m = shapes::torus(48, 24, 1.0, 0.35);
+    for (k, p) in m.positions.iter_mut().enumerate() {
+        p[2] *= 1.0 + 0.1 * ((k % 7) as f32 / 7.0);
+    }
+    m.name = "torus".into();
+    wildlod_io::write(
+        &Document::from_scene(Scene::from_mesh(m)),
+        path,
+        &WriteOptions::default(),
+    )
+    .unwrap();
+    path.to_path_buf()
+}
+
+/// Installs the npm packages of `tools/<tool>` once; `false` (with a loud
+/// message) where node or the registry is missing, a panic under CI.
+fn npm_tool(tool: &str, module: &str) -> Option<PathBuf> {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../tools")
+        .join(tool);
+    if Command::new("node").arg("--version").output().is_err() {
+        assert!(!in_ci(), "node is not installed: {tool} cannot run");
+        eprintln!("SKIPPED: node is not installed, so {tool} cannot run");
+        return None;
+    }
+    if !dir.join("node_modules").join(module).exists() {
+        let o = Command::new("npm")
+            .args(["install", "--no-audit", "--no-fund", "--prefix"])
+            .arg(&dir)
+            .output();
+        let ok = o.as_ref().is_ok_and(|o| o.status.success());
+        if !ok {
+            assert!(!in_ci(), "npm install of {tool} failed: {o:?}");
+            eprintln!("SKIPPED: could not install {tool}: {o:?}");
+            return None;
+        }
+    }
+    Some(dir)
+}
+
+/// The Khronos validator's error count and codes for a glTF file, or
+/// `None` where it cannot run.
+pub fn validate(file: &Path) -> Option<serde_json::Value> {
+    let dir = npm_tool("gltf-validator", "gltf-validator")?;
+    let o = Command::new("node")
+        .arg(dir.join("validate.js"))
+        .arg(file)
+        .output()
+        .unwrap();
+    Some(
+        serde_json::from_slice(&o.stdout)
+            .unwrap_or_else(|e| panic!("validator output for {}: {e}", file.display())),
+    )
+}
+
+/// Headless Chromium (Debian's package): whether it is installed, else a
+/// loud skip (a failure under CI, where `.ci/run` installs it).
+fn chromium() -> Option<PathBuf> {
+    let path =
+        PathBuf::from(std::env::var("CHROMIUM").unwrap_or_else(|_| "/usr/bin/chromium".into()));
+    if path.exists() {
+        return Some(path);
+    }
+    assert!(
+        !in_ci(),
+        "Chromium is not installed at {} (apt-get install chromium): the report test cannot run",
+        path.display()
+    );
+    eprintln!(
+        "SKIPPED: Chromium is not installed at {} (apt-get install chromium); the report is not checked in a browser",
+        path.display()
+    );
+    None
+}
+
+/// Opens an HTML report in headless Chromium, saves a screenshot of its
+/// two views to `shot`, and returns `{ready, errors}`; `None` where the
+/// browser cannot run.
+pub fn open_in_chromium(report: &Path, shot: &Path) -> Option<serde_json::Value> {
+    let browser = chromium()?;
+    let dir = npm_tool("report-check", "playwright-core")?;
+    let o = Command::new("node")
+        .arg(dir.join("check.js"))
+        .arg(report)
+        .arg(shot)
+        .env("CHROMIUM", browser)
+        .output()
+        .unwrap();
+    Some(serde_json::from_slice(&o.stdout).unwrap_or_else(|e| {
+        panic!(
+            "report check output: {e}: {}{}",
+            String::from_utf8_lossy(&o.stdout),
+            String::from_utf8_lossy(&o.stderr)
+        )
+    }))
+}
