@@ -68,3 +68,13 @@ impl Progress {
         }
     }
 }
+
+impl wildlod_pipeline::MeshProgress for Progress {
+    fn set(&self, fraction: f64) {
+        Progress::set(self, fraction);
+    }
+
+    fn finish(&self) {
+        Progress::finish(self);
+    }
+}

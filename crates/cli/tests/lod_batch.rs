@@ -218,7 +218,10 @@ fn lod_of_textured_and_skinned_corpus_files_validates() {
                 .into_iter()
                 .filter(|c| !codes(&before).contains(c))
                 .collect();
-            assert!(new.is_empty(), "{rel}: new errors {after} (input: {before})");
+            assert!(
+                new.is_empty(),
+                "{rel}: new errors {after} (input: {before})"
+            );
         }
     }
 }

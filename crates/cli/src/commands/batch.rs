@@ -15,8 +15,13 @@ use wildlod_io::{Format, OutputFiles, WriteOptions};
 use wildlod_mesh::Mesh;
 use wildlod_simplify::Options;
 
-use super::lod::{build_chain, chain_paths, write_chain, Levels};
-use super::simplify::{file_stem, simplify_scene, targets_for, tuning_options};
+use wildlod_pipeline::{
+    build_chain, chain_paths, file_stem, simplify_scene, targets_for, write_chain, FileTargets,
+    Levels,
+};
+
+use super::simplify::tuning_options;
+use super::with_flag_names;
 use crate::args_assets::BatchArgs;
 use crate::progress::Progress;
 use crate::stdout::emit;
@@ -56,28 +61,22 @@ impl Config {
         let chain = !(a.lod_ratios.is_empty() && a.lod_errors.is_empty() && a.lod_faces.is_empty());
         let job = if chain {
             Job::Chain {
-                levels: Levels::from_lists(&a.lod_ratios, &a.lod_errors, &a.lod_faces, "--lod-")?,
+                levels: Levels::from_lists(&a.lod_ratios, &a.lod_errors, &a.lod_faces, "--lod-")
+                    .map_err(with_flag_names)?,
                 split: a.split,
             }
         } else {
-            if let Some(r) = a.ratio {
-                if !(0.0..=1.0).contains(&r) {
-                    bail!("--ratio must be between 0 and 1, got {r}");
-                }
-            }
-            if let Some(e) = a.error {
-                if !(e.is_finite() && e >= 0.0) {
-                    bail!("--error must be a non-negative number, got {e}");
-                }
-            }
-            let ratio = match (a.ratio, a.faces, a.error) {
-                (None, None, None) => Some(0.5),
-                (r, _, _) => r,
-            };
-            Job::Simplify {
-                ratio,
+            let t = FileTargets {
+                ratio: a.ratio,
                 faces: a.faces,
                 error: a.error,
+            }
+            .checked()
+            .map_err(with_flag_names)?;
+            Job::Simplify {
+                ratio: t.ratio,
+                faces: t.faces,
+                error: t.error,
             }
         };
         let format = match &a.format {

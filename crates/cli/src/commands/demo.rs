@@ -9,10 +9,11 @@
 use anyhow::Context;
 use wildlod_io::{Document, WriteOptions};
 use wildlod_mesh::{shapes, Mesh, Scene};
+use wildlod_pipeline::describe;
 use wildlod_simplify::{simplify_mesh, Options, Target};
 
 use crate::args::DemoArgs;
-use crate::commands::info::{describe, text};
+use crate::commands::info::text;
 use crate::commands::simplify::summary;
 use crate::stdout::emit;
 

@@ -23,3 +23,19 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Report(a) => report::run(&a),
     }
 }
+
+/// A library error as the command line says it: settings are named by
+/// their flags (`uv_weight` is `--uv-weight`).
+pub(crate) fn with_flag_names(e: wildlod_pipeline::Error) -> anyhow::Error {
+    match e {
+        wildlod_pipeline::Error::Setting {
+            name,
+            expected,
+            value,
+        } => anyhow::anyhow!(
+            "--{} must be {expected}, got {value}",
+            name.replace('_', "-")
+        ),
+        e => e.into(),
+    }
+}

@@ -14,8 +14,8 @@ use wildlod_geometry::TriangleSet;
 use wildlod_io::{Document, OutputFiles};
 use wildlod_mesh::{Image, Scene};
 
-use super::lod::Level;
-use super::simplify::file_stem;
+use wildlod_pipeline::{file_stem, Level};
+
 use crate::args_assets::ReportArgs;
 use crate::stdout::emit;
 

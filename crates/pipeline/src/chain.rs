@@ -1,0 +1,419 @@
+//! Chains of levels of detail, each simplified from the one before (nested,
+//! and each step only works on what is left), all sharing the input's
+//! materials and textures (keep-UV mode).
+//!
+//! glTF output holds every level in one file (`MSFT_lod`, with
+//! `MSFT_screencoverage` hints from each level's error); split output and
+//! the other formats write one file per level.
+
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use wildlod_io::{Document, Format, LodLevels, WriteOptions};
+use wildlod_mesh::{Mesh, Scene};
+use wildlod_simplify::{Options, Target};
+
+use crate::report::{ChainJson, LevelJson, MeshJson};
+use crate::{
+    file_stem, scene_diagonal, simplify_scene, targets_for, world_diagonal, Error, MeshProgress,
+    MeshRun,
+};
+
+/// The screen height, in pixels, the coverage hints are computed for: a
+/// level takes over once its error would cover less than one pixel of an
+/// object shown on a 1080-pixel-high screen.
+pub const SCREEN_PIXELS: f64 = 1080.0;
+
+/// What the levels of a chain aim for, finest first.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Levels {
+    /// Fractions of the input's triangles.
+    Ratios(Vec<f64>),
+    /// Accumulated error limits, relative to the file's diagonal.
+    Errors(Vec<f64>),
+    /// Triangle budgets for the whole file.
+    Faces(Vec<usize>),
+}
+
+impl Levels {
+    /// Checks level lists (`flag` prefixes their names in messages, e.g.
+    /// `--` or `--lod-`): at most one given, in range, each level coarser
+    /// than the one before. None given: ratios 0.5, 0.25, 0.1.
+    pub fn from_lists(
+        ratios: &[f64],
+        errors: &[f64],
+        faces: &[usize],
+        flag: &str,
+    ) -> Result<Levels, Error> {
+        let usage = |s: String| Err(Error::Usage(s));
+        let given = [!ratios.is_empty(), !errors.is_empty(), !faces.is_empty()];
+        if given.iter().filter(|&&g| g).count() > 1 {
+            return usage(format!(
+                "give one of {flag}ratios, {flag}errors and {flag}faces"
+            ));
+        }
+        if !errors.is_empty() {
+            if let Some(e) = errors.iter().find(|e| !(e.is_finite() && **e > 0.0)) {
+                return usage(format!("{flag}errors must be positive numbers, got {e}"));
+            }
+            if errors.windows(2).any(|w| w[1] <= w[0]) {
+                return usage(format!(
+                    "{flag}errors must increase (finest level first), got {errors:?}"
+                ));
+            }
+            return Ok(Levels::Errors(errors.to_vec()));
+        }
+        if !faces.is_empty() {
+            if faces.windows(2).any(|w| w[1] >= w[0]) {
+                return usage(format!(
+                    "{flag}faces must decrease (finest level first), got {faces:?}"
+                ));
+            }
+            return Ok(Levels::Faces(faces.to_vec()));
+        }
+        let ratios = if ratios.is_empty() {
+            vec![0.5, 0.25, 0.1]
+        } else {
+            ratios.to_vec()
+        };
+        if let Some(r) = ratios.iter().find(|r| !(**r > 0.0 && **r <= 1.0)) {
+            return usage(format!("{flag}ratios must be in (0, 1], got {r}"));
+        }
+        if ratios.windows(2).any(|w| w[1] >= w[0]) {
+            return usage(format!(
+                "{flag}ratios must decrease (finest level first), got {ratios:?}"
+            ));
+        }
+        Ok(Levels::Ratios(ratios))
+    }
+
+    /// Number of levels below the input.
+    pub fn len(&self) -> usize {
+        match self {
+            Levels::Ratios(v) | Levels::Errors(v) => v.len(),
+            Levels::Faces(v) => v.len(),
+        }
+    }
+
+    /// Whether there is no level below the input.
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+}
+
+/// One level below the input.
+#[derive(Clone, Debug)]
+pub struct Level {
+    /// 1 for the first level below the input.
+    pub level: usize,
+    /// One mesh per scene mesh.
+    pub meshes: Vec<Mesh>,
+    /// The simplifier's runs that made it from the level above.
+    pub runs: Vec<MeshRun>,
+    /// Triangles of all meshes (each stored mesh once).
+    pub triangles: usize,
+    /// Accumulated error (the sum of the steps' errors: a bound on the
+    /// distance to the input, as each step's is to its own input),
+    /// relative to the file's diagonal; the largest over the meshes.
+    pub error: f64,
+    /// The same per mesh, relative to the mesh's own diagonal.
+    pub mesh_errors: Vec<f64>,
+    /// Wall time of this level.
+    pub seconds: f64,
+}
+
+/// Diagonal of all of a mesh's positions, in its own frame.
+fn local_diagonal(mesh: &Mesh) -> f64 {
+    let mut lo = [f64::INFINITY; 3];
+    let mut hi = [f64::NEG_INFINITY; 3];
+    for p in &mesh.positions {
+        for k in 0..3 {
+            lo[k] = lo[k].min(p[k] as f64);
+            hi[k] = hi[k].max(p[k] as f64);
+        }
+    }
+    if lo[0] > hi[0] {
+        return 0.0;
+    }
+    (0..3).map(|k| (hi[k] - lo[k]).powi(2)).sum::<f64>().sqrt()
+}
+
+/// Simplifies `scene` level after level, each from the one before.
+pub fn build_chain<P: MeshProgress>(
+    scene: &Scene,
+    input: &Path,
+    options: &Options,
+    levels: &Levels,
+    stem: &str,
+    progress: &dyn Fn(&str) -> P,
+) -> Result<Vec<Level>, Error> {
+    let input_tris: Vec<usize> = scene.meshes.iter().map(Mesh::triangle_count).collect();
+    let input_diag: Vec<f64> = scene.meshes.iter().map(local_diagonal).collect();
+    let file_diag = scene_diagonal(scene);
+    // How a mesh's own relative error reads against the file's diagonal.
+    let to_file: Vec<f64> = (0..scene.meshes.len())
+        .map(|m| {
+            let d = world_diagonal(scene, m);
+            if file_diag > 0.0 && d > 0.0 {
+                d / file_diag
+            } else {
+                1.0
+            }
+        })
+        .collect();
+    let mut current = scene.clone();
+    let mut accumulated = vec![0.0f64; scene.meshes.len()];
+    let mut out = Vec::with_capacity(levels.len());
+    for k in 0..levels.len() {
+        let file_targets = match levels {
+            Levels::Ratios(r) => targets_for(scene, Some(r[k]), None, None),
+            Levels::Faces(n) => targets_for(scene, None, Some(n[k]), None),
+            Levels::Errors(e) => targets_for(scene, None, None, Some(e[k])),
+        };
+        let targets: Vec<Target> = file_targets
+            .iter()
+            .enumerate()
+            .map(|(m, t)| match levels {
+                // A ratio of the input, as a count: the level above has
+                // fewer triangles than the input.
+                Levels::Ratios(_) => Target {
+                    triangles: Some(t.triangles_for(input_tris[m])),
+                    ..Target::default()
+                },
+                Levels::Faces(_) => *t,
+                // What the levels above used of the error budget is spent.
+                Levels::Errors(_) => {
+                    let left = t.error.unwrap_or(0.0) - accumulated[m];
+                    if left > 0.0 {
+                        Target {
+                            error: Some(left),
+                            ..Target::default()
+                        }
+                    } else {
+                        Target {
+                            triangles: Some(current.meshes[m].triangle_count()),
+                            ..Target::default()
+                        }
+                    }
+                }
+            })
+            .collect();
+        let before: Vec<f64> = current.meshes.iter().map(local_diagonal).collect();
+        let t0 = Instant::now();
+        let label = format!("{stem} lod{}", k + 1);
+        let runs = simplify_scene(&mut current, input, options, &targets, &label, progress)
+            .map_err(|e| Error::Level {
+                level: k + 1,
+                source: Box::new(e),
+            })?;
+        for r in &runs {
+            if input_diag[r.mesh] > 0.0 {
+                accumulated[r.mesh] += r.report.error * before[r.mesh] / input_diag[r.mesh];
+            }
+        }
+        out.push(Level {
+            level: k + 1,
+            meshes: current.meshes.clone(),
+            triangles: current.meshes.iter().map(Mesh::triangle_count).sum(),
+            error: accumulated
+                .iter()
+                .zip(&to_file)
+                .map(|(e, f)| e * f)
+                .fold(0.0, f64::max),
+            mesh_errors: accumulated.clone(),
+            runs,
+            seconds: t0.elapsed().as_secs_f64(),
+        });
+    }
+    Ok(out)
+}
+
+/// `MSFT_screencoverage` of mesh `m`: for each level below the input, the
+/// screen fraction under which it takes over (its accumulated error then
+/// covers less than a pixel of [`SCREEN_PIXELS`]), never rising down the
+/// chain; last, 0: wildlod does not decide when an object may vanish.
+pub fn screen_coverage(levels: &[Level], m: usize) -> Vec<f64> {
+    let mut out = Vec::with_capacity(levels.len() + 1);
+    let mut last = 1.0f64;
+    for l in levels {
+        let e = l.mesh_errors.get(m).copied().unwrap_or(0.0);
+        let c = if e > 0.0 {
+            (1.0 / (SCREEN_PIXELS * e)).min(1.0)
+        } else {
+            1.0
+        };
+        last = last.min(c);
+        // Rounded: these are hints, and short numbers read better.
+        out.push((last * 1e4).round() / 1e4);
+    }
+    out.push(0.0);
+    out
+}
+
+/// `NAME_lodK.EXT` beside `output`.
+pub fn level_path(output: &Path, k: usize) -> PathBuf {
+    let stem = file_stem(output);
+    let ext = output
+        .extension()
+        .map(|e| e.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    output.with_file_name(format!("{stem}_lod{k}.{ext}"))
+}
+
+/// The files a chain of `levels` levels below the input is written to:
+/// `output` itself for glTF unless `split`, else `NAME_lod0…NAME_lodN`.
+pub fn chain_paths(output: &Path, levels: usize, split: bool) -> Result<Vec<PathBuf>, Error> {
+    let format = Format::from_path(output).map_err(|k| wildlod_io::Error::new(output, k))?;
+    if matches!(format, Format::Gltf | Format::Glb) && !split {
+        Ok(vec![output.to_path_buf()])
+    } else {
+        Ok((0..=levels).map(|k| level_path(output, k)).collect())
+    }
+}
+
+/// Writes the chain: one glTF file with `MSFT_lod`, or one file per level
+/// (level 0 is the input as read), each all-or-nothing. Returns the files
+/// written and the writers' warnings.
+pub fn write_chain(
+    doc: &Document,
+    levels: &[Level],
+    output: &Path,
+    split: bool,
+    overwrite: bool,
+) -> Result<(Vec<PathBuf>, Vec<String>), Error> {
+    let paths = chain_paths(output, levels.len(), split)?;
+    let options = WriteOptions {
+        allow_overwrite_input: overwrite,
+    };
+    let mut warnings = Vec::new();
+    if paths.len() == 1 {
+        let meshes: Vec<Vec<Mesh>> = levels.iter().map(|l| l.meshes.clone()).collect();
+        let coverage: Vec<Vec<f64>> = (0..doc.scene.meshes.len())
+            .map(|m| screen_coverage(levels, m))
+            .collect();
+        warnings = wildlod_io::write_lods(
+            doc,
+            &LodLevels {
+                levels: &meshes,
+                screen_coverage: &coverage,
+            },
+            output,
+            &options,
+        )?;
+        return Ok((paths, warnings));
+    }
+    let mut level_doc = doc.clone();
+    for (k, path) in paths.iter().enumerate() {
+        if k > 0 {
+            if let Some(l) = levels.get(k - 1) {
+                level_doc.scene.meshes = l.meshes.clone();
+            }
+        }
+        for w in wildlod_io::write(&level_doc, path, &options)? {
+            warnings.push(format!("{}: {w}", path.display()));
+        }
+    }
+    Ok((paths, warnings))
+}
+
+/// The report of a chain (level 0 is the input).
+pub fn chain_json(
+    input: &Path,
+    scene: &Scene,
+    levels: &[Level],
+    files: &[PathBuf],
+    report: Option<&Path>,
+    seconds: f64,
+) -> ChainJson {
+    let input_tris: usize = scene.meshes.iter().map(Mesh::triangle_count).sum();
+    let ratio = |t: usize| {
+        if input_tris == 0 {
+            1.0
+        } else {
+            t as f64 / input_tris as f64
+        }
+    };
+    let split = files.len() > 1;
+    let file = |k: usize| {
+        let f = if split { files.get(k) } else { files.first() };
+        f.map(|p| p.display().to_string())
+    };
+    // Single-mesh files get the coverage hint of their one mesh.
+    let coverage = |k: usize| {
+        (scene.meshes.len() == 1)
+            .then(|| screen_coverage(levels, 0).get(k).copied())
+            .flatten()
+    };
+    let mut out = vec![LevelJson {
+        level: 0,
+        triangles: input_tris,
+        ratio: 1.0,
+        error: 0.0,
+        seconds: 0.0,
+        file: file(0),
+        screen_coverage: coverage(0),
+        meshes: Vec::new(),
+    }];
+    for l in levels {
+        out.push(LevelJson {
+            level: l.level,
+            triangles: l.triangles,
+            ratio: ratio(l.triangles),
+            error: l.error,
+            seconds: l.seconds,
+            file: file(l.level),
+            screen_coverage: coverage(l.level),
+            meshes: l.runs.iter().map(MeshJson::new).collect(),
+        });
+    }
+    ChainJson {
+        input: input.display().to_string(),
+        files: files.iter().map(|p| p.display().to_string()).collect(),
+        report: report.map(|p| p.display().to_string()),
+        seconds,
+        levels: out,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn level_lists_must_get_coarser() {
+        assert!(Levels::from_lists(&[0.5, 0.25], &[], &[], "--").is_ok());
+        assert!(Levels::from_lists(&[0.25, 0.5], &[], &[], "--").is_err());
+        assert!(Levels::from_lists(&[0.5, 0.5], &[], &[], "--").is_err());
+        assert!(Levels::from_lists(&[1.5], &[], &[], "--").is_err());
+        assert!(Levels::from_lists(&[], &[0.01, 0.001], &[], "--").is_err());
+        assert!(Levels::from_lists(&[], &[], &[100, 1000], "--").is_err());
+        assert!(Levels::from_lists(&[0.5], &[0.01], &[], "--").is_err());
+        assert_eq!(
+            Levels::from_lists(&[], &[], &[], "--").ok(),
+            Some(Levels::Ratios(vec![0.5, 0.25, 0.1]))
+        );
+    }
+
+    #[test]
+    fn screen_coverage_falls_with_the_error_and_ends_at_zero() {
+        let level = |e: f64| Level {
+            level: 1,
+            meshes: Vec::new(),
+            runs: Vec::new(),
+            triangles: 0,
+            error: e,
+            mesh_errors: vec![e],
+            seconds: 0.0,
+        };
+        // 1e-4 of the size is under a pixel until the object fills the
+        // screen; 1e-2 until it covers 1/10.8 of it.
+        let c = screen_coverage(&[level(0.0), level(1e-4), level(1e-2), level(5e-3)], 0);
+        assert_eq!(c, vec![1.0, 1.0, 0.0926, 0.0926, 0.0]);
+    }
+
+    #[test]
+    fn split_levels_are_named_after_the_output() {
+        let p = level_path(Path::new("out/chair.glb"), 2);
+        assert_eq!(p, Path::new("out/chair_lod2.glb"));
+    }
+}

@@ -1,0 +1,43 @@
+//! File-level pipelines of wildlod: what a command of the `wildlod` binary
+//! does to a file, as library functions that the CLI and the Python
+//! package both call, so both give the same results and the same reports.
+//!
+//! - [`Tuning`]: how to simplify, as named settings with their ranges
+//!   checked, turned into [`wildlod_simplify::Options`];
+//! - [`simplify_scene`] and [`simplify_file`]: every mesh of a file to its
+//!   share of a target ([`targets_for`]), reported as [`RunJson`];
+//! - [`build_chain`], [`write_chain`] and [`lod_file`]: nested levels of
+//!   detail, glTF `MSFT_lod` with `MSFT_screencoverage` hints or one file
+//!   per level, reported as [`ChainJson`];
+//! - [`describe`]: what `info --json` prints ([`FileInfo`]);
+//! - [`compare_files`]: what `compare --json` prints.
+//!
+//! Data flows one way: io → mesh → simplify → mesh → io. Nothing here
+//! prints; progress goes to a [`MeshProgress`] the caller chooses.
+
+mod chain;
+mod compare;
+mod error;
+mod file;
+mod info;
+mod progress;
+mod report;
+mod scene;
+mod targets;
+mod tuning;
+
+pub use chain::{
+    build_chain, chain_json, chain_paths, level_path, screen_coverage, write_chain, Level, Levels,
+    SCREEN_PIXELS,
+};
+pub use compare::{
+    compare_files, load_images, Animated, CompareFilesOptions, FileComparison, Frame,
+};
+pub use error::Error;
+pub use file::{lod_file, simplify_file, FileTargets};
+pub use info::{describe, FaceCounts, FileInfo, MeshInfo};
+pub use progress::{MeshProgress, NoProgress};
+pub use report::{stop_key, ChainJson, LevelJson, MeshJson, RunJson};
+pub use scene::{file_stem, mesh_name, simplify_scene, MeshRun};
+pub use targets::{scene_diagonal, share_budget, targets_for, world_diagonal, MIN_TRIANGLES};
+pub use tuning::{NormalSetting, SeamSetting, Tuning};

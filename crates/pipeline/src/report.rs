@@ -1,0 +1,131 @@
+//! The machine-readable reports of `simplify --json` and `lod --json`
+//! (keys documented in docs/cli.md; add keys, never rename or remove
+//! them). The Python package returns the same keys as dicts.
+
+use std::path::Path;
+
+use wildlod_simplify::StopReason;
+
+use crate::MeshRun;
+
+/// One mesh in a report (`meshes` of `simplify --json`, of each level of
+/// `lod --json`).
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct MeshJson {
+    /// The mesh's name ([`crate::mesh_name`]).
+    pub name: String,
+    /// Its index in the file.
+    pub mesh: usize,
+    /// Triangles before (a quad counts as two).
+    pub input_triangles: usize,
+    /// Triangles aimed for.
+    pub target_triangles: usize,
+    /// Triangles reached.
+    pub output_triangles: usize,
+    /// Error reached, relative to the mesh's diagonal.
+    pub error: f64,
+    /// Why it stopped ([`stop_key`]), or null when it never started.
+    pub stop: Option<String>,
+    /// Collapses done.
+    pub collapses: usize,
+    /// Wall time.
+    pub seconds: f64,
+}
+
+impl MeshJson {
+    /// The report of one run.
+    pub fn new(r: &MeshRun) -> Self {
+        MeshJson {
+            name: r.name.clone(),
+            mesh: r.mesh,
+            input_triangles: r.report.input_triangles,
+            target_triangles: r.report.target_triangles,
+            output_triangles: r.report.output_triangles,
+            error: r.report.error,
+            stop: r.report.stop.map(|s| stop_key(s).to_string()),
+            collapses: r.report.collapses,
+            seconds: r.seconds,
+        }
+    }
+}
+
+/// The stable JSON name of a stop reason.
+pub fn stop_key(s: StopReason) -> &'static str {
+    match s {
+        StopReason::TargetReached => "target_reached",
+        StopReason::ErrorLimit => "error_limit",
+        StopReason::NoCollapsibleEdges => "no_collapsible_edges",
+        StopReason::NothingToDo => "nothing_to_do",
+    }
+}
+
+/// `simplify --json`: one file simplified.
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct RunJson {
+    /// The input file.
+    pub input: String,
+    /// The output file.
+    pub output: String,
+    /// Triangles of the simplified meshes before.
+    pub input_triangles: usize,
+    /// Triangles of the simplified meshes after.
+    pub output_triangles: usize,
+    /// Largest error over the meshes (each relative to its own diagonal).
+    pub error: f64,
+    /// Wall time of the whole run (read, simplify, write).
+    pub seconds: f64,
+    /// Every simplified mesh.
+    pub meshes: Vec<MeshJson>,
+}
+
+impl RunJson {
+    /// The report of a file's runs.
+    pub fn new(input: &Path, output: &Path, runs: &[MeshRun], seconds: f64) -> Self {
+        RunJson {
+            input: input.display().to_string(),
+            output: output.display().to_string(),
+            input_triangles: runs.iter().map(|r| r.report.input_triangles).sum(),
+            output_triangles: runs.iter().map(|r| r.report.output_triangles).sum(),
+            error: runs.iter().map(|r| r.report.error).fold(0.0, f64::max),
+            seconds,
+            meshes: runs.iter().map(MeshJson::new).collect(),
+        }
+    }
+}
+
+/// One level in `lod --json` (level 0 is the input).
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct LevelJson {
+    /// 0 for the input, 1 for the first level below it.
+    pub level: usize,
+    /// Triangles of all meshes (each stored mesh once).
+    pub triangles: usize,
+    /// Triangles as a fraction of the input's.
+    pub ratio: f64,
+    /// Accumulated error relative to the file's diagonal.
+    pub error: f64,
+    /// Wall time of this level.
+    pub seconds: f64,
+    /// The file holding this level.
+    pub file: Option<String>,
+    /// The `MSFT_screencoverage` hint of a file's only mesh; null for files
+    /// of several meshes (each base node has its own).
+    pub screen_coverage: Option<f64>,
+    /// The simplifier's runs that made it from the level above.
+    pub meshes: Vec<MeshJson>,
+}
+
+/// `lod --json`: a chain of levels.
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct ChainJson {
+    /// The input file.
+    pub input: String,
+    /// Every file written.
+    pub files: Vec<String>,
+    /// The HTML report, when one was written.
+    pub report: Option<String>,
+    /// Wall time of the whole run.
+    pub seconds: f64,
+    /// Level 0 (the input) and every level below it.
+    pub levels: Vec<LevelJson>,
+}

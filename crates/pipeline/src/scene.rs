@@ -1,0 +1,91 @@
+//! Every mesh of a scene simplified to its target.
+
+use std::path::Path;
+use std::time::Instant;
+
+use wildlod_mesh::Scene;
+use wildlod_simplify::{simplify_mesh_with_progress, Options, Report, Target};
+
+use crate::{Error, MeshProgress};
+
+/// One simplified mesh of a file: what the per-mesh line and the JSON
+/// report say.
+#[derive(Clone, Debug)]
+pub struct MeshRun {
+    /// Index of the mesh in the scene.
+    pub mesh: usize,
+    /// Its name for messages (the file stem for a lone unnamed mesh).
+    pub name: String,
+    /// What the simplifier reached.
+    pub report: Report,
+    /// Wall time of this mesh.
+    pub seconds: f64,
+}
+
+/// How a mesh is named in messages: its own name, the file's stem when it
+/// is the file's only mesh, else `mesh N`.
+pub fn mesh_name(scene: &Scene, m: usize, stem: &str) -> String {
+    match (
+        scene.meshes.get(m).map_or("", |x| x.name.as_str()),
+        scene.meshes.len(),
+    ) {
+        ("", 1) => stem.to_string(),
+        ("", _) => format!("mesh {m}"),
+        (n, _) => n.to_string(),
+    }
+}
+
+/// The stem of a file name, for messages and output names.
+pub fn file_stem(path: &Path) -> String {
+    path.file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_default()
+}
+
+/// Simplifies every mesh of `scene` in place to its target (keep-UV mode:
+/// every stream fitted, textures shared), one after the other; `progress`
+/// makes the display for a mesh's name. Meshes without faces and meshes
+/// without a target are left as they are. Errors name `input` and the
+/// mesh.
+pub fn simplify_scene<P: MeshProgress>(
+    scene: &mut Scene,
+    input: &Path,
+    options: &Options,
+    targets: &[Target],
+    stem: &str,
+    progress: &dyn Fn(&str) -> P,
+) -> Result<Vec<MeshRun>, Error> {
+    let mut runs = Vec::new();
+    for (m, target) in targets.iter().enumerate() {
+        let Some(mesh) = scene.meshes.get(m) else {
+            continue;
+        };
+        if mesh.faces.is_empty() {
+            continue;
+        }
+        let name = mesh_name(scene, m, stem);
+        let options = Options {
+            target: *target,
+            ..options.clone()
+        };
+        let bar = progress(&name);
+        let t0 = Instant::now();
+        let (lod, report) =
+            simplify_mesh_with_progress(mesh, &options, &|f| bar.set(f)).map_err(|source| {
+                Error::Simplify {
+                    file: input.to_path_buf(),
+                    mesh: name.clone(),
+                    source,
+                }
+            })?;
+        bar.finish();
+        runs.push(MeshRun {
+            mesh: m,
+            name,
+            report,
+            seconds: t0.elapsed().as_secs_f64(),
+        });
+        scene.meshes[m] = lod;
+    }
+    Ok(runs)
+}

@@ -1,0 +1,139 @@
+//! The target of every mesh of a file, from the file-wide limits.
+
+use wildlod_mesh::Scene;
+use wildlod_simplify::Target;
+
+/// The target of every stored mesh: the same ratio for all; a triangle
+/// budget (`faces`) shared in proportion to triangle counts (largest
+/// remainders, so the shares sum to the budget); an `error` limit relative
+/// to the file's diagonal converted to each mesh's own.
+///
+/// Every mesh keeps at least one triangle, whatever the targets: a mesh
+/// simplified to nothing would leave its nodes, skins and instances
+/// pointing at an empty mesh, and a ratio of 0 would write a file with no
+/// geometry and succeed. "As small as possible" is what a user asking for
+/// 0 wants; one triangle per mesh is the smallest valid result.
+pub fn targets_for(
+    scene: &Scene,
+    ratio: Option<f64>,
+    faces: Option<usize>,
+    error: Option<f64>,
+) -> Vec<Target> {
+    let tris: Vec<usize> = scene.meshes.iter().map(|m| m.triangle_count()).collect();
+    let shares = faces.map(|n| share_budget(n, &tris));
+    let file_diag = scene_diagonal(scene);
+    tris.iter()
+        .enumerate()
+        .map(|(m, _)| Target {
+            ratio,
+            triangles: Some(
+                shares
+                    .as_ref()
+                    .map_or(MIN_TRIANGLES, |s| s[m].max(MIN_TRIANGLES)),
+            ),
+            error: error.map(|e| {
+                let d = world_diagonal(scene, m);
+                if d > 0.0 && file_diag > 0.0 {
+                    e * file_diag / d
+                } else {
+                    e
+                }
+            }),
+        })
+        .collect()
+}
+
+/// Triangles every mesh keeps (see [`targets_for`]).
+pub const MIN_TRIANGLES: usize = 1;
+
+/// Splits `n` among items in proportion to `weights`, summing to `n`
+/// (or less when the weights sum to less).
+pub fn share_budget(n: usize, weights: &[usize]) -> Vec<usize> {
+    let total: usize = weights.iter().sum();
+    if total == 0 {
+        return vec![0; weights.len()];
+    }
+    let n = n.min(total);
+    let exact: Vec<f64> = weights
+        .iter()
+        .map(|&w| n as f64 * w as f64 / total as f64)
+        .collect();
+    let mut out: Vec<usize> = exact.iter().map(|x| x.floor() as usize).collect();
+    let mut rest = n - out.iter().sum::<usize>();
+    let mut order: Vec<usize> = (0..weights.len()).collect();
+    order.sort_by(|&a, &b| {
+        (exact[b] - exact[b].floor())
+            .total_cmp(&(exact[a] - exact[a].floor()))
+            .then(a.cmp(&b))
+    });
+    for i in order {
+        if rest == 0 {
+            break;
+        }
+        out[i] += 1;
+        rest -= 1;
+    }
+    out
+}
+
+/// Bounding-box diagonal of everything the scene shows, in world space.
+pub fn scene_diagonal(scene: &Scene) -> f64 {
+    let mut lo = [f64::INFINITY; 3];
+    let mut hi = [f64::NEG_INFINITY; 3];
+    for (m, world) in scene.instances() {
+        for p in &scene.meshes[m as usize].positions {
+            let q = wildlod_mesh::transform::apply_point(&world, *p);
+            for k in 0..3 {
+                lo[k] = lo[k].min(q[k] as f64);
+                hi[k] = hi[k].max(q[k] as f64);
+            }
+        }
+    }
+    diag(lo, hi)
+}
+
+/// Diagonal of mesh `m` as its first instance shows it (0 for a mesh that
+/// does not exist or has no position).
+pub fn world_diagonal(scene: &Scene, m: usize) -> f64 {
+    let Some(mesh) = scene.meshes.get(m) else {
+        return 0.0;
+    };
+    let world = scene
+        .instances()
+        .into_iter()
+        .find(|(i, _)| *i as usize == m)
+        .map(|(_, w)| w)
+        .unwrap_or(wildlod_mesh::IDENTITY);
+    let mut lo = [f64::INFINITY; 3];
+    let mut hi = [f64::NEG_INFINITY; 3];
+    for p in &mesh.positions {
+        let q = wildlod_mesh::transform::apply_point(&world, *p);
+        for k in 0..3 {
+            lo[k] = lo[k].min(q[k] as f64);
+            hi[k] = hi[k].max(q[k] as f64);
+        }
+    }
+    diag(lo, hi)
+}
+
+fn diag(lo: [f64; 3], hi: [f64; 3]) -> f64 {
+    if lo[0] > hi[0] {
+        return 0.0;
+    }
+    (0..3).map(|k| (hi[k] - lo[k]).powi(2)).sum::<f64>().sqrt()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn budget_shares_sum_to_the_budget_in_proportion() {
+        assert_eq!(share_budget(10, &[50, 30, 20]), vec![5, 3, 2]);
+        assert_eq!(share_budget(10, &[10, 10, 10]), vec![4, 3, 3]);
+        // A budget above the total keeps every triangle.
+        assert_eq!(share_budget(10, &[1, 1, 1]), vec![1, 1, 1]);
+        assert_eq!(share_budget(100, &[3, 4]), vec![3, 4]);
+        assert_eq!(share_budget(5, &[0, 0]), vec![0, 0]);
+    }
+}

@@ -1,0 +1,217 @@
+//! How to simplify, as named settings: the tuning flags of `wildlod
+//! simplify`, `lod` and `batch` and the keyword options of the Python
+//! package, checked in one place.
+
+use wildlod_simplify::{
+    AttributeOptions, Guards, NormalMode, Options, QuadMode, QuadSettings, SeamPolicy,
+};
+
+use crate::Error;
+
+/// What happens to attribute seams (UV seams, hard normal edges, color and
+/// material borders).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum SeamSetting {
+    /// Cross a seam only where that costs less than what else is left.
+    #[default]
+    Penalize,
+    /// Never cross seams; the target may be missed.
+    Keep,
+    /// Let seams move and close like any edge (for re-baked textures).
+    Ignore,
+}
+
+/// How output normals are made.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum NormalSetting {
+    /// Fitted through every collapse, then normalized.
+    #[default]
+    Fit,
+    /// Recomputed from the simplified faces, the input's hard edges kept.
+    Recompute,
+}
+
+/// How to simplify. Each field is documented on the CLI flag of the same
+/// name with dashes (`virtual_radius` is `--virtual-radius`); the defaults
+/// are the CLI's.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Tuning {
+    /// Radius of virtual edges relative to the bounding-box diagonal; 0
+    /// disables them.
+    pub virtual_radius: f64,
+    /// Keep topology: no merging of parts, no closing of holes.
+    pub keep_topology: bool,
+    /// Never move or remove vertices on open borders.
+    pub lock_borders: bool,
+    /// Largest angle in degrees a face may turn in one collapse, in
+    /// (0, 180]; 180 turns the flip guard off. Default 90.
+    pub max_normal_turn: f64,
+    /// Plain cost order even when the input has quads.
+    pub no_quads: bool,
+    /// Tolerance under which costs count as equal and are ordered to keep
+    /// quads.
+    pub quad_epsilon: f64,
+    /// Weight of the tangent edge quadrics (Knodt 2024); 0 is off.
+    pub tangent_weight: f64,
+    /// Soft symmetry λ_sym (Knodt 2024 §3.1); 0 is off.
+    pub symmetry: f64,
+    /// Classic quadric error simplification (Garland & Heckbert 1997).
+    pub classic: bool,
+    /// How much UVs steer the collapses.
+    pub uv_weight: f64,
+    /// How much normals steer the collapses.
+    pub normal_weight: f64,
+    /// How much vertex colors steer the collapses.
+    pub color_weight: f64,
+    /// How much skin weights steer the collapses.
+    pub skin_weight: f64,
+    /// What happens to attribute seams.
+    pub seams: SeamSetting,
+    /// Weight of the planes that hold seam vertices on their seam.
+    pub seam_weight: f64,
+    /// How output normals are made.
+    pub normals: NormalSetting,
+}
+
+impl Default for Tuning {
+    fn default() -> Self {
+        let options = Options::default();
+        let attributes = AttributeOptions::default();
+        Tuning {
+            virtual_radius: options.virtual_edge_radius,
+            keep_topology: false,
+            lock_borders: false,
+            // The CLI's default: a quarter turn is a fold, not shading.
+            max_normal_turn: 90.0,
+            no_quads: false,
+            quad_epsilon: QuadSettings::default().epsilon,
+            tangent_weight: 0.0,
+            symmetry: 0.0,
+            classic: false,
+            uv_weight: attributes.tex_coord_weight,
+            normal_weight: attributes.normal_weight,
+            color_weight: attributes.color_weight,
+            skin_weight: attributes.skin_weight,
+            seams: SeamSetting::Penalize,
+            seam_weight: attributes.seam_weight,
+            normals: NormalSetting::Fit,
+        }
+    }
+}
+
+const NON_NEGATIVE: &str = "a non-negative number";
+
+impl Tuning {
+    /// The simplifier's options, with every range checked; targets are set
+    /// per mesh.
+    pub fn options(&self) -> Result<Options, Error> {
+        for (name, value) in [
+            ("virtual_radius", self.virtual_radius),
+            ("quad_epsilon", self.quad_epsilon),
+            ("tangent_weight", self.tangent_weight),
+            ("symmetry", self.symmetry),
+            ("uv_weight", self.uv_weight),
+            ("normal_weight", self.normal_weight),
+            ("color_weight", self.color_weight),
+            ("skin_weight", self.skin_weight),
+            ("seam_weight", self.seam_weight),
+        ] {
+            if !(value.is_finite() && value >= 0.0) {
+                return Err(Error::setting(name, NON_NEGATIVE, value));
+            }
+        }
+        if !(self.max_normal_turn > 0.0 && self.max_normal_turn <= 180.0) {
+            return Err(Error::setting(
+                "max_normal_turn",
+                "in (0, 180]",
+                self.max_normal_turn,
+            ));
+        }
+        let mut options = if self.classic {
+            Options::classic_qem()
+        } else {
+            Options {
+                virtual_edge_radius: self.virtual_radius,
+                ..Options::default()
+            }
+        };
+        if self.no_quads {
+            options.quad_mode = QuadMode::Never;
+        }
+        options.quad.epsilon = self.quad_epsilon;
+        // Knodt's balance of tangent planes against face planes, when only
+        // the symmetry term asks for them.
+        let tangent = if self.tangent_weight == 0.0 && self.symmetry > 0.0 {
+            1.0 / 3.0
+        } else {
+            self.tangent_weight
+        };
+        options.metric.tangent_weight = tangent;
+        options.quad.tangent_weight = tangent;
+        options.quad.symmetry = self.symmetry;
+        options.attributes = AttributeOptions {
+            tex_coord_weight: self.uv_weight,
+            normal_weight: self.normal_weight,
+            color_weight: self.color_weight,
+            skin_weight: self.skin_weight,
+            seams: match self.seams {
+                SeamSetting::Keep => SeamPolicy::Keep,
+                SeamSetting::Penalize => SeamPolicy::Penalize,
+                SeamSetting::Ignore => SeamPolicy::Ignore,
+            },
+            normals: match self.normals {
+                NormalSetting::Fit => NormalMode::Fit,
+                NormalSetting::Recompute => NormalMode::Recompute,
+            },
+            seam_weight: self.seam_weight,
+        };
+        options.guards = Guards {
+            max_normal_turn_degrees: (self.max_normal_turn < 180.0).then_some(self.max_normal_turn),
+            keep_topology: self.keep_topology,
+            lock_borders: self.lock_borders,
+        };
+        Ok(options)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn out_of_range_settings_are_named() {
+        let bad = Tuning {
+            uv_weight: -1.0,
+            ..Tuning::default()
+        };
+        match bad.options() {
+            Err(Error::Setting { name, .. }) => assert_eq!(name, "uv_weight"),
+            other => panic!("expected a setting error, got {other:?}"),
+        }
+        let bad = Tuning {
+            max_normal_turn: 0.0,
+            ..Tuning::default()
+        };
+        assert!(matches!(
+            bad.options(),
+            Err(Error::Setting {
+                name: "max_normal_turn",
+                ..
+            })
+        ));
+    }
+
+    #[test]
+    fn symmetry_alone_turns_the_tangent_quadrics_on() {
+        let o = Tuning {
+            symmetry: 0.5,
+            ..Tuning::default()
+        }
+        .options()
+        .expect("valid");
+        assert!((o.metric.tangent_weight - 1.0 / 3.0).abs() < 1e-12);
+        let o = Tuning::default().options().expect("valid");
+        assert_eq!(o.metric.tangent_weight, 0.0);
+        assert_eq!(o.guards.max_normal_turn_degrees, Some(90.0));
+    }
+}
