@@ -62,6 +62,8 @@ pub fn simplify_file(
     let t0 = Instant::now();
     let targets = targets.checked()?;
     let options = tuning.options()?;
+    // Refuse an output format that does not exist before the work.
+    wildlod_io::Format::from_path(output).map_err(|k| wildlod_io::Error::new(output, k))?;
     let mut doc = wildlod_io::read(input)?;
     let mut warnings: Vec<String> = doc
         .warnings

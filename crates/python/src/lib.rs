@@ -1,0 +1,203 @@
+//! The native part of the `wildlod` Python package (`wildlod._wildlod`).
+//!
+//! Thin bindings over `wildlod_pipeline`, the library behind the CLI, so a
+//! Python call and the matching command give the same result and the same
+//! report keys. Every call copies its inputs out of Python objects, then
+//! releases the GIL for the work ([`Python::detach`]), so threads can
+//! simplify at once. The pure Python part (`python/wildlod`) shapes the
+//! arguments, holds the exception classes and the Ray helper.
+
+mod arrays;
+mod convert;
+
+use std::path::PathBuf;
+
+use numpy::{PyReadonlyArray1, PyReadonlyArray2};
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+use wildlod_pipeline::{CompareFilesOptions, FileTargets, Levels};
+
+use crate::convert::{report_dict, to_py, to_pyerr, tuning};
+
+/// Simplifies a mesh given as arrays (see `wildlod.simplify`, which shapes
+/// the faces into `indices` and `face_sizes`).
+#[pyfunction]
+#[pyo3(signature = (
+    positions, indices, face_sizes, *, ratio=None, faces_target=None, error=None,
+    uvs=None, normals=None, colors=None, joints=None, weights=None, vertex_weights=None,
+    **options
+))]
+#[allow(clippy::too_many_arguments)]
+fn _simplify<'py>(
+    py: Python<'py>,
+    positions: PyReadonlyArray2<'py, f32>,
+    indices: PyReadonlyArray1<'py, u32>,
+    face_sizes: PyReadonlyArray1<'py, u32>,
+    ratio: Option<f64>,
+    faces_target: Option<usize>,
+    error: Option<f64>,
+    uvs: Option<PyReadonlyArray2<'py, f32>>,
+    normals: Option<PyReadonlyArray2<'py, f32>>,
+    colors: Option<PyReadonlyArray2<'py, f32>>,
+    joints: Option<PyReadonlyArray2<'py, u16>>,
+    weights: Option<PyReadonlyArray2<'py, f32>>,
+    vertex_weights: Option<PyReadonlyArray1<'py, f32>>,
+    options: Option<&Bound<'py, PyDict>>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let tuning = tuning(py, options)?;
+    let mesh = arrays::ArrayMesh::new(
+        py,
+        positions,
+        indices,
+        face_sizes,
+        uvs,
+        normals,
+        colors,
+        (joints, weights),
+        vertex_weights,
+    )?;
+    let targets = FileTargets {
+        ratio,
+        faces: faces_target,
+        error,
+    };
+    let (unwelded, run) = py
+        .detach(|| arrays::run(&mesh, targets, &tuning))
+        .map_err(|e| e.into_pyerr(py))?;
+    arrays::result_dict(py, unwelded, &run)
+}
+
+/// Simplifies every mesh of a file into another file (`wildlod simplify`).
+#[pyfunction]
+#[pyo3(signature = (src, dst, *, ratio=None, faces_target=None, error=None, overwrite=false, **options))]
+#[allow(clippy::too_many_arguments)]
+fn simplify_file<'py>(
+    py: Python<'py>,
+    src: PathBuf,
+    dst: PathBuf,
+    ratio: Option<f64>,
+    faces_target: Option<usize>,
+    error: Option<f64>,
+    overwrite: bool,
+    options: Option<&Bound<'py, PyDict>>,
+) -> PyResult<Bound<'py, PyAny>> {
+    let tuning = tuning(py, options)?;
+    let targets = FileTargets {
+        ratio,
+        faces: faces_target,
+        error,
+    };
+    let (report, warnings) = py
+        .detach(|| wildlod_pipeline::simplify_file(&src, &dst, &targets, &tuning, overwrite))
+        .map_err(|e| to_pyerr(py, e))?;
+    with_warnings(py, report_dict(py, &report)?, warnings)
+}
+
+/// Makes a chain of levels of detail of a file (`wildlod lod`).
+#[pyfunction]
+#[pyo3(signature = (
+    src, dst, *, ratios=None, errors=None, faces_targets=None, split=false, overwrite=false,
+    **options
+))]
+#[allow(clippy::too_many_arguments)]
+fn lod_chain<'py>(
+    py: Python<'py>,
+    src: PathBuf,
+    dst: PathBuf,
+    ratios: Option<Vec<f64>>,
+    errors: Option<Vec<f64>>,
+    faces_targets: Option<Vec<usize>>,
+    split: bool,
+    overwrite: bool,
+    options: Option<&Bound<'py, PyDict>>,
+) -> PyResult<Bound<'py, PyAny>> {
+    let tuning = tuning(py, options)?;
+    let levels = Levels::from_lists(
+        &ratios.unwrap_or_default(),
+        &errors.unwrap_or_default(),
+        &faces_targets.unwrap_or_default(),
+        "",
+    )
+    .map_err(|e| to_pyerr(py, e))?;
+    let (report, warnings) = py
+        .detach(|| wildlod_pipeline::lod_file(&src, &dst, &levels, &tuning, split, overwrite))
+        .map_err(|e| to_pyerr(py, e))?;
+    with_warnings(py, report_dict(py, &report)?, warnings)
+}
+
+/// Describes a mesh file (`wildlod info --json`).
+#[pyfunction]
+fn info<'py>(py: Python<'py>, path: PathBuf) -> PyResult<Bound<'py, PyAny>> {
+    let info = py
+        .detach(|| {
+            wildlod_io::read(&path)
+                .map(|doc| wildlod_pipeline::describe(&doc, &path.display().to_string()))
+        })
+        .map_err(|e| to_pyerr(py, e.into()))?;
+    report_dict(py, &info)
+}
+
+/// Measures how far a candidate is from a reference (`wildlod compare
+/// --json`).
+#[pyfunction]
+#[pyo3(signature = (
+    reference, candidate, *, samples=100_000, texture_samples=10_000, seed=None,
+    animation=None, frames=50, fps=30.0
+))]
+#[allow(clippy::too_many_arguments)]
+fn compare<'py>(
+    py: Python<'py>,
+    reference: PathBuf,
+    candidate: PathBuf,
+    samples: usize,
+    texture_samples: usize,
+    seed: Option<u64>,
+    animation: Option<usize>,
+    frames: usize,
+    fps: f64,
+) -> PyResult<Bound<'py, PyAny>> {
+    let options = CompareFilesOptions {
+        samples,
+        texture_samples,
+        seed: seed.unwrap_or(CompareFilesOptions::default().seed),
+        animation,
+        frames,
+        fps,
+    };
+    let result = py
+        .detach(|| {
+            wildlod_pipeline::compare_files(&reference, &candidate, &options)
+                .and_then(|c| Ok((c.to_json()?, c.warnings)))
+        })
+        .map_err(|e| to_pyerr(py, e))?;
+    with_warnings(py, to_py(py, &result.0)?, result.1)
+}
+
+/// Adds the readers' and writers' warnings to a report dict.
+fn with_warnings<'py>(
+    _py: Python<'py>,
+    report: Bound<'py, PyAny>,
+    warnings: Vec<String>,
+) -> PyResult<Bound<'py, PyAny>> {
+    report.set_item("warnings", warnings)?;
+    Ok(report)
+}
+
+/// The option names `**options` accepts.
+#[pyfunction]
+fn option_names() -> Vec<&'static str> {
+    convert::OPTION_NAMES.to_vec()
+}
+
+/// The module.
+#[pymodule]
+fn _wildlod(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_function(wrap_pyfunction!(_simplify, m)?)?;
+    m.add_function(wrap_pyfunction!(simplify_file, m)?)?;
+    m.add_function(wrap_pyfunction!(lod_chain, m)?)?;
+    m.add_function(wrap_pyfunction!(info, m)?)?;
+    m.add_function(wrap_pyfunction!(compare, m)?)?;
+    m.add_function(wrap_pyfunction!(option_names, m)?)?;
+    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    Ok(())
+}
