@@ -67,7 +67,18 @@ fn _simplify<'py>(
     arrays::result_dict(py, unwelded, &run)
 }
 
-/// Simplifies every mesh of a file into another file (`wildlod simplify`).
+/// Simplifies every mesh of a file into another file, as `wildlod
+/// simplify` does; the output's extension picks its format.
+///
+/// Targets (the first reached stops; none: `ratio=0.5`): `ratio` of each
+/// mesh's triangles, `faces_target` triangles shared among the meshes,
+/// `error` as a fraction of the file's diagonal. `overwrite` allows `dst`
+/// to be `src`. `**options`: the tuning options (`wildlod.option_names()`).
+///
+/// Returns the dict of `wildlod simplify --json` (`input`, `output`,
+/// `input_triangles`, `output_triangles`, `error`, `seconds`, `meshes`)
+/// plus `warnings`. Raises `WildlodOSError` when a file cannot be read or
+/// written, `WildlodError` for content or settings refused.
 #[pyfunction]
 #[pyo3(signature = (src, dst, *, ratio=None, faces_target=None, error=None, overwrite=false, **options))]
 #[allow(clippy::too_many_arguments)]
@@ -93,7 +104,18 @@ fn simplify_file<'py>(
     with_warnings(py, report_dict(py, &report)?, warnings)
 }
 
-/// Makes a chain of levels of detail of a file (`wildlod lod`).
+/// Makes a chain of levels of detail of a file, as `wildlod lod` does:
+/// each level simplified from the one before.
+///
+/// Give one list, finest first (none: `ratios=[0.5, 0.25, 0.1]`):
+/// `ratios` of the input's triangles, accumulated `errors` relative to the
+/// file's diagonal, or `faces_targets` triangle budgets. A `.gltf`/`.glb`
+/// `dst` holds every level as `MSFT_lod` with `MSFT_screencoverage` hints
+/// unless `split`; other formats and `split` write `NAME_lod0…NAME_lodN`
+/// beside `dst`.
+///
+/// Returns the dict of `wildlod lod --json` (`input`, `files`, `report`,
+/// `seconds`, `levels`) plus `warnings`.
 #[pyfunction]
 #[pyo3(signature = (
     src, dst, *, ratios=None, errors=None, faces_targets=None, split=false, overwrite=false,
@@ -125,7 +147,9 @@ fn lod_chain<'py>(
     with_warnings(py, report_dict(py, &report)?, warnings)
 }
 
-/// Describes a mesh file (`wildlod info --json`).
+/// Describes a mesh file: the dict of `wildlod info --json` (face counts
+/// by arity, topology, UV islands, materials, skins, `per_mesh`,
+/// `warnings`).
 #[pyfunction]
 fn info<'py>(py: Python<'py>, path: PathBuf) -> PyResult<Bound<'py, PyAny>> {
     let info = py
@@ -137,8 +161,11 @@ fn info<'py>(py: Python<'py>, path: PathBuf) -> PyResult<Bound<'py, PyAny>> {
     report_dict(py, &info)
 }
 
-/// Measures how far a candidate is from a reference (`wildlod compare
-/// --json`).
+/// Measures how far a candidate (a level of detail) is from a reference:
+/// the dict of `wildlod compare --json` (`hausdorff`, `chamfer_mean`,
+/// `chamfer_squared`, `quad_ratio`, `texture_chamfer`, … relative to the
+/// reference's diagonal), plus `animation` when `animation` is an index,
+/// plus `warnings`. Deterministic for a given `seed`.
 #[pyfunction]
 #[pyo3(signature = (
     reference, candidate, *, samples=100_000, texture_samples=10_000, seed=None,
