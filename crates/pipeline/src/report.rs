@@ -28,6 +28,9 @@ pub struct MeshJson {
     pub stop: Option<String>,
     /// Collapses done.
     pub collapses: usize,
+    /// Polygons of more than `wildlod_simplify::MAX_POLYGON_CORNERS`
+    /// corners simplified and written as pieces.
+    pub split_polygons: usize,
     /// Wall time.
     pub seconds: f64,
 }
@@ -44,6 +47,7 @@ impl MeshJson {
             error: r.report.error,
             stop: r.report.stop.map(|s| stop_key(s).to_string()),
             collapses: r.report.collapses,
+            split_polygons: r.report.split_polygons,
             seconds: r.seconds,
         }
     }
