@@ -16,7 +16,7 @@ use rayon::prelude::*;
 use crate::attributes::{AttrScratch, AttributeState};
 use crate::complex::Complex;
 use crate::options::Metric;
-use crate::quadric::{place, Quadric};
+use crate::quadric::{place, place_exact, Quadric};
 use crate::tangent::tangent_quadrics;
 pub(crate) use crate::tangent::EdgeImportance;
 
@@ -75,12 +75,25 @@ pub(crate) fn face_plane(c: &Complex, f: u32) -> Option<(DVec3, f64, DVec3)> {
 /// plane quadric (the barycentric share of W Eq. 9 extended to polygons),
 /// plus the regularization term, times the vertex's weight. Summed per
 /// vertex in face order, so the result does not depend on thread count.
+#[cfg(test)]
 pub(crate) fn vertex_quadrics(
     c: &Complex,
     metric: &Metric,
     weights: &[f64],
     importance: EdgeImportance<'_>,
 ) -> Vec<Quadric> {
+    vertex_quadric_parts(c, metric, weights, importance).0
+}
+
+/// [`vertex_quadrics`], and the regularization part of each (already in
+/// the first), which the placement takes back out to solve exactly (see
+/// [`crate::quadric::place_exact`]).
+pub(crate) fn vertex_quadric_parts(
+    c: &Complex,
+    metric: &Metric,
+    weights: &[f64],
+    importance: EdgeImportance<'_>,
+) -> (Vec<Quadric>, Vec<Quadric>) {
     let planes: Vec<Option<(DVec3, f64, DVec3)>> = (0..c.faces.len() as u32)
         .into_par_iter()
         .map(|f| {
@@ -97,18 +110,28 @@ pub(crate) fn vertex_quadrics(
     } else {
         Vec::new()
     };
+    let border = if metric.border_weight > 0.0 {
+        border_planes(c, &planes, metric.border_weight)
+    } else {
+        Vec::new()
+    };
     let finish = |v: usize, mut q: Quadric, area: f64| {
+        let mut reg = Quadric::ZERO;
         if metric.regularization > 0.0 && area > 0.0 {
-            q += Quadric::point(c.pos[v], metric.regularization * area);
+            reg = Quadric::point(c.pos[v], metric.regularization * area);
+            q += reg;
         }
         if let Some(t) = tangent.get(v) {
             // Tangent planes carry no area: keep the weight (which turns
             // errors into distances) the faces' own.
             q += Quadric { weight: 0.0, ..*t };
         }
+        if let Some(b) = border.get(v) {
+            q += *b;
+        }
         match weights.get(v) {
-            Some(&w) if w != 1.0 => q.scaled(w),
-            _ => q,
+            Some(&w) if w != 1.0 => (q.scaled(w), reg.scaled(w)),
+            _ => (q, reg),
         }
     };
     if !c.has_adjacency() {
@@ -130,7 +153,7 @@ pub(crate) fn vertex_quadrics(
                 }
                 finish(v, q, area)
             })
-            .collect();
+            .unzip();
     }
     (0..c.pos.len())
         .into_par_iter()
@@ -146,7 +169,68 @@ pub(crate) fn vertex_quadrics(
             }
             finish(v, q, area)
         })
-        .collect()
+        .unzip()
+}
+
+/// Garland & Heckbert's boundary constraints (1997 §6; Blender's Decimate
+/// and meshoptimizer keep borders the same way): for every side of a face
+/// that no other face shares, the plane through that side orthogonal to
+/// the face, weighted by `weight · |side|²`, added to both its ends, with
+/// memory. The memoryless area term (W Eq. 15) charges a collapse for the
+/// area its border edges sweep on the current mesh only, so a border can
+/// drift away a little at every step; these planes remember where the
+/// input's border was. A vertex on a straight border may still slide along
+/// it for free, a border corner sits at the meeting point of two planes and
+/// stays. Squared length keeps the planes on the scale of the area-weighted
+/// face quadrics (weight 1: a unit of border side weighs like a unit of
+/// area), so the balance is the same at every resolution. They carry no
+/// area (`weight` 0): reported distances stay per unit of surface.
+pub(crate) fn border_planes(
+    c: &Complex,
+    planes: &[Option<(DVec3, f64, DVec3)>],
+    weight: f64,
+) -> Vec<Quadric> {
+    // Every side of every live face, keyed by its ends; a key seen once is
+    // a border side.
+    let mut sides: Vec<(u64, u32, u32)> = Vec::new();
+    for f in c.live_faces() {
+        let face = c.face(f);
+        let n = face.len();
+        for k in 0..n {
+            let (a, b) = (face[k], face[(k + 1) % n]);
+            sides.push((((a.min(b) as u64) << 32) | a.max(b) as u64, f, k as u32));
+        }
+    }
+    sides.par_sort_unstable();
+    let mut out = vec![Quadric::ZERO; c.pos.len()];
+    let mut g = 0;
+    while g < sides.len() {
+        let mut h = g + 1;
+        while h < sides.len() && sides[h].0 == sides[g].0 {
+            h += 1;
+        }
+        if h - g == 1 {
+            let (_, f, k) = sides[g];
+            if let Some((normal, _, _)) = planes[f as usize] {
+                let face = c.face(f);
+                let (a, b) = (face[k as usize], face[(k as usize + 1) % face.len()]);
+                let (pa, pb) = (c.pos[a as usize], c.pos[b as usize]);
+                let side = pb - pa;
+                let n = side.cross(normal);
+                let len = n.length();
+                if len > 0.0 && len.is_finite() {
+                    let q = Quadric {
+                        weight: 0.0,
+                        ..Quadric::plane(n / len, pa, weight * side.length_squared())
+                    };
+                    out[a as usize] += q;
+                    out[b as usize] += q;
+                }
+            }
+        }
+        g = h;
+    }
+    out
 }
 
 /// The faces of every vertex as one flat list in face order (offsets,
@@ -220,6 +304,7 @@ impl CostModel {
         &self,
         c: &Complex,
         q: &[Quadric],
+        reg: &[Quadric],
         border: &[bool],
         locked: &[bool],
         attributes: Option<&AttributeState>,
@@ -286,7 +371,13 @@ impl CostModel {
             let p = if fixed_i { pi } else { pj };
             (p, total.eval(p).max(0.0))
         } else {
-            let pl = place(&total, pi, pj, REACH);
+            // Solved without the regularization, which only steadies the
+            // free directions (see `place_exact`); with no record of it,
+            // the regularized solve.
+            let pl = match (reg.get(i as usize), reg.get(j as usize)) {
+                (Some(ri), Some(rj)) => place_exact(&total, &(*ri + *rj), pi, pj, REACH),
+                _ => place(&total, pi, pj, REACH),
+            };
             (pl.position, pl.error)
         };
         // Knodt Eq. 5: what the collapse adds to the error the endpoints
@@ -334,6 +425,7 @@ mod tests {
         let c = hinge();
         let m = Metric {
             regularization: 0.0,
+            border_weight: 0.0,
             ..Metric::default()
         };
         let q = vertex_quadrics(&c, &m, &[], EdgeImportance::default());
@@ -393,8 +485,8 @@ mod tests {
         let mut s = Scratch::default();
         for e in 0..c.edges.len() as u32 {
             assert_eq!(
-                with.evaluate(&c, &q, &[], &[], None, e, &mut s),
-                without.evaluate(&c, &q, &[], &[], None, e, &mut s)
+                with.evaluate(&c, &q, &[], &[], &[], None, e, &mut s),
+                without.evaluate(&c, &q, &[], &[], &[], None, e, &mut s)
             );
         }
     }
@@ -414,7 +506,7 @@ mod tests {
         };
         let mut s = Scratch::default();
         let e = c.edge_between(0, 2).unwrap();
-        let ev = m.evaluate(&c, &q, &[], &[], None, e, &mut s).unwrap();
+        let ev = m.evaluate(&c, &q, &[], &[], &[], None, e, &mut s).unwrap();
         let plain = CostModel {
             metric: Metric {
                 boundary_area: false,
@@ -422,7 +514,7 @@ mod tests {
             },
             lock_borders: false,
         }
-        .evaluate(&c, &q, &[], &[], None, e, &mut s)
+        .evaluate(&c, &q, &[], &[], &[], None, e, &mut s)
         .unwrap();
         assert!(ev.cost > plain.cost, "{ev:?} vs {plain:?}");
     }
@@ -451,7 +543,7 @@ mod tests {
             metric: base,
             lock_borders: false,
         }
-        .evaluate(&c, &q, &[], &[], None, e, &mut Scratch::default())
+        .evaluate(&c, &q, &[], &[], &[], None, e, &mut Scratch::default())
         .unwrap();
         let eq5 = CostModel {
             metric: Metric {
@@ -460,7 +552,7 @@ mod tests {
             },
             lock_borders: false,
         }
-        .evaluate(&c, &q, &[], &[], None, e, &mut Scratch::default())
+        .evaluate(&c, &q, &[], &[], &[], None, e, &mut Scratch::default())
         .unwrap();
         // Same placement; the cost drops by exactly Q1(p1) + Q2(p2) = 0 + 1/16.
         assert_eq!(plain.position, eq5.position);
@@ -490,6 +582,7 @@ mod tests {
         let metric = Metric {
             regularization: 0.0,
             boundary_area: false,
+            border_weight: 0.0,
             gluing_weight: 2.0,
             ..Metric::default()
         };
@@ -499,7 +592,7 @@ mod tests {
             lock_borders: false,
         };
         let ev = m
-            .evaluate(&c, &q, &[], &[], None, e, &mut Scratch::default())
+            .evaluate(&c, &q, &[], &[], &[], None, e, &mut Scratch::default())
             .unwrap();
         // Each vertex has area share 1/6 and lies in z = 0: the planes are
         // indifferent within the plane, the gluing term 2·(1/6)·|x−p|² per
@@ -515,7 +608,7 @@ mod tests {
             lock_borders: false,
         };
         assert!(
-            free.evaluate(&c, &q, &[], &[], None, e, &mut Scratch::default())
+            free.evaluate(&c, &q, &[], &[], &[], None, e, &mut Scratch::default())
                 .unwrap()
                 .cost
                 < 1e-12
@@ -533,7 +626,38 @@ mod tests {
         let mut s = Scratch::default();
         // Every vertex of the hinge is on the border.
         for e in 0..c.edges.len() as u32 {
-            assert_eq!(m.evaluate(&c, &q, &[], &[], None, e, &mut s), None);
+            assert_eq!(m.evaluate(&c, &q, &[], &[], &[], None, e, &mut s), None);
         }
+    }
+
+    #[test]
+    fn border_planes_stand_on_border_sides_orthogonal_to_their_face() {
+        // Two triangles of the unit square in z = 0, sharing the diagonal
+        // 0–2; the four sides of the square are border sides:
+        // ```text
+        //   3 (0,1) -- 2 (1,1)
+        //   |       /  |
+        //   0 (0,0) -- 1 (1,0)
+        // ```
+        let pos = vec![DVec3::ZERO, DVec3::X, DVec3::new(1.0, 1.0, 0.0), DVec3::Y];
+        let (c, _) = Complex::new(pos, &[0, 3, 6], &[0, 1, 2, 0, 2, 3]);
+        let planes: Vec<_> = (0..2).map(|f| face_plane(&c, f)).collect();
+        let b = border_planes(&c, &planes, 2.0);
+        // Vertex 0 is on sides 0–1 (plane y = 0) and 3–0 (plane x = 0),
+        // each of length 1, weight 2 · 1²: at (0.5, 3, 7),
+        // 2 · 3² + 2 · 0.5² = 18.5; the face's own direction (z) is free.
+        assert!((b[0].eval(DVec3::new(0.5, 3.0, 7.0)) - 18.5).abs() < 1e-12);
+        // Vertex 1: sides 0–1 (y = 0) and 1–2 (x = 1): at (0.5, 3, 0),
+        // 2 · 9 + 2 · 0.25.
+        assert!((b[1].eval(DVec3::new(0.5, 3.0, 0.0)) - 18.5).abs() < 1e-12);
+        // The shared diagonal adds nothing: on the square's corners the
+        // planes vanish, and they carry no area.
+        for (v, p) in c.pos.iter().enumerate() {
+            assert!(b[v].eval(*p).abs() < 1e-12);
+            assert_eq!(b[v].weight, 0.0);
+        }
+        // Anywhere on the diagonal line beyond the square, only the two
+        // border planes of vertex 0 see it: at (2, 2, 0), 2·4 + 2·4.
+        assert!((b[0].eval(DVec3::new(2.0, 2.0, 0.0)) - 16.0).abs() < 1e-12);
     }
 }

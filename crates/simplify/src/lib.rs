@@ -56,7 +56,7 @@ pub use options::{
     AttributeOptions, Guards, Metric, NormalMode, Options, Partition, QuadMode, QuadSettings,
     Target,
 };
-pub use quadric::{place, Placement, Quadric};
+pub use quadric::{place, place_exact, Placement, Quadric, FREE_DIRECTION};
 pub use report::{Rejections, Report, StopReason};
 pub use simplify::{
     simplify_polygons, simplify_polygons_with_progress, simplify_triangles,

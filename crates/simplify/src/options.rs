@@ -84,6 +84,15 @@ pub struct Metric {
     /// measures the change from the current mesh, like memoryless
     /// simplification does without forgetting the input's constraints.
     pub introduced_error: bool,
+    /// Weight of the border constraint planes (Garland & Heckbert 1997 §6):
+    /// through every border side (a face side no other face shares), the
+    /// plane orthogonal to its face, weighted by this times the side's
+    /// squared length, with memory. They keep open borders where they were
+    /// (the area term alone lets them drift a little at every collapse);
+    /// a vertex may still slide along a straight border. 0 disables them.
+    /// Default 1 (a unit of border weighs like a unit of area), by
+    /// measurement on the corpus: see `docs/evaluation.md`.
+    pub border_weight: f64,
     /// Isotropic regularization (probabilistic quadric, Trettner & Kobbelt
     /// 2020): normal variance σ² relative to the unit-diagonal mesh, times
     /// each vertex's area. Keeps the optimal-point solve well conditioned in
@@ -98,6 +107,7 @@ impl Default for Metric {
         Metric {
             boundary_area: true,
             boundary_area_weight: 1.0,
+            border_weight: 1.0,
             gluing_weight: 100.0,
             tangent_weight: 0.0,
             introduced_error: false,

@@ -145,6 +145,94 @@ impl Quadric {
     }
 }
 
+impl Quadric {
+    /// `self − o`, term by term (weights too): takes a part that was added
+    /// in back out, such as the regularization of a summed quadric.
+    pub fn minus(&self, o: &Quadric) -> Quadric {
+        *self + o.scaled(-1.0)
+    }
+
+    /// The minimizer of E closest to `reference`: `A⁺(−b − A r) + r`, with
+    /// the pseudo-inverse of A over its eigenvalues above `tolerance` times
+    /// the largest (Lindstrom 2000's truncated solve). Where A constrains
+    /// the point (a plane's normal, a crease's two normals, a corner), the
+    /// result is the exact minimizer; along the directions A leaves free it
+    /// stays at `reference`. `None` when A is zero or not finite.
+    ///
+    /// This is the limit, as the weight goes to zero, of adding the point
+    /// quadric `ε |x − r|²` and solving (Trettner & Kobbelt's regularization
+    /// with `r` its center): the same point where the regularized solve is
+    /// well defined, without the bias of order ε that pulls a constrained
+    /// vertex (a border corner, a point on a plane) off its constraint.
+    pub fn pseudo_minimizer(&self, reference: DVec3, tolerance: f64) -> Option<DVec3> {
+        let (values, vectors) = symmetric_eigen(self.a);
+        let largest = values.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        if !(largest > 0.0 && largest.is_finite()) {
+            return None;
+        }
+        // Gradient residual at the reference: −(A r + b).
+        let a = &self.a;
+        let r = reference;
+        let ar = DVec3::new(
+            a[0] * r.x + a[1] * r.y + a[2] * r.z,
+            a[1] * r.x + a[3] * r.y + a[4] * r.z,
+            a[2] * r.x + a[4] * r.y + a[5] * r.z,
+        );
+        let g = -(ar + self.b);
+        let mut x = reference;
+        for (l, v) in values.iter().zip(vectors) {
+            if *l > tolerance * largest {
+                x += v * (v.dot(g) / l);
+            }
+        }
+        x.is_finite().then_some(x)
+    }
+}
+
+/// Eigenvalues and unit eigenvectors of the symmetric 3×3 matrix given by
+/// its upper triangle (xx, xy, xz, yy, yz, zz), by cyclic Jacobi rotations:
+/// a handful of sweeps reach f64 precision on 3×3 matrices, and unlike a
+/// closed-form cubic it stays accurate for repeated and tiny eigenvalues,
+/// which are the cases the truncated solve is for.
+fn symmetric_eigen(u: [f64; 6]) -> ([f64; 3], [DVec3; 3]) {
+    let mut m = [[u[0], u[1], u[2]], [u[1], u[3], u[4]], [u[2], u[4], u[5]]];
+    let mut v = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+    for _ in 0..16 {
+        let off = m[0][1] * m[0][1] + m[0][2] * m[0][2] + m[1][2] * m[1][2];
+        let diag = m[0][0] * m[0][0] + m[1][1] * m[1][1] + m[2][2] * m[2][2];
+        if off <= 1e-30 * diag || off == 0.0 {
+            break;
+        }
+        for (p, q) in [(0, 1), (0, 2), (1, 2)] {
+            if m[p][q] == 0.0 {
+                continue;
+            }
+            // The rotation that zeroes m[p][q] (Golub & Van Loan, Alg. 8.4.1).
+            let theta = (m[q][q] - m[p][p]) / (2.0 * m[p][q]);
+            let t = theta.signum() / (theta.abs() + (theta * theta + 1.0).sqrt());
+            let c = 1.0 / (t * t + 1.0).sqrt();
+            let s = t * c;
+            for row in m.iter_mut() {
+                let (mkp, mkq) = (row[p], row[q]);
+                row[p] = c * mkp - s * mkq;
+                row[q] = s * mkp + c * mkq;
+            }
+            let (rp, rq) = (m[p], m[q]);
+            for k in 0..3 {
+                m[p][k] = c * rp[k] - s * rq[k];
+                m[q][k] = s * rp[k] + c * rq[k];
+            }
+            for row in v.iter_mut() {
+                let (vp, vq) = (row[p], row[q]);
+                row[p] = c * vp - s * vq;
+                row[q] = s * vp + c * vq;
+            }
+        }
+    }
+    let col = |k: usize| DVec3::new(v[0][k], v[1][k], v[2][k]);
+    ([m[0][0], m[1][1], m[2][2]], [col(0), col(1), col(2)])
+}
+
 impl std::ops::Add for Quadric {
     type Output = Quadric;
     #[inline]
@@ -222,6 +310,42 @@ pub fn place(e: &Quadric, p: DVec3, q: DVec3, reach: f64) -> Placement {
     }
     best.error = best.error.max(0.0);
     best
+}
+
+/// Relative size under which an eigenvalue of a quadric counts as zero in
+/// [`place_exact`]: the scale of the regularization the engine adds
+/// (`Metric::regularization`, 1e-4 of the plane weight), so that the
+/// directions that term was there to steady are the ones left free.
+pub const FREE_DIRECTION: f64 = 1e-4;
+
+/// Like [`place`], but solves without the regularization part `reg` of `e`
+/// (see [`Quadric::pseudo_minimizer`]): the point that minimizes `e − reg`
+/// exactly, and among such points the one nearest the center of `reg`
+/// (the midpoint when `reg` is empty). A vertex held by constraints (a
+/// plane, a border line, a corner) lands exactly on them, which the
+/// regularized solve misses by about `reg / constraint` times the distance
+/// to the center; elsewhere the two agree. Same fallback as [`place`].
+pub fn place_exact(e: &Quadric, reg: &Quadric, p: DVec3, q: DVec3, reach: f64) -> Placement {
+    let mid = 0.5 * (p + q);
+    let center = if reg.a[0] > 0.0 {
+        -reg.b / reg.a[0]
+    } else {
+        mid
+    };
+    if let Some(x) = e.minus(reg).pseudo_minimizer(center, FREE_DIRECTION) {
+        let len = (q - p).length();
+        if x.distance(mid) <= reach * len.max(f64::MIN_POSITIVE) {
+            let err = e.eval(x);
+            if err.is_finite() && err <= e.eval(mid) {
+                return Placement {
+                    position: x,
+                    error: err.max(0.0),
+                    optimal: true,
+                };
+            }
+        }
+    }
+    place(e, p, q, reach)
 }
 
 #[cfg(test)]
@@ -330,5 +454,63 @@ mod tests {
         let pl = place(&q, p, r, 4.0);
         assert!(!pl.optimal);
         assert!(pl.position.distance(p) < 0.02);
+    }
+
+    #[test]
+    fn eigen_decomposition_of_a_rotated_diagonal_matrix() {
+        // A = R diag(3, 2, 0) Rᵀ with R a rotation by 45° about z:
+        // xx = yy = 2.5, xy = 0.5, zz = 0.
+        let (values, vectors) = symmetric_eigen([2.5, 0.5, 0.0, 2.5, 0.0, 0.0]);
+        let mut pairs: Vec<(f64, DVec3)> = values.into_iter().zip(vectors).collect();
+        pairs.sort_by(|a, b| a.0.total_cmp(&b.0));
+        assert!(pairs[0].0.abs() < 1e-15 && close(pairs[1].0, 2.0) && close(pairs[2].0, 3.0));
+        assert!((pairs[0].1.z.abs() - 1.0).abs() < 1e-15);
+        let h = std::f64::consts::FRAC_1_SQRT_2;
+        assert!((pairs[2].1.dot(DVec3::new(h, h, 0.0)).abs() - 1.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn pseudo_minimizer_projects_the_reference_onto_the_constraints() {
+        // Planes z = 0 and y = 1 leave the line (t, 1, 0) free: the point
+        // on it nearest the reference (3, 5, 7) is (3, 1, 0).
+        let q =
+            Quadric::plane(DVec3::Z, DVec3::ZERO, 1.0) + Quadric::plane(DVec3::Y, DVec3::Y, 2.0);
+        let x = q.pseudo_minimizer(DVec3::new(3.0, 5.0, 7.0), 1e-4).unwrap();
+        assert!(x.distance(DVec3::new(3.0, 1.0, 0.0)) < 1e-12, "{x}");
+        // A plane weighing less than the tolerance counts as absent.
+        let weak = q + Quadric::plane(DVec3::X, DVec3::ZERO, 1e-6);
+        let x = weak
+            .pseudo_minimizer(DVec3::new(3.0, 5.0, 7.0), 1e-4)
+            .unwrap();
+        assert!(x.distance(DVec3::new(3.0, 1.0, 0.0)) < 1e-12, "{x}");
+        // Full rank: the ordinary minimizer, whatever the reference.
+        let full = q + Quadric::plane(DVec3::X, DVec3::new(-2.0, 0.0, 0.0), 1.0);
+        let x = full
+            .pseudo_minimizer(DVec3::new(9.0, 9.0, 9.0), 1e-4)
+            .unwrap();
+        assert!(x.distance(DVec3::new(-2.0, 1.0, 0.0)) < 1e-12, "{x}");
+        assert_eq!(Quadric::ZERO.pseudo_minimizer(DVec3::ZERO, 1e-4), None);
+    }
+
+    #[test]
+    fn exact_placement_keeps_a_corner_the_regularized_solve_pulls_off() {
+        // A corner at the origin (three unit planes) and a regularization
+        // of weight 1e-4 centered at (1, 1, 1): the regularized minimizer is
+        // (1e-4 / (1 + 1e-4)) · (1, 1, 1), off the corner by ~1.7e-4; the
+        // exact placement stays on it.
+        let reg = Quadric::point(DVec3::ONE, 1e-4);
+        let q = Quadric::plane(DVec3::X, DVec3::ZERO, 1.0)
+            + Quadric::plane(DVec3::Y, DVec3::ZERO, 1.0)
+            + Quadric::plane(DVec3::Z, DVec3::ZERO, 1.0)
+            + reg;
+        let (p, r) = (DVec3::ZERO, DVec3::new(0.1, 0.0, 0.0));
+        let loose = place(&q, p, r, 4.0);
+        let off = 1e-4 / (1.0 + 1e-4);
+        assert!(loose.position.distance(DVec3::splat(off)) < 1e-15);
+        let exact = place_exact(&q, &reg, p, r, 4.0);
+        assert_eq!(exact.position, DVec3::ZERO);
+        assert!(exact.optimal);
+        // Its error is the regularization's at the corner: 1e-4 · 3.
+        assert!(close(exact.error, 3e-4));
     }
 }

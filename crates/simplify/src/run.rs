@@ -7,7 +7,7 @@ use wildlod_mesh::Faces;
 
 use crate::attributes::{AttrScratch, AttributeInput, AttributeState};
 use crate::cost::{
-    distance, face_plane, vertex_quadrics, CostModel, EdgeImportance, Evaluation, Scratch,
+    distance, face_plane, vertex_quadric_parts, CostModel, EdgeImportance, Evaluation, Scratch,
 };
 use crate::guards::{flips_a_face, keeps_topology, removed_triangles};
 use crate::heap::{CollapseQueue, Entry};
@@ -127,6 +127,9 @@ pub(crate) struct Run<'o> {
     options: &'o Options,
     model: CostModel,
     quadrics: Vec<Quadric>,
+    /// The regularization part of each quadric (in `quadrics` too), kept
+    /// apart so that placement can solve without it.
+    reg: Vec<Quadric>,
     /// Candidate collapses by cost, at most one entry per edge; an entry is
     /// stale when its generation differs from the edge's.
     queue: CollapseQueue,
@@ -202,7 +205,7 @@ impl<'o> Run<'o> {
             symmetry: &symmetry,
             joints: &joints,
         };
-        let mut quadrics = vertex_quadrics(&p.complex, &metric, &p.weights, importance);
+        let (mut quadrics, reg) = vertex_quadric_parts(&p.complex, &metric, &p.weights, importance);
         if let Some(a) = &attrs {
             let planes = a.seam_planes(&p.complex, options.attributes.seam_weight);
             for (q, plane) in quadrics.iter_mut().zip(planes) {
@@ -231,6 +234,7 @@ impl<'o> Run<'o> {
             options,
             model,
             quadrics,
+            reg,
             queue: CollapseQueue::default(),
             ties: None,
             quads_active,
@@ -267,6 +271,7 @@ impl<'o> Run<'o> {
         parent: &Run<'o>,
         p: Prepared,
         quadrics: Vec<Quadric>,
+        reg: Vec<Quadric>,
         locked: Vec<bool>,
         target: usize,
     ) -> Self {
@@ -277,6 +282,7 @@ impl<'o> Run<'o> {
             options: parent.options,
             model: parent.model,
             quadrics,
+            reg,
             queue: CollapseQueue::default(),
             ties: None,
             quads_active: parent.quads_active,
@@ -361,9 +367,10 @@ impl<'o> Run<'o> {
         } else {
             Vec::new()
         };
-        let (model, quadrics, border, locked, attrs) = (
+        let (model, quadrics, reg, border, locked, attrs) = (
             &self.model,
             &self.quadrics,
+            &self.reg,
             &self.border,
             &self.locked,
             self.attrs.as_ref(),
@@ -375,7 +382,7 @@ impl<'o> Run<'o> {
                     return None;
                 }
                 model
-                    .evaluate(c, quadrics, border, locked, attrs, e, s)
+                    .evaluate(c, quadrics, reg, border, locked, attrs, e, s)
                     .map(|ev| Entry {
                         cost: ev.cost,
                         edge: e,
@@ -462,6 +469,7 @@ impl<'o> Run<'o> {
                 self.model.evaluate(
                     c,
                     &self.quadrics,
+                    &self.reg,
                     &self.border,
                     &self.locked,
                     self.attrs.as_ref(),
@@ -600,6 +608,7 @@ impl<'o> Run<'o> {
             let ev = self.model.evaluate(
                 c,
                 &self.quadrics,
+                &self.reg,
                 &self.border,
                 &self.locked,
                 self.attrs.as_ref(),
@@ -747,6 +756,9 @@ impl<'o> Run<'o> {
         self.moved[i as usize] = true;
         self.merged_into[j as usize] = i;
         self.quadrics[i as usize] = self.quadrics[i as usize] + self.quadrics[j as usize];
+        if !self.reg.is_empty() {
+            self.reg[i as usize] = self.reg[i as usize] + self.reg[j as usize];
+        }
         if let (Some(a), Some(plan)) = (&mut self.attrs, plan) {
             a.commit(c, i, j, plan, pi, pj);
         }

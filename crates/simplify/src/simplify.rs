@@ -250,6 +250,7 @@ fn check_input(positions: &[[f32; 3]], faces: &Faces, options: &Options) -> Resu
     }
     let non_negative = [
         ("boundary_area_weight", o.metric.boundary_area_weight),
+        ("border_weight", o.metric.border_weight),
         ("gluing_weight", o.metric.gluing_weight),
         ("tangent_weight", o.metric.tangent_weight),
         ("quad.epsilon", o.quad.epsilon),

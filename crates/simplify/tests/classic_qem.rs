@@ -9,7 +9,7 @@ mod common;
 
 use glam::DVec3;
 use wildlod_mesh::Mesh;
-use wildlod_simplify::{place, simplify_mesh, Guards, Options, Quadric, Target};
+use wildlod_simplify::{place_exact, simplify_mesh, Guards, Options, Quadric, Target};
 
 fn no_flip_guard(mut o: Options) -> Options {
     o.guards = Guards {
@@ -91,6 +91,9 @@ fn reference_qem(mesh: &Mesh, target_triangles: usize, regularization: f64) -> V
             q[v] += plane;
         }
     }
+    // The regularization of each vertex, also kept apart: placement solves
+    // without it (see `place_exact`).
+    let mut reg = vec![Quadric::ZERO; pos.len()];
     for v in 0..pos.len() {
         let area: f64 = tris
             .iter()
@@ -102,7 +105,8 @@ fn reference_qem(mesh: &Mesh, target_triangles: usize, regularization: f64) -> V
                     / 3.0
             })
             .sum();
-        q[v] += Quadric::point(pos[v], regularization * area);
+        reg[v] = Quadric::point(pos[v], regularization * area);
+        q[v] += reg[v];
     }
     while tris.len() > target_triangles {
         let mut edges: Vec<(usize, usize)> = tris
@@ -114,7 +118,7 @@ fn reference_qem(mesh: &Mesh, target_triangles: usize, regularization: f64) -> V
         let best = edges
             .iter()
             .map(|&(i, j)| {
-                let p = place(&(q[i] + q[j]), pos[i], pos[j], 4.0);
+                let p = place_exact(&(q[i] + q[j]), &(reg[i] + reg[j]), pos[i], pos[j], 4.0);
                 (p.error, i, j, p.position)
             })
             .min_by(|a, b| a.0.total_cmp(&b.0))
@@ -122,6 +126,7 @@ fn reference_qem(mesh: &Mesh, target_triangles: usize, regularization: f64) -> V
         let (_, i, j, x) = best;
         pos[i] = x;
         q[i] = q[i] + q[j];
+        reg[i] = reg[i] + reg[j];
         tris.retain(|t| !(t.contains(&i) && t.contains(&j)));
         for t in &mut tris {
             for v in t.iter_mut() {

@@ -249,6 +249,7 @@ fn build_chunk<'o>(run: &Run<'o>, layout: Layout, locked: &[bool]) -> Chunk<'o> 
         complex.add_edge(a, b);
     }
     let quadrics: Vec<Quadric> = vertex.iter().map(|&v| run.quadrics[v as usize]).collect();
+    let reg: Vec<Quadric> = vertex.iter().map(|&v| run.reg[v as usize]).collect();
     let chunk_locked = vertex.iter().map(|&v| locked[v as usize]).collect();
     let triangles = complex.triangles;
     // Never below this chunk's share of the target, so that the chunks
@@ -268,7 +269,7 @@ fn build_chunk<'o>(run: &Run<'o>, layout: Layout, locked: &[bool]) -> Chunk<'o> 
         weights: Vec::new(),
         input: Vec::new(),
     };
-    let chunk_run = Run::chunk(run, prepared, quadrics, chunk_locked, floor);
+    let chunk_run = Run::chunk(run, prepared, quadrics, reg, chunk_locked, floor);
     Chunk {
         run: chunk_run,
         vertex,
@@ -381,6 +382,7 @@ fn write_back(run: &mut Run, parts: Vec<Chunk>) {
                 let gi = vertex[into as usize];
                 run.merged_into[gv as usize] = gi;
                 run.quadrics[gi as usize] += local.quadrics[lv];
+                run.reg[gi as usize] += local.reg[lv];
             }
         }
         add_report(&mut run.report, &local.report);

@@ -1,0 +1,185 @@
+//! Geometric fidelity where the best peers (Blender's Decimate,
+//! meshoptimizer) keep what is there: open borders, duplicated sheets, thin
+//! parts (issue 12). Every mesh is generated here.
+#![allow(clippy::unwrap_used)] // test helpers, not library code
+
+mod common;
+
+use common::ratio;
+use glam::DVec3;
+use wildlod_mesh::Faces;
+use wildlod_simplify::simplify_polygons;
+
+/// A small deterministic generator (SplitMix64), so meshes are irregular
+/// but the same on every run.
+struct Rng(u64);
+
+impl Rng {
+    fn next(&mut self) -> f64 {
+        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
+    }
+}
+
+/// Sides used by exactly one face: the border, as vertex pairs.
+fn border_sides(faces: &Faces) -> Vec<(u32, u32)> {
+    let mut count = std::collections::HashMap::new();
+    for f in faces.iter() {
+        for k in 0..f.len() {
+            let (a, b) = (f[k], f[(k + 1) % f.len()]);
+            *count.entry((a.min(b), a.max(b))).or_insert(0) += 1;
+        }
+    }
+    let mut out: Vec<(u32, u32)> = count
+        .into_iter()
+        .filter(|&(_, n)| n == 1)
+        .map(|(e, _)| e)
+        .collect();
+    out.sort_unstable();
+    out
+}
+
+fn point(p: [f32; 3]) -> DVec3 {
+    DVec3::from(p.map(f64::from))
+}
+
+fn segment_distance(p: DVec3, a: DVec3, b: DVec3) -> f64 {
+    let ab = b - a;
+    let t = if ab.length_squared() > 0.0 {
+        ((p - a).dot(ab) / ab.length_squared()).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    p.distance(a + t * ab)
+}
+
+/// An L-shaped flat patch in the plane z = `z`, on an irregular grid: the
+/// interior vertices jittered, each cell a quad or split into two triangles
+/// along either diagonal at random. The border is the L's six sides.
+/// ```text
+///  y=1 +-----------+
+///      |  .  .  .  |
+///      |  .  .  .  +-----------+  y = 0.5
+///      |  .  .  .  .  .  .  .  |
+///  y=0 +-----------------------+
+///     x=0         x=0.75      x=1.5
+/// ```
+fn flat_patch(z: f32, seed: u64) -> (Vec<[f32; 3]>, Faces) {
+    let (nx, ny) = (30usize, 20usize);
+    let (notch_i, notch_j) = (15usize, 10usize);
+    let inside = |i: usize, j: usize| !(i > notch_i && j > notch_j);
+    let on_border = |i: usize, j: usize| {
+        i == 0 || j == 0 || i == nx || j == ny || (i >= notch_i && j >= notch_j)
+    };
+    let mut rng = Rng(seed);
+    let mut id = vec![u32::MAX; (nx + 1) * (ny + 1)];
+    let mut positions = Vec::new();
+    for j in 0..=ny {
+        for i in 0..=nx {
+            if !inside(i, j) {
+                continue;
+            }
+            let (mut x, mut y) = (1.5 * i as f64 / nx as f64, j as f64 / ny as f64);
+            if !on_border(i, j) {
+                x += (rng.next() - 0.5) * 0.6 * 1.5 / nx as f64;
+                y += (rng.next() - 0.5) * 0.6 / ny as f64;
+            }
+            id[j * (nx + 1) + i] = positions.len() as u32;
+            positions.push([x as f32, y as f32, z]);
+        }
+    }
+    let v = |i: usize, j: usize| id[j * (nx + 1) + i];
+    let mut faces = Faces::default();
+    for j in 0..ny {
+        for i in 0..nx {
+            if !(inside(i, j) && inside(i + 1, j) && inside(i, j + 1) && inside(i + 1, j + 1)) {
+                continue;
+            }
+            let (a, b, c, d) = (v(i, j), v(i + 1, j), v(i + 1, j + 1), v(i, j + 1));
+            let r = rng.next();
+            if r < 0.5 {
+                faces.push(&[a, b, c, d]);
+            } else if r < 0.75 {
+                faces.push(&[a, b, c]);
+                faces.push(&[a, c, d]);
+            } else {
+                faces.push(&[a, b, d]);
+                faces.push(&[b, c, d]);
+            }
+        }
+    }
+    (positions, faces)
+}
+
+/// Border vertices where the border turns: the input's corners.
+fn border_corners(positions: &[[f32; 3]], sides: &[(u32, u32)]) -> Vec<DVec3> {
+    let mut around: std::collections::HashMap<u32, Vec<u32>> = Default::default();
+    for &(a, b) in sides {
+        around.entry(a).or_default().push(b);
+        around.entry(b).or_default().push(a);
+    }
+    let mut out = Vec::new();
+    for (&v, n) in &around {
+        let p = point(positions[v as usize]);
+        let turns = n.len() != 2 || {
+            let (u, w) = (
+                p - point(positions[n[0] as usize]),
+                point(positions[n[1] as usize]) - p,
+            );
+            u.cross(w).length() > 1e-9 * u.length() * w.length()
+        };
+        if turns {
+            out.push(p);
+        }
+    }
+    out
+}
+
+#[test]
+fn flat_open_patch_keeps_its_plane_and_its_border_at_a_tenth() {
+    let z = 0.25f32;
+    for seed in [1, 2, 3] {
+        let (positions, faces) = flat_patch(z, seed);
+        let input_border = border_sides(&faces);
+        let corners = border_corners(&positions, &input_border);
+        assert_eq!(corners.len(), 6, "the L has six corners");
+        let out = simplify_polygons(&positions, &faces, &ratio(0.1)).unwrap();
+        let target = out.report.target_triangles;
+        assert!(out.report.output_triangles.abs_diff(target) <= 1);
+        for p in &out.positions {
+            assert!((p[2] - z).abs() as f64 <= 1e-9, "left the plane: {p:?}");
+        }
+        // Every output border vertex lies on the input's border polyline.
+        for (a, b) in border_sides(&out.faces) {
+            for v in [a, b] {
+                let p = point(out.positions[v as usize]);
+                let d = input_border
+                    .iter()
+                    .map(|&(s, t)| {
+                        segment_distance(
+                            p,
+                            point(positions[s as usize]),
+                            point(positions[t as usize]),
+                        )
+                    })
+                    .fold(f64::INFINITY, f64::min);
+                assert!(
+                    d <= 1e-6,
+                    "seed {seed}: border vertex {p} is {d} off the border"
+                );
+            }
+        }
+        // Every corner of the input is still a vertex.
+        for c in &corners {
+            let d = out
+                .positions
+                .iter()
+                .map(|&p| point(p).distance(*c))
+                .fold(f64::INFINITY, f64::min);
+            assert!(d <= 1e-6, "seed {seed}: corner {c} lost ({d} away)");
+        }
+    }
+}
