@@ -38,8 +38,15 @@ pub(crate) struct Complex {
     pub slot_vertex: Vec<u32>,
     /// Input corner of each slot.
     pub slot_corner: Vec<u32>,
-    /// Triangles of the triangulated complex (Σ arity − 2 over live faces).
+    /// Triangles of the triangulated complex (Σ (arity − 2) · copies over
+    /// live faces).
     pub triangles: usize,
+    /// How many input faces each face stands for (empty: one each): a face
+    /// and its twins, the copies of it with the other orientation (see
+    /// [`Rider`]). They count in `triangles`, since the output has them.
+    pub copies: Vec<u32>,
+    /// The twins folded into a face, sorted by that face.
+    pub riders: Vec<Rider>,
     /// Scratch marks for set operations, compared against `stamp`.
     vmark: Vec<u32>,
     fmark: Vec<u32>,
@@ -91,6 +98,23 @@ pub(crate) struct CollapseOutcome {
     pub irregular: bool,
 }
 
+/// An input face with the same vertex cycle as an earlier face but the
+/// opposite orientation: a twin, the usual way wild meshes make a sheet
+/// double-sided. It is one surface with the face it rides on, so it is not
+/// part of the complex (two faces on every side would hide the sheet's
+/// border and double its weight); it follows that face through every
+/// collapse and is written back beside it, reversed.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub(crate) struct Rider {
+    /// The twin's input face.
+    pub face: u32,
+    /// The face it rides on.
+    pub of: u32,
+    /// For each input corner of `of` (by its offset in that face), the
+    /// twin's input corner at the same vertex (`NONE` if it has none).
+    pub corners: Vec<u32>,
+}
+
 /// Faces cleaned away while building: degenerate and duplicate ones.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub(crate) struct Cleaned {
@@ -130,6 +154,8 @@ impl Complex {
             slot_vertex: indices.to_vec(),
             slot_corner: (0..indices.len() as u32).collect(),
             triangles: 0,
+            copies: Vec::new(),
+            riders: Vec::new(),
             vmark: vec![0; nv],
             fmark: vec![0; nf],
             stamp: 0,
@@ -145,12 +171,15 @@ impl Complex {
                 cleaned.degenerate += 1;
             }
         }
-        // Exact duplicates: group faces by a hash of their canonical cycle,
-        // then compare cycles within a group; the lowest face id stays.
+        // Repeated faces: group faces by a hash of their vertex set, then
+        // compare cycles within a group against the faces kept so far (the
+        // lowest id stays). The same cycle with the same orientation is an
+        // exact duplicate and goes; with the opposite one it is a twin and
+        // rides on the kept face.
         let mut keys: Vec<(u64, u32)> = (0..nf as u32)
             .into_par_iter()
             .filter(|&f| c.faces[f as usize].len > 0)
-            .map(|f| (c.cycle_hash(f), f))
+            .map(|f| (c.set_hash(f), f))
             .collect();
         keys.par_sort_unstable();
         let mut g = 0;
@@ -161,23 +190,57 @@ impl Complex {
             }
             for a in g + 1..h {
                 let fa = keys[a].1;
-                let dup = (g..a).any(|b| {
-                    let fb = keys[b].1;
-                    c.faces[fb as usize].len > 0 && c.same_cycle_any(fa, fb)
-                });
-                if dup {
+                let kept = |b: usize| c.faces[keys[b].1 as usize].len > 0;
+                if (g..a).any(|b| kept(b) && c.same_cycle_any(fa, keys[b].1)) {
                     c.faces[fa as usize].len = 0;
                     cleaned.duplicate += 1;
+                } else if let Some(b) = (g..a).find(|&b| kept(b) && c.reversed_cycle(fa, keys[b].1))
+                {
+                    let of = keys[b].1;
+                    let arity = (offsets[of as usize + 1] - offsets[of as usize]) as usize;
+                    let mut corners = vec![NONE; arity];
+                    let (so, sa) = (c.faces[of as usize].start, c.faces[fa as usize].start);
+                    for k in 0..c.faces[of as usize].len {
+                        let v = c.slot_vertex[(so + k) as usize];
+                        let at = (0..c.faces[fa as usize].len)
+                            .find(|&t| c.slot_vertex[(sa + t) as usize] == v)
+                            .map_or(NONE, |t| c.slot_corner[(sa + t) as usize]);
+                        corners
+                            [(c.slot_corner[(so + k) as usize] - offsets[of as usize]) as usize] =
+                            at;
+                    }
+                    c.riders.push(Rider {
+                        face: fa,
+                        of,
+                        corners,
+                    });
+                    c.faces[fa as usize].len = 0;
                 }
             }
             g = h;
         }
-        c.triangles = c
-            .faces
-            .iter()
-            .map(|f| (f.len as usize).saturating_sub(2))
-            .sum();
+        if !c.riders.is_empty() {
+            c.riders.sort_by_key(|r| (r.of, r.face));
+            c.copies = vec![1; nf];
+            for r in &c.riders {
+                c.copies[r.of as usize] += 1;
+            }
+        }
+        c.triangles = c.count_triangles();
         (c, cleaned)
+    }
+
+    /// How many input faces face `f` stands for (itself and its twins).
+    #[inline]
+    pub fn copies(&self, f: u32) -> usize {
+        self.copies.get(f as usize).map_or(1, |&n| n as usize)
+    }
+
+    /// Σ (arity − 2) · copies over the live faces.
+    pub fn count_triangles(&self) -> usize {
+        (0..self.faces.len() as u32)
+            .map(|f| (self.faces[f as usize].len as usize).saturating_sub(2) * self.copies(f))
+            .sum()
     }
 
     /// Drops the star lists and edges (they went stale).
@@ -209,6 +272,8 @@ impl Complex {
             slot_vertex,
             slot_corner,
             triangles: 0,
+            copies: Vec::new(),
+            riders: Vec::new(),
             vmark: Vec::new(),
             fmark: Vec::new(),
             stamp: 0,
@@ -238,7 +303,7 @@ impl Complex {
             if len == 0 {
                 continue;
             }
-            self.triangles += len - 2;
+            self.triangles += (len - 2) * self.copies(f);
             let s = self.faces[f as usize].start as usize;
             for k in 0..len {
                 let a = self.slot_vertex[s + k];
@@ -321,17 +386,29 @@ impl Complex {
         (0..face.len()).min_by_key(|&k| face[k]).unwrap_or(0)
     }
 
-    /// A hash of the face's canonical cycle (rotated to its smallest
-    /// vertex, orientation kept): equal cycles hash equal.
-    fn cycle_hash(&self, f: u32) -> u64 {
-        let face = self.face(f);
-        let k = self.canonical_start(f);
-        let (tail, head) = face.split_at(k);
-        let mut h: u64 = face.len() as u64;
-        for &v in head.iter().chain(tail) {
-            h = (h.rotate_left(7) ^ v as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15);
+    /// A hash of the face's vertex set: equal for a face, its rotations and
+    /// its reversal.
+    fn set_hash(&self, f: u32) -> u64 {
+        let mut v: SmallVec<[u32; 8]> = self.face(f).into();
+        v.sort_unstable();
+        let mut h: u64 = v.len() as u64;
+        for x in v {
+            h = (h.rotate_left(7) ^ x as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15);
         }
         h
+    }
+
+    /// Whether face `f` is face `g` walked the other way round.
+    fn reversed_cycle(&self, f: u32, g: u32) -> bool {
+        let (a, b) = (self.face(f), self.face(g));
+        let n = a.len();
+        if n != b.len() || n == 0 {
+            return false;
+        }
+        let Some(k) = b.iter().position(|&x| x == a[0]) else {
+            return false;
+        };
+        (0..n).all(|t| a[t] == b[(k + n - t) % n])
     }
 
     /// Whether faces `f` and `g` are the same cycle with the same
@@ -617,16 +694,16 @@ impl Complex {
                     }
                 }
                 self.faces[f as usize].len = 0;
-                out.removed_triangles += 1;
+                out.removed_triangles += self.copies(f);
                 continue;
             }
             let prefer = |c: u32| j_corners.binary_search(&c).is_ok() == prefer_removed;
             let dropped = self.normalize_face(f, Some(&prefer));
             let new = self.faces[f as usize].len as usize;
             if new == 0 {
-                out.removed_triangles += old - 2;
+                out.removed_triangles += (old - 2) * self.copies(f);
             } else {
-                out.removed_triangles += old - new;
+                out.removed_triangles += (old - new) * self.copies(f);
             }
             for v in dropped {
                 if v == j || (new > 0 && v == i) {
@@ -677,7 +754,7 @@ impl Complex {
             if let Some(g) = twin {
                 let dead = f.max(g);
                 let len = self.faces[dead as usize].len as usize;
-                out.removed_triangles += len - 2;
+                out.removed_triangles += (len - 2) * self.copies(dead);
                 out.irregular = true;
                 let s = self.faces[dead as usize].start as usize;
                 for k in s..s + len {
@@ -773,7 +850,7 @@ impl Complex {
             if face.len() < 3 {
                 return Err(format!("face {f} has {} corners", face.len()));
             }
-            tris += face.len() - 2;
+            tris += (face.len() - 2) * self.copies(f);
             for (k, &v) in face.iter().enumerate() {
                 if face[k + 1..].contains(&v) {
                     return Err(format!("face {f} repeats vertex {v}"));
@@ -891,7 +968,7 @@ mod tests {
     }
 
     #[test]
-    fn degenerate_and_duplicate_input_faces_are_cleaned_but_twins_kept() {
+    fn degenerate_and_duplicate_input_faces_are_cleaned_and_twins_ride_along() {
         let pos = (0..4)
             .map(|i| DVec3::new(i as f64, (i * i) as f64, 0.0))
             .collect();
@@ -909,9 +986,25 @@ mod tests {
                 duplicate: 1
             }
         );
+        // The twin rides on f0: one face in the complex, two in the count.
         assert_eq!(c.triangles, 2);
-        assert_eq!(c.live_faces().collect::<Vec<_>>(), vec![0, 3]);
+        assert_eq!(c.live_faces().collect::<Vec<_>>(), vec![0]);
+        assert_eq!(c.copies(0), 2);
+        // f0 = (0, 1, 2) at input corners 0, 1, 2; f3 = (2, 1, 0) at 9, 10,
+        // 11: vertex 0 is corner 11 of the twin, vertex 1 corner 10, 2 9.
+        assert_eq!(
+            c.riders,
+            vec![Rider {
+                face: 3,
+                of: 0,
+                corners: vec![11, 10, 9]
+            }]
+        );
         c.check().unwrap();
+        // So every side of f0 is a border side: the sheet has its border.
+        let mut b = Vec::new();
+        c.boundary_neighbors(0, &mut b);
+        assert_eq!(b, vec![1, 2]);
     }
 
     #[test]

@@ -144,30 +144,34 @@ pub(crate) fn keeps_topology(c: &Complex, i: u32, j: u32, scratch: &mut Vec<u32>
 /// it: faces that lose corners or vanish, and duplicates that appear.
 pub(crate) fn removed_triangles(c: &Complex, star: &[u32], i: u32, j: u32) -> usize {
     let mut removed = 0;
-    let mut keys: Vec<Vec<u32>> = Vec::with_capacity(star.len());
+    let mut keys: Vec<(Vec<u32>, u32, usize)> = Vec::with_capacity(star.len());
     for &f in star {
         let face = c.face(f);
         let old = face.len();
         let merged: Vec<u32> = face.iter().map(|&v| if v == j { i } else { v }).collect();
         let kept = surviving_cycle(&merged);
+        let copies = c.copies(f);
         if kept.len() < 3 {
-            removed += old - 2;
+            removed += (old - 2) * copies;
             continue;
         }
-        removed += old - kept.len();
+        removed += (old - kept.len()) * copies;
         if kept.contains(&i) {
             let k = (0..kept.len()).min_by_key(|&k| kept[k]).unwrap_or(0);
-            keys.push(
+            keys.push((
                 (0..kept.len())
                     .map(|t| kept[(k + t) % kept.len()])
                     .collect(),
-            );
+                f,
+                copies,
+            ));
         }
     }
     keys.sort_unstable();
+    // Of two equal faces the collapse removes the later, with its twins.
     for w in 1..keys.len() {
-        if keys[w] == keys[w - 1] {
-            removed += keys[w].len() - 2;
+        if keys[w].0 == keys[w - 1].0 {
+            removed += (keys[w].0.len() - 2) * keys[w].2;
         }
     }
     removed

@@ -216,7 +216,11 @@ impl<'o> Run<'o> {
             metric,
             lock_borders: options.guards.lock_borders,
         };
-        let target = options.target.triangles_for(p.input_triangles);
+        // A ratio is of the triangles that are surface: degenerate faces and
+        // exact repeats are cleaned away first (as Blender validates a mesh
+        // before decimating), twins count (the output keeps them). A mesh
+        // and the same mesh with every face doubled then simplify alike.
+        let target = options.target.triangles_for(p.complex.triangles);
         let report = Report {
             input_triangles: p.input_triangles,
             target_triangles: target,
@@ -694,10 +698,12 @@ impl<'o> Run<'o> {
         let left = c.triangles - self.target;
         if left <= EXACT_COUNT_WINDOW {
             let removed = removed_triangles(c, &self.star, i, j);
-            // Within one triangle of the target, and never empty a mesh
+            // Within one triangle of the target (one face's worth where
+            // faces have twins, which go in pairs), and never empty a mesh
             // that was asked to keep something.
+            let slack = self.star.iter().map(|&f| c.copies(f)).max().unwrap_or(1);
             let floor = if self.target > 0 { 1 } else { 0 };
-            if removed > left + 1 || c.triangles - removed.min(c.triangles) < floor {
+            if removed > left + slack || c.triangles - removed.min(c.triangles) < floor {
                 self.report.rejected.overshoot += 1;
                 return false;
             }
@@ -880,13 +886,32 @@ impl<'o> Run<'o> {
         let mut face_origin = Vec::new();
         let mut corner_origin = Vec::new();
         let mut buf = Vec::new();
+        let mut riders = c.riders.iter().peekable();
         for f in c.live_faces() {
             buf.clear();
             buf.extend(c.face(f).iter().map(|&v| out_id[v as usize]));
             faces.push(&buf);
             face_origin.push(f);
             let s = c.faces[f as usize].start as usize;
-            corner_origin.extend_from_slice(&c.slot_corner[s..s + buf.len()]);
+            let corners = &c.slot_corner[s..s + buf.len()];
+            corner_origin.extend_from_slice(corners);
+            // Its twins, walked the other way round, each with its own
+            // input corners where it has them.
+            while riders.next_if(|r| r.of < f).is_some() {}
+            while let Some(r) = riders.next_if(|r| r.of == f) {
+                buf.reverse();
+                faces.push(&buf);
+                buf.reverse();
+                face_origin.push(r.face);
+                let start = c.faces[f as usize].start;
+                corner_origin.extend(corners.iter().rev().map(|&k| {
+                    k.checked_sub(start)
+                        .and_then(|o| r.corners.get(o as usize))
+                        .copied()
+                        .filter(|&x| x != crate::complex::NONE)
+                        .unwrap_or(k)
+                }));
+            }
         }
         // Where each welded vertex went: follow the collapse forest, which
         // only points from removed to kept vertices, so it has no cycle.

@@ -7,8 +7,8 @@ mod common;
 
 use common::ratio;
 use glam::DVec3;
-use wildlod_mesh::Faces;
-use wildlod_simplify::simplify_polygons;
+use wildlod_mesh::{shapes, Faces, Mesh};
+use wildlod_simplify::{simplify_mesh, simplify_polygons};
 
 /// A small deterministic generator (SplitMix64), so meshes are irregular
 /// but the same on every run.
@@ -180,6 +180,101 @@ fn flat_open_patch_keeps_its_plane_and_its_border_at_a_tenth() {
                 .map(|&p| point(p).distance(*c))
                 .fold(f64::INFINITY, f64::min);
             assert!(d <= 1e-6, "seed {seed}: corner {c} lost ({d} away)");
+        }
+    }
+}
+
+/// An open tube (no caps) along z from `z0` to `z1`, around (`x`, `y`):
+/// `around` × `along` quads.
+fn tube(x: f32, y: f32, r: f32, z0: f32, z1: f32, around: usize, along: usize) -> Mesh {
+    let mut positions = Vec::new();
+    for k in 0..=along {
+        let z = z0 + (z1 - z0) * k as f32 / along as f32;
+        for a in 0..around {
+            let t = std::f32::consts::TAU * a as f32 / around as f32;
+            positions.push([x + r * t.cos(), y + r * t.sin(), z]);
+        }
+    }
+    let mut faces = Faces::default();
+    let id = |k: usize, a: usize| (k * around + a % around) as u32;
+    for k in 0..along {
+        for a in 0..around {
+            faces.push(&[id(k, a), id(k, a + 1), id(k + 1, a + 1), id(k + 1, a)]);
+        }
+    }
+    Mesh::from_polygons(positions, faces)
+}
+
+/// A chair: a seat and a back (closed boxes) and four legs (open tubes
+/// that stand in the seat: separate parts, as such models come).
+fn chair() -> Mesh {
+    let mut parts = vec![
+        shapes::triangulate(&shapes::box_grid([-0.5, -0.5, 0.45], [0.5, 0.5, 0.55], 6)),
+        shapes::box_grid([-0.5, 0.42, 0.55], [0.5, 0.5, 1.2], 5),
+    ];
+    for (x, y) in [(-0.4, -0.4), (0.4, -0.4), (-0.4, 0.4), (0.4, 0.4)] {
+        parts.push(tube(x, y, 0.04, 0.0, 0.47, 8, 6));
+    }
+    shapes::merge(&parts)
+}
+
+/// `m` with every face repeated, on its own copies of the vertices (as
+/// exporters write double-sided sheets), reversed or not.
+fn doubled(m: &Mesh, reversed: bool) -> Mesh {
+    let n = m.positions.len() as u32;
+    let mut positions = m.positions.clone();
+    positions.extend_from_slice(&m.positions);
+    let mut faces = m.faces.clone();
+    for f in m.faces.iter() {
+        let mut g: Vec<u32> = f.iter().map(|&v| v + n).collect();
+        if reversed {
+            g.reverse();
+        }
+        faces.push(&g);
+    }
+    Mesh::from_polygons(positions, faces)
+}
+
+/// The output's faces as sorted lists of corner positions (bit patterns),
+/// each face once whatever its orientation or copies: the geometry.
+fn geometry(m: &Mesh) -> Vec<Vec<[u32; 3]>> {
+    let mut out: Vec<Vec<[u32; 3]>> = m
+        .faces
+        .iter()
+        .map(|f| {
+            let mut c: Vec<[u32; 3]> = f
+                .iter()
+                .map(|&v| m.positions[v as usize].map(f32::to_bits))
+                .collect();
+            c.sort_unstable();
+            c
+        })
+        .collect();
+    out.sort();
+    out.dedup();
+    out
+}
+
+#[test]
+fn doubled_faces_simplify_like_the_single_copy() {
+    let single = chair();
+    let t = single.triangle_count();
+    for r in [0.5, 0.2, 0.05] {
+        // Ratios whose target is exact for the doubled count too.
+        assert_eq!(
+            (2.0 * t as f64 * r).round() as usize,
+            2 * (t as f64 * r).round() as usize
+        );
+        let (a, ra) = simplify_mesh(&single, &ratio(r)).unwrap();
+        let want = geometry(&a);
+        for reversed in [true, false] {
+            let (b, rb) = simplify_mesh(&doubled(&single, reversed), &ratio(r)).unwrap();
+            assert_eq!(geometry(&b), want, "ratio {r}, reversed {reversed}");
+            // Twins stay (a double-sided sheet stays double-sided), exact
+            // repeats are cleaned away.
+            let copies = if reversed { 2 } else { 1 };
+            assert_eq!(rb.output_triangles, copies * ra.output_triangles);
+            assert_eq!(b.faces.len(), copies * a.faces.len());
         }
     }
 }

@@ -392,7 +392,7 @@ fn write_back(run: &mut Run, parts: Vec<Chunk>) {
     // (with the virtual edges) once the last pass is done.
     let c = &mut run.p.complex;
     c.clear_adjacency();
-    c.triangles = c.live_faces().map(|f| c.face(f).len() - 2).sum();
+    c.triangles = c.count_triangles();
 }
 
 /// Adds a chunk's counts to the run's report.
