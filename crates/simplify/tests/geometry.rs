@@ -278,3 +278,72 @@ fn doubled_faces_simplify_like_the_single_copy() {
         }
     }
 }
+
+/// A gently curved square sheet `n × n` (triangles) with a long thin spur
+/// standing on it: a tube of radius `r` and height `h` with a pointed tip,
+/// closed at its foot by a fan to the sheet's middle vertex, so the whole
+/// is one piece.
+fn sheet_with_spur(n: usize, r: f32, h: f32) -> Mesh {
+    let wave = |x: f32, y: f32| 0.01 * ((7.0 * x).sin() + (5.0 * y).cos());
+    let mut positions = Vec::new();
+    for j in 0..=n {
+        for i in 0..=n {
+            let (x, y) = (i as f32 / n as f32, j as f32 / n as f32);
+            positions.push([x, y, wave(x, y)]);
+        }
+    }
+    let mut faces = Faces::default();
+    for j in 0..n {
+        for i in 0..n {
+            let v = |a: usize, b: usize| (b * (n + 1) + a) as u32;
+            faces.push(&[v(i, j), v(i + 1, j), v(i + 1, j + 1)]);
+            faces.push(&[v(i, j), v(i + 1, j + 1), v(i, j + 1)]);
+        }
+    }
+    // The spur: rings of 6 around (0.5, 0.5), from the sheet up to h, then
+    // a tip vertex.
+    let (around, along) = (6usize, 40usize);
+    let base = positions.len() as u32;
+    for k in 0..=along {
+        let z = wave(0.5, 0.5) + h * k as f32 / along as f32;
+        for a in 0..around {
+            let t = std::f32::consts::TAU * a as f32 / around as f32;
+            positions.push([0.5 + r * t.cos(), 0.5 + r * t.sin(), z]);
+        }
+    }
+    let tip = positions.len() as u32;
+    positions.push([0.5, 0.5, wave(0.5, 0.5) + h + 2.0 * r]);
+    let ring = |k: usize, a: usize| base + (k * around + a % around) as u32;
+    for k in 0..along {
+        for a in 0..around {
+            faces.push(&[ring(k, a), ring(k, a + 1), ring(k + 1, a + 1)]);
+            faces.push(&[ring(k, a), ring(k + 1, a + 1), ring(k + 1, a)]);
+        }
+    }
+    let middle = ((n / 2) * (n + 1) + n / 2) as u32;
+    for a in 0..around {
+        faces.push(&[ring(along, a), ring(along, a + 1), tip]);
+        faces.push(&[ring(0, a + 1), ring(0, a), middle]);
+    }
+    Mesh::from_polygons(positions, faces)
+}
+
+#[test]
+fn thin_spur_on_a_sheet_survives_at_half() {
+    let (r, h) = (0.004f32, 0.4f32);
+    let mesh = sheet_with_spur(40, r, h);
+    assert_eq!(common::topo(&mesh).components, 1);
+    let (out, report) = simplify_mesh(&mesh, &ratio(0.5)).unwrap();
+    assert!(report.output_triangles.abs_diff(report.target_triangles) <= 1);
+    // The spur keeps its height: some vertex still near its tip.
+    let top = out.positions.iter().map(|p| p[2]).fold(f32::MIN, f32::max);
+    let want = mesh.positions.iter().map(|p| p[2]).fold(f32::MIN, f32::max);
+    assert!(
+        want - top <= 0.05 * h,
+        "the spur lost {:.3} of its {h} height",
+        want - top
+    );
+    // And the whole stays one piece.
+    assert_eq!(common::topo(&out).components, 1);
+}
+
