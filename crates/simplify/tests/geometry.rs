@@ -346,4 +346,3 @@ fn thin_spur_on_a_sheet_survives_at_half() {
     // And the whole stays one piece.
     assert_eq!(common::topo(&out).components, 1);
 }
-
