@@ -40,6 +40,7 @@ mod ordering;
 mod quadric;
 mod report;
 mod run;
+mod scene;
 mod simplify;
 mod symmetry;
 mod tangent;
@@ -58,6 +59,9 @@ pub use options::{
 };
 pub use quadric::{place, place_exact, Placement, Quadric, FREE_DIRECTION};
 pub use report::{Rejections, Report, StopReason};
+pub use scene::{
+    simplify_scene, simplify_scene_with_progress, GroupReport, GroupSpace, MeshOutcome, SceneReport,
+};
 pub use simplify::{
     simplify_polygons, simplify_polygons_with_progress, simplify_triangles,
     simplify_with_attributes, simplify_with_attributes_and_progress, Simplified,

@@ -396,6 +396,14 @@ pub struct Options {
     /// Record every collapse (edge one-ring before, vertex one-ring after)
     /// for successive mapping (W §4.3). Default off: it costs memory.
     pub record_history: bool,
+    /// Record, after every collapse, the triangles left and the error
+    /// reached so far ([`crate::Report::error_curve`]), so that a caller
+    /// simplifying several meshes under one budget can pick a common error
+    /// threshold (see [`crate::simplify_scene`], W §1 Fig. 1). Collapses of
+    /// the parallel first phase are not recorded: turn it off
+    /// ([`Partition::min_triangles`] = `usize::MAX`) for the whole curve.
+    /// Default off: 16 bytes per collapse.
+    pub record_error_curve: bool,
     /// The parallel first phase for large inputs (off while recording the
     /// history, which must see the global order, and with attributes).
     pub partition: Partition,
@@ -418,6 +426,7 @@ impl Default for Options {
             vertex_weights: Vec::new(),
             vertex_joints: Vec::new(),
             record_history: false,
+            record_error_curve: false,
             partition: Partition::default(),
             attributes: AttributeOptions::default(),
         }

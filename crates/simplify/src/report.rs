@@ -77,4 +77,8 @@ pub struct Report {
     /// split into smaller pieces before simplifying (their pieces are
     /// output faces of the same input face).
     pub split_polygons: usize,
+    /// With [`crate::Options::record_error_curve`]: after every collapse of
+    /// the global loop, the triangles left and [`Report::error`] so far, in
+    /// order (so both columns are monotone). Empty otherwise.
+    pub error_curve: Vec<(usize, f64)>,
 }

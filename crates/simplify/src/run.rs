@@ -524,6 +524,10 @@ impl<'o> Run<'o> {
             }
             self.collapse(e, i, j, ev);
             self.report.error = self.report.error.max(dist);
+            if self.options.record_error_curve {
+                let t = self.p.complex.triangles;
+                self.report.error_curve.push((t, self.report.error));
+            }
             if self.ties.is_some() {
                 self.after_tie_collapse(&opposite, recency);
             }

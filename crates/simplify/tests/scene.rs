@@ -1,0 +1,242 @@
+//! One scene, one budget (W §1, Fig. 1): `simplify_scene` against
+//! simplifying every mesh alone.
+
+mod common;
+
+use common::bumpy_sphere;
+use wildlod_eval::{compare, CompareOptions, EvalMesh};
+use wildlod_mesh::{Mesh, Node, Scene, Skinning, IDENTITY};
+use wildlod_simplify::{simplify_mesh, simplify_scene, GroupSpace, Options, Target};
+
+fn translate_scale(t: [f32; 3], s: f32) -> [f32; 16] {
+    let mut m = IDENTITY;
+    for k in 0..3 {
+        m[5 * k] = s;
+        m[12 + k] = t[k];
+    }
+    m
+}
+
+/// A scene whose node `i` shows mesh `mesh` through `matrix`.
+fn scene(meshes: Vec<Mesh>, nodes: &[(u32, [f32; 16])]) -> Scene {
+    Scene {
+        meshes,
+        nodes: nodes
+            .iter()
+            .map(|&(m, matrix)| Node {
+                mesh: Some(m),
+                matrix,
+                ..Node::default()
+            })
+            .collect(),
+        roots: (0..nodes.len() as u32).collect(),
+        ..Scene::default()
+    }
+}
+
+fn target(t: Target) -> Options {
+    Options {
+        target: t,
+        ..Options::default()
+    }
+}
+
+fn ratio(r: f64) -> Options {
+    target(Target {
+        ratio: Some(r),
+        ..Target::default()
+    })
+}
+
+/// Two-sided Hausdorff distance of `candidate` to `reference`, relative
+/// to the reference's diagonal.
+fn hausdorff(reference: &Mesh, candidate: &Mesh) -> f64 {
+    compare(
+        &EvalMesh::from_mesh(reference),
+        &EvalMesh::from_mesh(candidate),
+        &CompareOptions {
+            samples: 20_000,
+            ..CompareOptions::default()
+        },
+    )
+    .hausdorff
+}
+
+#[test]
+fn tiny_far_part_disappears_before_the_big_one_loses_detail() {
+    // A big sphere, a box touching it, and a tiny sphere far away: at 20%
+    // of the scene, the tiny sphere's triangles are worth nothing and go
+    // first; the big sphere keeps more than 20% of its own.
+    let big = bumpy_sphere(12);
+    let mut plate = common::grid_box([1.0, -0.5, -0.5], [1.5, 0.5, 0.5], 6);
+    plate = wildlod_mesh::shapes::triangulate(&plate);
+    let tiny = bumpy_sphere(8);
+    let s = scene(
+        vec![big.clone(), plate, tiny],
+        &[
+            (0, IDENTITY),
+            (1, IDENTITY),
+            (2, translate_scale([20.0, 0.0, 0.0], 0.002)),
+        ],
+    );
+    let input: usize = s.meshes.iter().map(Mesh::triangle_count).sum();
+    let (lod, report) = simplify_scene(&s, &ratio(0.2)).unwrap();
+    let target = (input as f64 * 0.2).round() as usize;
+    assert_eq!(report.target_triangles, target);
+    assert!(
+        report.output_triangles.abs_diff(target) <= 1,
+        "{} triangles for a target of {target}",
+        report.output_triangles
+    );
+    let total: usize = lod.meshes.iter().map(Mesh::triangle_count).sum();
+    assert_eq!(total, report.output_triangles);
+    assert_eq!(report.groups.len(), 1, "one complex for the whole scene");
+    assert!(
+        report.meshes[2].removed,
+        "the tiny part should go: {report:?}"
+    );
+    assert_eq!(report.removed(), vec![2]);
+    assert!(lod.meshes[2].faces.is_empty());
+    // The big sphere against the same sphere simplified alone to 20%.
+    let (alone, _) = simplify_mesh(&big, &ratio(0.2)).unwrap();
+    assert!(
+        lod.meshes[0].triangle_count() > alone.triangle_count(),
+        "scene {} vs alone {}",
+        lod.meshes[0].triangle_count(),
+        alone.triangle_count()
+    );
+    let in_scene = hausdorff(&big, &lod.meshes[0]);
+    let by_itself = hausdorff(&big, &alone);
+    assert!(
+        in_scene < by_itself,
+        "big sphere error {in_scene} in the scene vs {by_itself} alone"
+    );
+    // The reported world error bounds what happened to every part.
+    assert!(report.world_error > 0.0 && report.world_error.is_finite());
+    assert!((report.error - report.world_error / report.diagonal).abs() < 1e-12);
+}
+
+#[test]
+fn meshes_come_back_in_their_own_space() {
+    // A sphere moved, scaled and mirrored by its node: at ratio 1 nothing
+    // collapses and every position must come back bit for bit, in the
+    // mesh's own space (not the world space the scene was simplified in).
+    let sphere = bumpy_sphere(6);
+    let mut m = translate_scale([3.0, -2.0, 7.0], 2.5);
+    m[0] = -2.5;
+    let s = scene(vec![sphere.clone()], &[(0, m)]);
+    let (lod, report) = simplify_scene(&s, &ratio(1.0)).unwrap();
+    assert_eq!(report.output_triangles, report.input_triangles);
+    let mut a = sphere.positions.clone();
+    let mut b = lod.meshes[0].positions.clone();
+    let key = |p: &[f32; 3]| p.map(f32::to_bits);
+    a.sort_by_key(key);
+    b.sort_by_key(key);
+    assert_eq!(a, b);
+    // Simplified, the output stays near the input in mesh space.
+    let (lod, _) = simplify_scene(&s, &ratio(0.3)).unwrap();
+    let d = hausdorff(&sphere, &lod.meshes[0]);
+    assert!(d < 0.05, "output is {d} away from the input in mesh space");
+}
+
+#[test]
+fn instanced_mesh_is_simplified_once_and_weighted_by_its_largest_instance() {
+    // Mesh 0 is shown twice, mesh 1 (the same shape) once at scale 3, far
+    // apart. With mesh 0's instances at scales 1 and 10, its largest
+    // instance is the largest object: it keeps more triangles than mesh 1.
+    // With instances at 1 and 2, it is smaller and keeps fewer. (Summing
+    // or averaging the instances would order the two cases the same way.)
+    let sphere = bumpy_sphere(10);
+    let run = |small: f32, large: f32| {
+        let s = scene(
+            vec![sphere.clone(), sphere.clone()],
+            &[
+                (0, translate_scale([0.0, 0.0, 0.0], small)),
+                (0, translate_scale([100.0, 0.0, 0.0], large)),
+                (1, translate_scale([0.0, 100.0, 0.0], 3.0)),
+            ],
+        );
+        let (lod, report) = simplify_scene(&s, &ratio(0.2)).unwrap();
+        assert_eq!(lod.meshes.len(), 2, "the instanced mesh is stored once");
+        assert_eq!(lod.nodes[0].mesh, Some(0));
+        assert_eq!(lod.nodes[1].mesh, Some(0));
+        assert_eq!(report.input_triangles, 2 * sphere.triangle_count());
+        (
+            lod.meshes[0].triangle_count(),
+            lod.meshes[1].triangle_count(),
+        )
+    };
+    let (a, b) = run(1.0, 10.0);
+    assert!(a > b, "largest instance 10 vs 3: {a} vs {b} triangles");
+    let (a, b) = run(1.0, 2.0);
+    assert!(a < b, "largest instance 2 vs 3: {a} vs {b} triangles");
+}
+
+#[test]
+fn groups_that_cannot_merge_stop_at_one_world_error() {
+    // A skinned mesh (bind space) and a static one cannot share a complex:
+    // the budget is split so both stop near the same world-space error,
+    // and the total is the scene's target.
+    let mut skinned = bumpy_sphere(10);
+    let corners = skinned.faces.corner_count();
+    skinned.skinning = Some(Skinning {
+        influences: 4,
+        joints: vec![0, 0, 0, 0],
+        weights: vec![1.0, 0.0, 0.0, 0.0],
+        indices: vec![0; corners],
+        weight_format: Default::default(),
+        joint_format: wildlod_mesh::ComponentFormat::U8,
+    });
+    // The static sphere is 4 times larger: it deserves more triangles.
+    let big = bumpy_sphere(10);
+    let s = scene(
+        vec![skinned, big],
+        &[(0, IDENTITY), (1, translate_scale([10.0, 0.0, 0.0], 4.0))],
+    );
+    let (lod, report) = simplify_scene(&s, &ratio(0.25)).unwrap();
+    assert_eq!(report.groups.len(), 2);
+    assert!(report.common_threshold);
+    assert!(matches!(report.groups[0].space, GroupSpace::Skinned { .. }));
+    assert_eq!(report.groups[1].space, GroupSpace::World);
+    assert!(
+        report.output_triangles.abs_diff(report.target_triangles) <= 2,
+        "{} for {}",
+        report.output_triangles,
+        report.target_triangles
+    );
+    assert!(lod.meshes[0].skinning.is_some());
+    assert!(lod.meshes[1].triangle_count() > lod.meshes[0].triangle_count());
+    // Same world error: within a factor of two of each other (one collapse
+    // is the granularity).
+    let (e0, e1) = (report.groups[0].world_error, report.groups[1].world_error);
+    assert!(e0 > 0.0 && e1 > 0.0);
+    assert!(
+        e0 / e1 < 2.0 && e1 / e0 < 2.0,
+        "world errors {e0} and {e1} should be close"
+    );
+}
+
+#[test]
+fn error_target_is_relative_to_the_whole_scene() {
+    // --error on a scene of a big and a small sphere: every group keeps its
+    // world error under the limit times the scene diagonal.
+    let s = scene(
+        vec![bumpy_sphere(10), bumpy_sphere(10)],
+        &[(0, IDENTITY), (1, translate_scale([5.0, 0.0, 0.0], 0.1))],
+    );
+    let limit = 0.002;
+    let (_, report) = simplify_scene(
+        &s,
+        &target(Target {
+            error: Some(limit),
+            ..Target::default()
+        }),
+    )
+    .unwrap();
+    assert!(report.output_triangles < report.input_triangles);
+    assert!(
+        report.error <= limit * (1.0 + 1e-9),
+        "error {} over the limit {limit}",
+        report.error
+    );
+}
