@@ -31,7 +31,7 @@ pub enum ErrorKind {
     #[error("{0}")]
     Io(#[from] std::io::Error),
     /// The extension names no format we read or write.
-    #[error("unsupported file extension {0:?}: expected .gltf, .glb, .obj, .ply or .stl")]
+    #[error("unsupported file extension {0:?}: expected .gltf, .glb, .obj, .ply, .stl or .off")]
     UnsupportedExtension(String),
     /// The file is empty.
     #[error("the file is empty")]

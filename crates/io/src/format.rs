@@ -17,6 +17,8 @@ pub enum Format {
     Ply,
     /// STL (`.stl`), ASCII or binary.
     Stl,
+    /// OFF (`.off`): OFF, COFF, NOFF, STOFF and their combinations, text.
+    Off,
 }
 
 impl Format {
@@ -33,6 +35,7 @@ impl Format {
             "obj" => Format::Obj,
             "ply" => Format::Ply,
             "stl" => Format::Stl,
+            "off" => Format::Off,
             _ => return Err(ErrorKind::UnsupportedExtension(ext)),
         })
     }
@@ -40,13 +43,13 @@ impl Format {
     /// Whether the format stores polygons as such (quads and n-gons are
     /// triangulated when written to the others).
     pub fn keeps_polygons(self) -> bool {
-        matches!(self, Format::Obj | Format::Ply)
+        matches!(self, Format::Obj | Format::Ply | Format::Off)
     }
 
     /// Whether a file of this format must hold a face to be read (OBJ, PLY
     /// and STL readers refuse a file with none).
     pub fn needs_faces(self) -> bool {
-        matches!(self, Format::Obj | Format::Ply | Format::Stl)
+        matches!(self, Format::Obj | Format::Ply | Format::Stl | Format::Off)
     }
 
     /// The usual extension, without the dot.
@@ -57,6 +60,7 @@ impl Format {
             Format::Obj => "obj",
             Format::Ply => "ply",
             Format::Stl => "stl",
+            Format::Off => "off",
         }
     }
 }

@@ -14,6 +14,7 @@ mod format;
 mod gltf;
 mod image;
 mod obj;
+mod off;
 mod ply;
 mod regular;
 mod stl;
@@ -67,7 +68,7 @@ pub struct WriteOptions {
 }
 
 /// Reads a mesh file; the format follows the extension (`.gltf`, `.glb`,
-/// `.obj`, `.ply`, `.stl`, case-insensitive).
+/// `.obj`, `.ply`, `.stl`, `.off`, case-insensitive).
 ///
 /// Every error names the file and, where it can, the element (line,
 /// accessor, face). The returned scene passes [`Scene::validate`].
@@ -94,13 +95,36 @@ pub fn read(path: impl AsRef<Path>) -> Result<Document, Error> {
             doc.gltf = Some(pass);
         }
         Format::Obj => doc.scene = obj::read(path, &data, &mut doc.warnings).map_err(at)?,
-        Format::Ply => doc.scene = ply::read(&data).map_err(at)?,
+        Format::Ply => doc.scene = ply::read(&data, &mut doc.warnings).map_err(at)?,
         Format::Stl => doc.scene = stl::read(path, &data).map_err(at)?,
+        Format::Off => doc.scene = off::read(path, &data, &mut doc.warnings).map_err(at)?,
     }
     doc.scene
         .validate()
         .map_err(|e| at(ErrorKind::Invalid(e)))?;
     Ok(doc)
+}
+
+/// Whether a face's corners name at least three distinct vertices. Faces
+/// with fewer (two-corner "faces", `f 1 2 1`) cover no area; real scene
+/// exports carry them, so readers skip them with one counted warning
+/// ([`skipped_faces_warning`]) instead of refusing the file. O(corners).
+pub(crate) fn has_three_distinct(corners: &[u32]) -> bool {
+    let Some(&a) = corners.first() else {
+        return false;
+    };
+    let Some(&b) = corners.iter().find(|&&v| v != a) else {
+        return false;
+    };
+    corners.iter().any(|&v| v != a && v != b)
+}
+
+/// The one warning for the faces a reader skipped.
+pub(crate) fn skipped_faces_warning(n: usize) -> String {
+    format!(
+        "skipped {n} face{} with fewer than 3 distinct vertices",
+        if n == 1 { "" } else { "s" }
+    )
 }
 
 /// A glTF whose content disagrees with its extension: it still reads (the
@@ -155,6 +179,7 @@ pub fn write(
         Format::Obj => obj::write(doc, path, &mut files),
         Format::Ply => ply::write(&doc.scene, path, &mut files),
         Format::Stl => stl::write(&doc.scene, path, &mut files),
+        Format::Off => off::write(&doc.scene, path, &mut files),
     }
     .map_err(at)?;
     files.commit().map_err(at)

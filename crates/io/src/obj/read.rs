@@ -115,6 +115,8 @@ struct State {
     max_vn: MaxRef,
     mtllibs: Vec<(usize, Vec<u8>)>,
     ignored: BTreeMap<String, usize>,
+    /// Faces skipped for having fewer than three distinct vertices.
+    skipped_faces: usize,
 }
 
 /// Parses OBJ text into a mesh; materials stay names.
@@ -160,6 +162,9 @@ pub(crate) fn parse(data: &[u8], warnings: &mut Vec<String>) -> Result<Parsed, E
             b"mtllib" => st.mtllibs.push((ln, text::trim(rest).to_vec())),
             _ => st.ignore(ln, kw, line)?,
         }
+    }
+    if st.skipped_faces > 0 {
+        warnings.push(crate::skipped_faces_warning(st.skipped_faces));
     }
     if !st.ignored.is_empty() {
         let list: Vec<String> = st
@@ -315,12 +320,14 @@ impl State {
             self.corner_uv.push(vt);
             self.corner_normal.push(vn);
         }
-        let arity = self.faces.indices.len() - start;
-        if arity < 3 {
-            return Err(ErrorKind::syntax(
-                ln,
-                format!("a face needs at least 3 vertices, found {arity}"),
-            ));
+        if !crate::has_three_distinct(&self.faces.indices[start..]) {
+            // No area: skipped, counted, warned about once (see
+            // `has_three_distinct`).
+            self.faces.indices.truncate(start);
+            self.corner_uv.truncate(start);
+            self.corner_normal.truncate(start);
+            self.skipped_faces += 1;
+            return Ok(());
         }
         let end = u32::try_from(self.faces.indices.len())
             .map_err(|_| ErrorKind::syntax(ln, "more face corners than wildlod holds (2³² − 1)"))?;

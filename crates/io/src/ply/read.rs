@@ -181,7 +181,7 @@ fn role(name: &str) -> Role {
 }
 
 /// Reads a PLY file (ASCII or binary, format 1.0).
-pub(crate) fn read(data: &[u8]) -> Result<Scene, ErrorKind> {
+pub(crate) fn read(data: &[u8], warnings: &mut Vec<String>) -> Result<Scene, ErrorKind> {
     let h = header::parse(data)?;
     let vertex = h
         .elements
@@ -207,6 +207,9 @@ pub(crate) fn read(data: &[u8]) -> Result<Scene, ErrorKind> {
         }
     }
     let v = verts.unwrap_or_default();
+    if let Some(f) = faces.as_ref().filter(|f| f.skipped > 0) {
+        warnings.push(crate::skipped_faces_warning(f.skipped));
+    }
     let f = match faces {
         Some(f) if !f.faces.is_empty() => f,
         _ => return Err(ErrorKind::malformed("PLY", "the file has no faces")),
@@ -325,6 +328,8 @@ struct FaceData {
     faces: Faces,
     /// Per-corner UVs from a face `texcoord` list (MeshLab's wedge UVs).
     corner_uvs: Option<Vec<f32>>,
+    /// Faces skipped for having fewer than three distinct vertices.
+    skipped: usize,
 }
 
 fn read_faces(body: &mut Body, e: &Element, vertex_count: u64) -> Result<FaceData, ErrorKind> {
@@ -355,19 +360,15 @@ fn read_faces(body: &mut Body, e: &Element, vertex_count: u64) -> Result<FaceDat
     let mut faces = Faces::with_capacity(n, (3 * n).min(left / item_size));
     let mut corner_uvs: Option<Vec<f32>> = texcoord.map(|_| Vec::new());
     let mut uv_scratch = Vec::new();
+    let mut skipped = 0usize;
     for i in 0..e.count {
+        let start = faces.indices.len();
         let mut arity = None;
         let mut uv_len = None;
         for (j, prop) in e.properties.iter().enumerate() {
             match prop.kind {
                 Kind::List { count, item } if j == list => {
                     let k = body.list_len(count, item).map_err(|f| f.at(e, i))?;
-                    if k < 3 {
-                        return Err(ErrorKind::malformed(
-                            e.at(i),
-                            format!("a face needs at least 3 vertices, found {k}"),
-                        ));
-                    }
                     for _ in 0..k {
                         let v = body.value(item).map_err(|f| f.at(e, i))?;
                         if v.fract() != 0.0 || v < 0.0 || v >= vertex_count as f64 {
@@ -395,6 +396,12 @@ fn read_faces(body: &mut Body, e: &Element, vertex_count: u64) -> Result<FaceDat
             }
         }
         let arity = arity.unwrap_or(0);
+        if !crate::has_three_distinct(&faces.indices[start..]) {
+            // No area: skipped and counted (see `has_three_distinct`).
+            faces.indices.truncate(start);
+            skipped += 1;
+            continue;
+        }
         let end = u32::try_from(faces.indices.len()).map_err(|_| {
             ErrorKind::malformed(e.at(i), "more corners than wildlod holds (2³² − 1)")
         })?;
@@ -409,7 +416,11 @@ fn read_faces(body: &mut Body, e: &Element, vertex_count: u64) -> Result<FaceDat
             }
         }
     }
-    Ok(FaceData { faces, corner_uvs })
+    Ok(FaceData {
+        faces,
+        corner_uvs,
+        skipped,
+    })
 }
 
 fn skip_element(body: &mut Body, e: &Element) -> Result<(), ErrorKind> {
