@@ -9,7 +9,7 @@ use clap::{Args, Parser, Subcommand, ValueEnum};
 /// Levels of detail for real-world meshes: non-manifold, many-component,
 /// triangle soups, textured, quad-dominant, skinned.
 ///
-/// Formats: glTF 2.0 (.gltf, .glb), OBJ (+MTL), PLY, STL. The output format
+/// Formats: glTF 2.0 (.gltf, .glb), OBJ (+MTL), PLY, STL, OFF. The output format
 /// follows the output file's extension.
 #[derive(Parser, Debug)]
 #[command(name = "wildlod", version, about, long_about = None)]
@@ -24,12 +24,14 @@ pub struct Cli {
 pub enum Command {
     /// Simplify a mesh file to a target triangle count, ratio or error.
     ///
-    /// Every mesh of the file is simplified: with --ratio each to that
-    /// ratio; with --faces the budget is shared among the file's stored
-    /// meshes in proportion to their triangles; with --error every collapse
-    /// stays within that distance (relative to the whole file's size).
-    /// Every mesh keeps at least one triangle, so --ratio 0 gives the
-    /// smallest valid result. Polygons of more than 32 corners are
+    /// The whole file is simplified under one budget, in world space (W §1,
+    /// Fig. 1): --ratio and --faces count the triangles of all stored
+    /// meshes, --error is relative to the whole file's size, and the
+    /// triangles go where the error is smallest. A mesh whose every
+    /// triangle goes is removed (nodes no longer show it; the summary names
+    /// it). A mesh instanced several times is simplified once, as large as
+    /// its largest instance. --per-mesh simplifies every stored mesh alone
+    /// instead (each keeps a triangle). Polygons of more than 32 corners are
     /// simplified (and written) as pieces of at most 32. Materials, nodes,
     /// skins and animations are written back unchanged.
     // The examples go in `after_help`: clap rewraps doc-comment paragraphs,
@@ -106,19 +108,19 @@ Example:
 /// Arguments of `wildlod simplify`.
 #[derive(Args, Debug)]
 pub struct SimplifyArgs {
-    /// The mesh to simplify (.gltf, .glb, .obj, .ply, .stl).
+    /// The mesh to simplify (.gltf, .glb, .obj, .ply, .stl, .off).
     pub input: PathBuf,
     /// Where to write the result; its extension picks the format. Its
     /// folder must exist.
     #[arg(short, long)]
     pub output: PathBuf,
-    /// Keep this fraction of the triangles (0 to 1; a quad counts as two).
-    /// Default 0.5 when no target is given. 0 keeps as few as possible:
-    /// one triangle per mesh, or what the guards leave.
+    /// Keep this fraction of the file's triangles (0 to 1; a quad counts as
+    /// two). Default 0.5 when no target is given. 0 keeps as few as
+    /// possible: one triangle in the file (one per mesh with --per-mesh),
+    /// or what the guards leave.
     #[arg(long, value_name = "R")]
     pub ratio: Option<f64>,
-    /// Keep at most this many triangles (a quad counts as two), shared among
-    /// the file's meshes.
+    /// Keep at most this many triangles in the file (a quad counts as two).
     #[arg(long, value_name = "N")]
     pub faces: Option<usize>,
     /// Allow no collapse whose error exceeds E, as a fraction of the
@@ -147,6 +149,14 @@ pub struct SimplifyArgs {
     /// input's textures were all JPEG (else PNG is written).
     #[arg(long, value_name = "Q", default_value_t = 90)]
     pub jpeg_quality: u8,
+    /// Simplify every stored mesh alone: each to --ratio, --faces shared in
+    /// proportion to triangle counts, --error converted to each mesh's
+    /// size; every mesh keeps a triangle. Without it the whole file is
+    /// simplified under one budget in world space (W §1, Fig. 1), so the
+    /// triangles go where the error is smallest and a part too small to
+    /// matter may disappear. --bake always works per mesh.
+    #[arg(long)]
+    pub per_mesh: bool,
     /// Allow the output to replace the input file.
     #[arg(long)]
     pub overwrite: bool,

@@ -180,7 +180,7 @@ fn mtllib_that_is_a_symlink_loop_is_an_error_naming_it() {
 #[test]
 fn ratio_zero_keeps_the_smallest_valid_result_not_an_empty_file() {
     let dir = tempfile::tempdir().unwrap();
-    // Two meshes under two nodes: each must keep geometry.
+    // Two meshes under two nodes.
     let input = dir.path().join("two.glb");
     let mut scene = Scene::from_mesh(shapes::box_grid([0.0; 3], [1.0; 3], 4));
     scene.meshes.push(shapes::torus(12, 8, 1.0, 0.3));
@@ -191,8 +191,33 @@ fn ratio_zero_keeps_the_smallest_valid_result_not_an_empty_file() {
     scene.roots.push(1);
     write_scene(scene, &input);
     for (flag, value) in [("--ratio", "0"), ("--faces", "0")] {
+        // One budget for the file: the file keeps geometry (a mesh may
+        // go), and no node shows an empty mesh.
         let out = dir.path().join(format!("lod{}.glb", &flag[2..]));
         let o = wildlod(&["simplify", s(&input), "-o", s(&out), flag, value]);
+        assert!(o.status.success(), "{}", stderr(&o));
+        let doc = wildlod_io::read(&out).unwrap();
+        let total: usize = doc.scene.meshes.iter().map(|m| m.triangle_count()).sum();
+        assert!(
+            (1..=4).contains(&total),
+            "{flag} {value}: {total} triangles"
+        );
+        for n in &doc.scene.nodes {
+            if let Some(m) = n.mesh {
+                assert!(!doc.scene.meshes[m as usize].faces.is_empty());
+            }
+        }
+        // Per mesh: each mesh keeps geometry.
+        let out = dir.path().join(format!("per_mesh{}.glb", &flag[2..]));
+        let o = wildlod(&[
+            "simplify",
+            s(&input),
+            "-o",
+            s(&out),
+            flag,
+            value,
+            "--per-mesh",
+        ]);
         assert!(o.status.success(), "{}", stderr(&o));
         let doc = wildlod_io::read(&out).unwrap();
         assert_eq!(doc.scene.meshes.len(), 2);
@@ -200,7 +225,7 @@ fn ratio_zero_keeps_the_smallest_valid_result_not_an_empty_file() {
             let t = m.triangle_count();
             assert!(
                 (1..=2).contains(&t),
-                "{flag} {value}: a mesh kept {t} triangles"
+                "{flag} {value} --per-mesh: a mesh kept {t} triangles"
             );
         }
     }

@@ -7,10 +7,12 @@ use anyhow::{bail, Context};
 use wildlod_io::{Document, ErrorKind, WriteOptions};
 use wildlod_mesh::Scene;
 use wildlod_pipeline::{
-    file_stem, simplify_scene, targets_for, FileTargets, NormalSetting, RunJson, SeamSetting,
-    Tuning,
+    file_stem, simplify_scene, targets_for, FileTargets, MeshRun, NormalSetting, RunJson,
+    SeamSetting, Tuning, MIN_TRIANGLES,
 };
-use wildlod_simplify::{Options, Report, StopReason, Target};
+use wildlod_simplify::{
+    simplify_scene_with_progress, Options, Rejections, Report, SceneReport, StopReason, Target,
+};
 
 use super::with_flag_names;
 use crate::args::{NormalArg, SeamArg, SimplifyArgs, TuningArgs};
@@ -29,6 +31,8 @@ pub struct Config {
     pub error: Option<f64>,
     pub overwrite: bool,
     pub quiet: bool,
+    /// Every stored mesh alone (`--per-mesh`) instead of one scene budget.
+    pub per_mesh: bool,
     /// Re-bake textures (`--bake`), with these settings.
     pub bake: Option<super::bake::BakeConfig>,
     /// Print the JSON report instead of lines.
@@ -74,6 +78,7 @@ impl Config {
             error: targets.error,
             overwrite: a.overwrite,
             quiet: a.quiet,
+            per_mesh: a.per_mesh,
         })
     }
 }
@@ -169,26 +174,34 @@ pub fn run(cfg: &Config) -> anyhow::Result<()> {
             eprintln!("warning: {}: {w}", cfg.input.display());
         }
     }
-    let targets = mesh_targets(&doc.scene, cfg);
     let stem = file_stem(&cfg.input);
     if let Some(b) = &cfg.bake {
+        // Baking maps every texel through one mesh's collapse history, so
+        // it stays per mesh.
+        let targets = mesh_targets(&doc.scene, cfg);
         super::bake::bake_scene(&mut doc, cfg, b, &targets, &stem)?;
         return write(&doc, cfg);
     }
     let show = !cfg.quiet && !cfg.json;
-    let runs = simplify_scene(
-        &mut doc.scene,
-        &cfg.input,
-        &cfg.options,
-        &targets,
-        &stem,
-        &|name| Progress::new(name, show),
-    )?;
-    if show {
-        for r in &runs {
-            emit(&(summary(&r.name, &r.report, r.seconds) + "\n"))?;
+    let runs = if cfg.per_mesh {
+        let targets = mesh_targets(&doc.scene, cfg);
+        let runs = simplify_scene(
+            &mut doc.scene,
+            &cfg.input,
+            &cfg.options,
+            &targets,
+            &stem,
+            &|name| Progress::new(name, show),
+        )?;
+        if show {
+            for r in &runs {
+                emit(&(summary(&r.name, &r.report, r.seconds) + "\n"))?;
+            }
         }
-    }
+        runs
+    } else {
+        vec![simplify_whole_scene(&mut doc, cfg, &stem, show)?]
+    };
     write(&doc, cfg)?;
     if cfg.json {
         let json = RunJson::new(&cfg.input, &cfg.output, &runs, t0.elapsed().as_secs_f64());
@@ -196,6 +209,119 @@ pub fn run(cfg: &Config) -> anyhow::Result<()> {
         emit(&(text + "\n"))?;
     }
     Ok(())
+}
+
+/// The whole file under one budget in world space (W §1, Fig. 1): see
+/// [`wildlod_simplify::simplify_scene`].
+fn simplify_whole_scene(
+    doc: &mut Document,
+    cfg: &Config,
+    stem: &str,
+    show: bool,
+) -> anyhow::Result<MeshRun> {
+    let options = Options {
+        target: Target {
+            ratio: cfg.ratio,
+            // The file keeps at least one triangle: `--ratio 0` means "as
+            // small as possible", not an empty file.
+            triangles: Some(cfg.faces.unwrap_or(MIN_TRIANGLES).max(MIN_TRIANGLES)),
+            error: cfg.error,
+        },
+        ..cfg.options.clone()
+    };
+    let progress = Progress::new(stem, show);
+    let t0 = Instant::now();
+    let (lod, report) = simplify_scene_with_progress(&doc.scene, &options, &|f| progress.set(f))
+        .with_context(|| format!("{}: simplifying the scene", cfg.input.display()))?;
+    progress.finish();
+    let seconds = t0.elapsed().as_secs_f64();
+    if show {
+        let names: Vec<String> = doc
+            .scene
+            .meshes
+            .iter()
+            .enumerate()
+            .map(|(m, mesh)| match mesh.name.as_str() {
+                "" => format!("mesh {m}"),
+                n => n.to_string(),
+            })
+            .collect();
+        emit(&(scene_summary(stem, &report, &names, seconds) + "\n"))?;
+    }
+    doc.scene = lod;
+    // One entry for the whole file: its budget and error are the file's.
+    Ok(MeshRun {
+        mesh: 0,
+        name: stem.to_string(),
+        report: whole_report(&report),
+        seconds,
+    })
+}
+
+/// The scene's run as one [`Report`]: the file's triangles, target and
+/// error (relative to the file's diagonal), the guards' refusals summed.
+fn whole_report(r: &SceneReport) -> Report {
+    let mut rejected = Rejections::default();
+    for g in &r.groups {
+        let j = &g.report.rejected;
+        rejected.normal_flip += j.normal_flip;
+        rejected.topology += j.topology;
+        rejected.locked_border += j.locked_border;
+        rejected.overshoot += j.overshoot;
+        rejected.error_limit += j.error_limit;
+    }
+    Report {
+        input_triangles: r.input_triangles,
+        target_triangles: r.target_triangles,
+        output_triangles: r.output_triangles,
+        error: r.error,
+        stop: r.stop(),
+        rejected,
+        split_polygons: r.groups.iter().map(|g| g.report.split_polygons).sum(),
+        collapses: r.groups.iter().map(|g| g.report.collapses).sum(),
+        ..Report::default()
+    }
+}
+
+/// The scene run's line: the file's triangles and achieved error (relative
+/// to the file's diagonal, and in its units), how the budget was shared,
+/// and the meshes that disappeared.
+pub fn scene_summary(name: &str, r: &SceneReport, names: &[String], seconds: f64) -> String {
+    let whole = whole_report(r);
+    let mut s = summary(name, &whole, seconds);
+    let shown = r.meshes.iter().filter(|m| m.input_triangles > 0).count();
+    s.push_str(&format!(
+        "; {shown} mesh{} under one budget, world error {:.3e}",
+        if shown == 1 { "" } else { "es" },
+        r.world_error
+    ));
+    if r.common_threshold {
+        s.push_str(&format!(
+            " ({} groups that cannot share a complex, budget shared at one world error)",
+            r.groups.len()
+        ));
+    }
+    let removed = r.removed();
+    if !removed.is_empty() {
+        const LISTED: usize = 8;
+        let mut list: Vec<&str> = removed
+            .iter()
+            .take(LISTED)
+            .filter_map(|&m| names.get(m as usize).map(String::as_str))
+            .collect();
+        let more = removed.len().saturating_sub(LISTED);
+        let tail = format!("and {more} more");
+        if more > 0 {
+            list.push(&tail);
+        }
+        s.push_str(&format!(
+            "; {} mesh{} removed (every triangle went): {}",
+            removed.len(),
+            if removed.len() == 1 { "" } else { "es" },
+            list.join(", ")
+        ));
+    }
+    s
 }
 
 pub(super) fn write(doc: &Document, cfg: &Config) -> anyhow::Result<()> {
