@@ -20,6 +20,8 @@ pub enum InputFormat {
     Ply,
     /// `in.stl`.
     Stl,
+    /// `in.off`.
+    Off,
     /// `in.gltf`, with the bytes after [`SIDECAR_MARKER`] as `in.bin`.
     Gltf,
     /// `in.glb`.
@@ -28,10 +30,11 @@ pub enum InputFormat {
 
 impl InputFormat {
     /// Every input format.
-    pub const ALL: [InputFormat; 5] = [
+    pub const ALL: [InputFormat; 6] = [
         InputFormat::Obj,
         InputFormat::Ply,
         InputFormat::Stl,
+        InputFormat::Off,
         InputFormat::Gltf,
         InputFormat::Glb,
     ];
@@ -42,6 +45,7 @@ impl InputFormat {
             InputFormat::Obj => "obj",
             InputFormat::Ply => "ply",
             InputFormat::Stl => "stl",
+            InputFormat::Off => "off",
             InputFormat::Gltf => "gltf",
             InputFormat::Glb => "glb",
         }
@@ -58,7 +62,7 @@ impl InputFormat {
 }
 
 /// Output formats a run may write, picked by the input's hash.
-const OUTPUTS: [&str; 5] = ["glb", "obj", "gltf", "ply", "stl"];
+const OUTPUTS: [&str; 6] = ["glb", "obj", "gltf", "ply", "stl", "off"];
 
 /// Runs the whole pipeline on one fuzz input and panics on any broken
 /// property. `data` is the main file, followed for OBJ and glTF by

@@ -187,10 +187,26 @@ fn handwritten(format: InputFormat) -> Vec<Vec<u8>> {
         ],
         InputFormat::Ply => vec![PLY_ASCII.as_bytes().to_vec(), ply_big_endian()],
         InputFormat::Stl => vec![STL_ASCII.as_bytes().to_vec()],
+        InputFormat::Off => vec![OFF_COLORED.as_bytes().to_vec()],
         InputFormat::Gltf => vec![GLTF_DATA_URI.as_bytes().to_vec()],
         InputFormat::Glb => vec![glb_of(GLTF_DATA_URI.as_bytes())],
     }
 }
+
+/// OFF as geometry data sets write it: comments, counts on the header
+/// line, integer vertex colors, a quad, a face color and a two-vertex face.
+const OFF_COLORED: &str = "# a hand-written COFF
+COFF 5 4 0
+0 0 0 255 0 0 255
+1 0 0 0 255 0 255
+1 1 0 0 0 255 255
+0 1 0 255 255 0 255
+0.5 0.5 1 1 1 1 1
+4 0 1 2 3
+3 0 1 4 0.5 0.5 0.5
+3 1 2 4
+2 3 4
+";
 
 const OBJ_MIXED: &str = "# quads, an n-gon, groups, materials, v/vt/vn
 mtllib m.mtl

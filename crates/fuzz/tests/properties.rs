@@ -94,6 +94,11 @@ fn stl_inputs_keep_the_pipeline_properties() {
 }
 
 #[test]
+fn off_inputs_keep_the_pipeline_properties() {
+    fuzz_format(InputFormat::Off);
+}
+
+#[test]
 fn gltf_inputs_keep_the_pipeline_properties() {
     fuzz_format(InputFormat::Gltf);
 }
