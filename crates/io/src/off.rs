@@ -503,8 +503,8 @@ pub(crate) fn write(scene: &Scene, path: &Path, files: &mut OutputFiles) -> Resu
         for (f, face) in m.faces.iter().enumerate() {
             let _ = write!(face_lines, "{}", face.len());
             let start = m.faces.offsets[f] as usize;
-            for c in start..start + face.len() {
-                let id = ids.get(&keys[c]).copied().unwrap_or_default();
+            for key in &keys[start..start + face.len()] {
+                let id = ids.get(key).copied().unwrap_or_default();
                 let _ = write!(face_lines, " {id}");
             }
             if color_mode == ColorMode::Face {
@@ -588,7 +588,7 @@ fn warn_dropped(scene: &Scene, files: &mut OutputFiles) {
             "OFF holds normals, one UV set and one color set; other streams and skin weights are dropped",
         );
     }
-    if scene.materials.len() > 0 || scene.meshes.iter().any(|m| m.parts.len() > 1) {
+    if !scene.materials.is_empty() || scene.meshes.iter().any(|m| m.parts.len() > 1) {
         files.warn("OFF holds no parts or materials; all faces are written as one mesh");
     }
     if !scene.animations.is_empty() || !scene.skins.is_empty() {
