@@ -184,9 +184,18 @@ pub fn build_chain<P: MeshProgress>(
                 // What the levels above used of the error budget is spent.
                 Levels::Errors(_) => {
                     let left = t.error.unwrap_or(0.0) - accumulated[m];
+                    // `left` is relative to the input mesh's diagonal; the
+                    // simplifier reads a limit against the current level's,
+                    // which optimal placement may have grown.
+                    let current_diag = local_diagonal(&current.meshes[m]);
+                    let scale = if current_diag > 0.0 {
+                        input_diag[m] / current_diag
+                    } else {
+                        1.0
+                    };
                     if left > 0.0 {
                         Target {
-                            error: Some(left),
+                            error: Some(left * scale),
                             ..Target::default()
                         }
                     } else {
