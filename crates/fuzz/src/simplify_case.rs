@@ -213,8 +213,15 @@ pub(crate) fn check_outcome(input: &Mesh, options: &Options, lod: &Mesh, report:
             report.target_triangles
         );
     }
+    // A ratio is of the surface's triangles: degenerate faces, exact
+    // repeats and repeated corners of a polygon are cleaned away before the
+    // target is taken, so it is never more than the input's.
     let target = options.target.triangles_for(report.input_triangles);
-    assert_eq!(report.target_triangles, target, "the report's target");
+    assert!(
+        report.target_triangles <= target,
+        "the report's target {} exceeds the input's {target}",
+        report.target_triangles
+    );
     assert!(
         report.error.is_finite() && report.error >= 0.0,
         "the report's error is {}",
