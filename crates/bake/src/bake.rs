@@ -220,7 +220,7 @@ pub fn bake_mesh(input: &BakeInput, options: &BakeOptions) -> Result<Baked, Bake
     let mut opts = options.simplify.clone();
     opts.record_history = true;
     if opts.vertex_joints.is_empty() {
-        opts.vertex_joints = vertex_joints(mesh);
+        opts.vertex_joints = wildlod_simplify::vertex_joints(mesh);
     }
     // Positions and faces steer the collapses, UVs do not (W: collapses
     // cross seams freely); skin influences are fitted through every
@@ -813,32 +813,6 @@ fn density_size(
     let side = (texels / area * out_area / 0.6).sqrt();
     let pow = side.max(1.0).log2().round().clamp(6.0, 31.0);
     (2f64.powf(pow) as u32).clamp(64, cap)
-}
-
-/// Joint influences per input vertex from the mesh's skinning (each
-/// vertex takes its first corner's entry), for Knodt's joint term; as
-/// `wildlod_simplify::simplify_mesh` does.
-fn vertex_joints(mesh: &Mesh) -> Vec<Vec<(u32, f32)>> {
-    let Some(s) = &mesh.skinning else {
-        return Vec::new();
-    };
-    let mut out: Vec<Vec<(u32, f32)>> = vec![Vec::new(); mesh.positions.len()];
-    let mut seen = vec![false; mesh.positions.len()];
-    for (corner, &v) in mesh.faces.indices.iter().enumerate() {
-        let (v, entry) = (v as usize, s.indices[corner]);
-        if seen[v] || entry == ABSENT {
-            continue;
-        }
-        seen[v] = true;
-        let (joints, weights) = s.entry(entry);
-        out[v] = joints
-            .iter()
-            .zip(weights)
-            .filter(|(_, &w)| w > 0.0)
-            .map(|(&j, &w)| (j as u32, w))
-            .collect();
-    }
-    out
 }
 
 #[cfg(test)]

@@ -52,7 +52,7 @@ pub use attributes::{
 pub use error::Error;
 pub use history::{CollapseRecord, History, RingFace, RingInput};
 pub use large_polygons::MAX_POLYGON_CORNERS;
-pub use mesh::{simplify_mesh, simplify_mesh_with_progress};
+pub use mesh::{simplify_mesh, simplify_mesh_with_progress, vertex_joints};
 pub use options::{
     AttributeOptions, Guards, Metric, NormalMode, Options, Partition, QuadMode, QuadSettings,
     Target,

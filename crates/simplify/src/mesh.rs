@@ -206,8 +206,10 @@ fn recompute_normals(
 }
 
 /// Joint influences per vertex from the mesh's skinning (each vertex takes
-/// the entry of its first corner); empty when the mesh is not skinned.
-fn vertex_joints(mesh: &Mesh) -> Vec<Vec<(u32, f32)>> {
+/// the entry of its first corner); empty when the mesh is not skinned. The
+/// input of Knodt's joint-difference term (Knodt 2024 Eq. 3,
+/// [`crate::Options::vertex_joints`]).
+pub fn vertex_joints(mesh: &Mesh) -> Vec<Vec<(u32, f32)>> {
     let Some(s) = &mesh.skinning else {
         return Vec::new();
     };
