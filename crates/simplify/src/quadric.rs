@@ -165,40 +165,28 @@ impl Quadric {
     /// well defined, without the bias of order ε that pulls a constrained
     /// vertex (a border corner, a point on a plane) off its constraint.
     pub fn pseudo_minimizer(&self, reference: DVec3, tolerance: f64) -> Option<DVec3> {
+        self.truncated_step(reference, tolerance).flatten()
+    }
+
+    /// `x` moved to the minimizer of E along the directions whose
+    /// eigenvalue is above `firm` times the largest, and left alone along
+    /// the others: `x + Σ v vᵀ(−b − A x) / λ` over the firm eigenpairs.
+    pub fn firm_step(&self, x: DVec3, firm: f64) -> Option<DVec3> {
+        self.truncated_step(x, firm)
+            .unwrap_or_else(|| x.is_finite().then_some(x))
+    }
+
+    /// The step of [`Self::pseudo_minimizer`] and [`Self::firm_step`]: `x`
+    /// plus the Newton step restricted to the eigenpairs above `relative`
+    /// times the largest eigenvalue. Outer `None` when A is zero or not
+    /// finite; inner `None` when the result is not finite.
+    fn truncated_step(&self, x: DVec3, relative: f64) -> Option<Option<DVec3>> {
         let (values, vectors) = symmetric_eigen(self.a);
         let largest = values.iter().fold(0.0f64, |m, v| m.max(v.abs()));
         if !(largest > 0.0 && largest.is_finite()) {
             return None;
         }
-        // Gradient residual at the reference: −(A r + b).
-        let a = &self.a;
-        let r = reference;
-        let ar = DVec3::new(
-            a[0] * r.x + a[1] * r.y + a[2] * r.z,
-            a[1] * r.x + a[3] * r.y + a[4] * r.z,
-            a[2] * r.x + a[4] * r.y + a[5] * r.z,
-        );
-        let g = -(ar + self.b);
-        let mut x = reference;
-        for (l, v) in values.iter().zip(vectors) {
-            if *l > tolerance * largest {
-                x += v * (v.dot(g) / l);
-            }
-        }
-        x.is_finite().then_some(x)
-    }
-}
-
-impl Quadric {
-    /// `x` moved to the minimizer of E along the directions whose
-    /// eigenvalue is above `firm` times the largest, and left alone along
-    /// the others: `x + Σ v vᵀ(−b − A x) / λ` over the firm eigenpairs.
-    pub fn firm_step(&self, x: DVec3, firm: f64) -> Option<DVec3> {
-        let (values, vectors) = symmetric_eigen(self.a);
-        let largest = values.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-        if !(largest > 0.0 && largest.is_finite()) {
-            return x.is_finite().then_some(x);
-        }
+        // Gradient residual at x: −(A x + b).
         let a = &self.a;
         let ax = DVec3::new(
             a[0] * x.x + a[1] * x.y + a[2] * x.z,
@@ -208,11 +196,11 @@ impl Quadric {
         let g = -(ax + self.b);
         let mut y = x;
         for (l, v) in values.iter().zip(vectors) {
-            if *l > firm * largest {
+            if *l > relative * largest {
                 y += v * (v.dot(g) / l);
             }
         }
-        y.is_finite().then_some(y)
+        Some(y.is_finite().then_some(y))
     }
 }
 
