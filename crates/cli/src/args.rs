@@ -216,6 +216,13 @@ pub struct TuningArgs {
     /// about ten seconds).
     #[arg(long, value_name = "L", default_value_t = 0.0)]
     pub symmetry: f64,
+    /// Rank collapses as if they covered at least this many mean input
+    /// faces: features far smaller than a face (hair-thin spurs, tiny
+    /// parts) are then ranked by distance rather than by their area, and
+    /// are kept longer. 1 is the value to try; off by default, because on
+    /// the corpus it costs textured meshes more than it gains elsewhere.
+    #[arg(long, value_name = "K", default_value_t = wildlod_simplify::Metric::default().area_floor)]
+    pub area_floor: f64,
     /// Classic quadric error simplification (Garland & Heckbert 1997):
     /// no virtual edges, no area term. For comparisons.
     #[arg(long)]

@@ -55,6 +55,9 @@ pub struct Tuning {
     pub tangent_weight: f64,
     /// Soft symmetry λ_sym (Knodt 2024 §3.1); 0 is off.
     pub symmetry: f64,
+    /// Rank collapses as if they covered at least this many mean input
+    /// faces (`Metric::area_floor`); 0 is off.
+    pub area_floor: f64,
     /// Classic quadric error simplification (Garland & Heckbert 1997).
     pub classic: bool,
     /// How much UVs steer the collapses.
@@ -87,6 +90,7 @@ impl Default for Tuning {
             quad_epsilon: QuadSettings::default().epsilon,
             tangent_weight: 0.0,
             symmetry: 0.0,
+            area_floor: options.metric.area_floor,
             classic: false,
             uv_weight: attributes.tex_coord_weight,
             normal_weight: attributes.normal_weight,
@@ -110,6 +114,7 @@ impl Tuning {
             ("quad_epsilon", self.quad_epsilon),
             ("tangent_weight", self.tangent_weight),
             ("symmetry", self.symmetry),
+            ("area_floor", self.area_floor),
             ("uv_weight", self.uv_weight),
             ("normal_weight", self.normal_weight),
             ("color_weight", self.color_weight),
@@ -149,6 +154,7 @@ impl Tuning {
         options.metric.tangent_weight = tangent;
         options.quad.tangent_weight = tangent;
         options.quad.symmetry = self.symmetry;
+        options.metric.area_floor = self.area_floor;
         options.attributes = AttributeOptions {
             tex_coord_weight: self.uv_weight,
             normal_weight: self.normal_weight,
@@ -196,6 +202,36 @@ mod tests {
             bad.options(),
             Err(Error::Setting {
                 name: "max_normal_turn",
+                ..
+            })
+        ));
+    }
+
+    #[test]
+    fn area_floor_reaches_the_metric_and_is_range_checked() {
+        let o = Tuning {
+            area_floor: 1.5,
+            ..Tuning::default()
+        }
+        .options()
+        .expect("valid");
+        assert_eq!(o.metric.area_floor, 1.5);
+        assert_eq!(
+            Tuning::default()
+                .options()
+                .expect("valid")
+                .metric
+                .area_floor,
+            0.0
+        );
+        let bad = Tuning {
+            area_floor: f64::NAN,
+            ..Tuning::default()
+        };
+        assert!(matches!(
+            bad.options(),
+            Err(Error::Setting {
+                name: "area_floor",
                 ..
             })
         ));

@@ -8,7 +8,7 @@ use wildlod_pipeline::{NormalSetting, SeamSetting, Tuning};
 
 /// The names `**options` accepts: the fields of [`Tuning`], and
 /// `normal_mode` for `normals` (in `simplify`, `normals` is the stream).
-pub const OPTION_NAMES: [&str; 17] = [
+pub const OPTION_NAMES: [&str; 18] = [
     "virtual_radius",
     "keep_topology",
     "lock_borders",
@@ -17,6 +17,7 @@ pub const OPTION_NAMES: [&str; 17] = [
     "quad_epsilon",
     "tangent_weight",
     "symmetry",
+    "area_floor",
     "classic",
     "uv_weight",
     "normal_weight",
@@ -88,6 +89,7 @@ pub fn tuning(py: Python<'_>, options: Option<&Bound<'_, PyDict>>) -> PyResult<T
             "quad_epsilon" => t.quad_epsilon = value.extract()?,
             "tangent_weight" => t.tangent_weight = value.extract()?,
             "symmetry" => t.symmetry = value.extract()?,
+            "area_floor" => t.area_floor = value.extract()?,
             "classic" => t.classic = value.extract()?,
             "uv_weight" => t.uv_weight = value.extract()?,
             "normal_weight" => t.normal_weight = value.extract()?,

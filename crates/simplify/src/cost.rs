@@ -273,11 +273,28 @@ pub(crate) fn distance(q: &[Quadric], i: u32, j: u32, x: DVec3) -> f64 {
     (m.eval(x).max(0.0) / m.weight.max(f64::MIN_POSITIVE)).sqrt()
 }
 
+/// `cost` of a collapse whose endpoints carry `weight` of area, ranked as
+/// if they carried at least `floor` (see [`Metric::area_floor`]): the mean
+/// squared distance `cost / weight` times the floor when the weight is
+/// below it. A weightless collapse (tangent or attribute terms alone) is
+/// left as it is.
+#[inline]
+pub(crate) fn floored(cost: f64, weight: f64, floor: f64) -> f64 {
+    if weight > 0.0 && weight < floor {
+        cost * (floor / weight)
+    } else {
+        cost
+    }
+}
+
 /// Evaluation settings derived from the options.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct CostModel {
     pub metric: Metric,
     pub lock_borders: bool,
+    /// [`Metric::area_floor`] in the complex's area units (times the mean
+    /// face area of the whole input, so chunks rank alike).
+    pub area_floor: f64,
 }
 
 /// Reusable buffers of one evaluating thread.
@@ -388,6 +405,11 @@ impl CostModel {
         } else {
             cost
         };
+        let cost = floored(
+            cost,
+            q[i as usize].weight + q[j as usize].weight,
+            self.area_floor,
+        );
         if !cost.is_finite() {
             return None;
         }
@@ -398,6 +420,18 @@ impl CostModel {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn area_floor_ranks_small_collapses_by_mean_squared_distance() {
+        // Cost 2e-6 on weight 0.5 (mean squared distance 4e-6) under a
+        // floor of 2: ranked as if the weight were 2, so 8e-6.
+        assert_eq!(floored(2e-6, 0.5, 2.0), 8e-6);
+        // At or above the floor, and for weightless terms, unchanged.
+        assert_eq!(floored(2e-6, 2.0, 2.0), 2e-6);
+        assert_eq!(floored(2e-6, 3.0, 2.0), 2e-6);
+        assert_eq!(floored(2e-6, 0.0, 2.0), 2e-6);
+        assert_eq!(floored(2e-6, 0.5, 0.0), 2e-6);
+    }
 
     #[test]
     fn newell_normal_of_unit_square_has_area_two() {
@@ -472,10 +506,12 @@ mod tests {
         let metric = Metric::default();
         let q = vertex_quadrics(&c, &metric, &[], EdgeImportance::default());
         let with = CostModel {
+            area_floor: 0.0,
             metric,
             lock_borders: false,
         };
         let without = CostModel {
+            area_floor: 0.0,
             metric: Metric {
                 boundary_area: false,
                 ..metric
@@ -501,6 +537,7 @@ mod tests {
         };
         let q = vertex_quadrics(&c, &metric, &[], EdgeImportance::default());
         let m = CostModel {
+            area_floor: 0.0,
             metric,
             lock_borders: false,
         };
@@ -508,6 +545,7 @@ mod tests {
         let e = c.edge_between(0, 2).unwrap();
         let ev = m.evaluate(&c, &q, &[], &[], &[], None, e, &mut s).unwrap();
         let plain = CostModel {
+            area_floor: 0.0,
             metric: Metric {
                 boundary_area: false,
                 ..metric
@@ -540,12 +578,14 @@ mod tests {
         assert!((carried - 0.0625).abs() < 1e-15);
         let e = c.edge_between(1, 2).unwrap();
         let plain = CostModel {
+            area_floor: 0.0,
             metric: base,
             lock_borders: false,
         }
         .evaluate(&c, &q, &[], &[], &[], None, e, &mut Scratch::default())
         .unwrap();
         let eq5 = CostModel {
+            area_floor: 0.0,
             metric: Metric {
                 introduced_error: true,
                 ..base
@@ -588,6 +628,7 @@ mod tests {
         };
         let q = vertex_quadrics(&c, &metric, &[], EdgeImportance::default());
         let m = CostModel {
+            area_floor: 0.0,
             metric,
             lock_borders: false,
         };
@@ -601,6 +642,7 @@ mod tests {
         assert!((ev.cost - 2.0 / 3.0).abs() < 1e-9, "{}", ev.cost);
         // Without the term the collapse is free.
         let free = CostModel {
+            area_floor: 0.0,
             metric: Metric {
                 gluing_weight: 0.0,
                 ..metric
@@ -620,6 +662,7 @@ mod tests {
         let c = hinge();
         let q = vertex_quadrics(&c, &Metric::default(), &[], EdgeImportance::default());
         let m = CostModel {
+            area_floor: 0.0,
             metric: Metric::default(),
             lock_borders: true,
         };

@@ -631,7 +631,10 @@ mod tests {
     fn closed_form_eigenvalues_of_a_rotated_diagonal_matrix() {
         // The same A = R diag(3, 2, 0) Rᵀ, and a diagonal one out of order.
         let l = symmetric_eigenvalues([2.5, 0.5, 0.0, 2.5, 0.0, 0.0]);
-        assert!(close(l[0], 3.0) && close(l[1], 2.0) && l[2].abs() < 1e-15, "{l:?}");
+        assert!(
+            close(l[0], 3.0) && close(l[1], 2.0) && l[2].abs() < 1e-15,
+            "{l:?}"
+        );
         assert_eq!(
             symmetric_eigenvalues([1.0, 0.0, 0.0, 5.0, 0.0, -2.0]),
             [5.0, 1.0, -2.0]

@@ -212,9 +212,12 @@ impl<'o> Run<'o> {
                 *q += plane;
             }
         }
+        let faces = p.complex.faces.iter().filter(|f| f.len > 0).count();
+        let area: f64 = quadrics.iter().map(|q| q.weight).sum();
         let model = CostModel {
             metric,
             lock_borders: options.guards.lock_borders,
+            area_floor: metric.area_floor.max(0.0) * area / faces.max(1) as f64,
         };
         // A ratio is of the triangles that are surface: degenerate faces and
         // exact repeats are cleaned away first (as Blender validates a mesh

@@ -346,3 +346,29 @@ fn thin_spur_on_a_sheet_survives_at_half() {
     // And the whole stays one piece.
     assert_eq!(common::topo(&out).components, 1);
 }
+
+/// A spur much thinner than the sheet's faces (radius 5e-4 of a unit
+/// sheet whose faces are 1/60 wide): its tip has almost no area, so with
+/// area-weighted ranking alone shortening it costs next to nothing and at
+/// 20% it loses 70% of its height. The area floor ranks it by distance.
+#[test]
+fn hair_thin_spur_keeps_its_height_under_the_area_floor() {
+    let (r, h) = (0.0005f32, 0.1f32);
+    let mesh = sheet_with_spur(60, r, h);
+    let want = mesh.positions.iter().map(|p| p[2]).fold(f32::MIN, f32::max);
+    let lost = |floor: f64| {
+        let mut o = ratio(0.2);
+        o.metric.area_floor = floor;
+        let (out, report) = simplify_mesh(&mesh, &o).unwrap();
+        assert!(report.output_triangles <= report.target_triangles);
+        want - out.positions.iter().map(|p| p[2]).fold(f32::MIN, f32::max)
+    };
+    let with = lost(1.0);
+    assert!(with <= 0.02 * h, "lost {with} of {h} with the floor");
+    // Without it the spur retracts: the floor is what keeps it.
+    let without = lost(0.0);
+    assert!(
+        without >= 0.3 * h,
+        "lost only {without} of {h} without the floor"
+    );
+}

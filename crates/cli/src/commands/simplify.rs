@@ -147,6 +147,7 @@ pub(crate) fn tuning(t: &TuningArgs) -> Tuning {
         quad_epsilon: t.quad_epsilon,
         tangent_weight: t.tangent_weight,
         symmetry: t.symmetry,
+        area_floor: t.area_floor,
         classic: t.classic,
         uv_weight: t.uv_weight,
         normal_weight: t.normal_weight,
