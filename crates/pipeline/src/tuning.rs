@@ -58,6 +58,9 @@ pub struct Tuning {
     /// Rank collapses as if they covered at least this many mean input
     /// faces (`Metric::area_floor`); 0 is off.
     pub area_floor: f64,
+    /// Added to the cost of collapses that pinch or fold the surface
+    /// (`Metric::pinch_cost`); 0 is off.
+    pub pinch_cost: f64,
     /// Classic quadric error simplification (Garland & Heckbert 1997).
     pub classic: bool,
     /// How much UVs steer the collapses.
@@ -91,6 +94,7 @@ impl Default for Tuning {
             tangent_weight: 0.0,
             symmetry: 0.0,
             area_floor: options.metric.area_floor,
+            pinch_cost: options.metric.pinch_cost,
             classic: false,
             uv_weight: attributes.tex_coord_weight,
             normal_weight: attributes.normal_weight,
@@ -115,6 +119,7 @@ impl Tuning {
             ("tangent_weight", self.tangent_weight),
             ("symmetry", self.symmetry),
             ("area_floor", self.area_floor),
+            ("pinch_cost", self.pinch_cost),
             ("uv_weight", self.uv_weight),
             ("normal_weight", self.normal_weight),
             ("color_weight", self.color_weight),
@@ -155,6 +160,7 @@ impl Tuning {
         options.quad.tangent_weight = tangent;
         options.quad.symmetry = self.symmetry;
         options.metric.area_floor = self.area_floor;
+        options.metric.pinch_cost = self.pinch_cost;
         options.attributes = AttributeOptions {
             tex_coord_weight: self.uv_weight,
             normal_weight: self.normal_weight,
@@ -216,6 +222,13 @@ mod tests {
         .options()
         .expect("valid");
         assert_eq!(o.metric.area_floor, 1.5);
+        let o = Tuning {
+            pinch_cost: 2.0,
+            ..Tuning::default()
+        }
+        .options()
+        .expect("valid");
+        assert_eq!(o.metric.pinch_cost, 2.0);
         assert_eq!(
             Tuning::default()
                 .options()

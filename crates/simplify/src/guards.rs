@@ -94,27 +94,7 @@ pub(crate) fn keeps_topology(c: &Complex, i: u32, j: u32, scratch: &mut Vec<u32>
         }
     }
     // Sides of faces of i (not holding j) and of j (not holding i).
-    let sides = |v: u32, other: u32| -> Vec<(u32, u32)> {
-        let mut out = Vec::new();
-        for &f in &c.vert_faces[v as usize] {
-            let face = c.face(f);
-            if face.contains(&other) {
-                continue;
-            }
-            let n = face.len();
-            for k in 0..n {
-                let (a, b) = (face[k], face[(k + 1) % n]);
-                if a != v && b != v {
-                    out.push((a.min(b), a.max(b)));
-                }
-            }
-        }
-        out.sort_unstable();
-        out
-    };
-    let si = sides(i, j);
-    let sj = sides(j, i);
-    if sj.iter().any(|s| si.binary_search(s).is_ok()) {
+    if shares_a_far_side(c, i, j) {
         return false;
     }
     scratch.clear();
@@ -138,6 +118,85 @@ pub(crate) fn keeps_topology(c: &Complex, i: u32, j: u32, scratch: &mut Vec<u32>
         }
     }
     true
+}
+
+/// The sides of `v`'s faces that do not hold `other` and do not touch `v`
+/// (for a triangle fan, the rim of `v`'s star), as sorted vertex pairs.
+fn far_sides(c: &Complex, v: u32, other: u32) -> Vec<(u32, u32)> {
+    let mut out = Vec::new();
+    for &f in &c.vert_faces[v as usize] {
+        let face = c.face(f);
+        if face.contains(&other) {
+            continue;
+        }
+        let n = face.len();
+        for k in 0..n {
+            let (a, b) = (face[k], face[(k + 1) % n]);
+            if a != v && b != v {
+                out.push((a.min(b), a.max(b)));
+            }
+        }
+    }
+    out.sort_unstable();
+    out
+}
+
+/// The second rule of the link condition: a side far from both `i` and
+/// `j` belongs to faces of each, so the collapse folds two faces onto one
+/// another (the tetrahedron, a tube's closed end).
+fn shares_a_far_side(c: &Complex, i: u32, j: u32) -> bool {
+    let si = far_sides(c, i, j);
+    far_sides(c, j, i)
+        .iter()
+        .any(|s| si.binary_search(s).is_ok())
+}
+
+/// Whether collapsing the face side `i`–`j` pinches or folds the surface,
+/// by the first two rules of the link condition (see [`keeps_topology`])
+/// restricted to face sides, so that virtual edges, which merge parts,
+/// never count: some vertex `k` is a face-side neighbour of both without a
+/// triangle (i, j, k) (a thin tube's ring, a strip's width), or a side far
+/// from both belongs to faces of each (a tube's closed end folding flat).
+/// Repeated, such collapses flatten a thin part into edges no face uses,
+/// which the output cannot show. False when `i`–`j` is no face's side.
+pub(crate) fn pinches(c: &Complex, i: u32, j: u32) -> bool {
+    let mut ni: smallvec::SmallVec<[u32; 16]> = smallvec::SmallVec::new();
+    let mut side = false;
+    for &f in &c.vert_faces[i as usize] {
+        let face = c.face(f);
+        let n = face.len();
+        if let Some(k) = face.iter().position(|&v| v == i) {
+            for w in [face[(k + 1) % n], face[(k + n - 1) % n]] {
+                side |= w == j;
+                if w != j && !ni.contains(&w) {
+                    ni.push(w);
+                }
+            }
+        }
+    }
+    if !side {
+        return false;
+    }
+    for &f in &c.vert_faces[j as usize] {
+        let face = c.face(f);
+        let n = face.len();
+        let Some(k) = face.iter().position(|&v| v == j) else {
+            continue;
+        };
+        for w in [face[(k + 1) % n], face[(k + n - 1) % n]] {
+            if w == i || !ni.contains(&w) {
+                continue;
+            }
+            let closed = c.vert_faces[i as usize].iter().any(|&g| {
+                let face = c.face(g);
+                face.len() == 3 && face.contains(&j) && face.contains(&w)
+            });
+            if !closed {
+                return true;
+            }
+        }
+    }
+    shares_a_far_side(c, i, j)
 }
 
 /// Exactly how many triangles collapsing `i`–`j` removes, without making
@@ -236,7 +295,42 @@ mod tests {
     }
 
     #[test]
-    fn octahedron_edges_pass_the_link_condition() {
+    fn a_triangular_tube_pinches_and_a_closed_surface_does_not() {
+        // An open tube of triangular cross-section: rings (0,1,2) and
+        // (3,4,5), each side a quad split in two. Collapsing a ring edge
+        // pinches (the third ring vertex is a neighbour of both with no
+        // triangle); an edge along the tube does not.
+        let pos = vec![
+            DVec3::new(1.0, 0.0, 0.0),
+            DVec3::new(-0.5, 0.87, 0.0),
+            DVec3::new(-0.5, -0.87, 0.0),
+            DVec3::new(1.0, 0.0, 1.0),
+            DVec3::new(-0.5, 0.87, 1.0),
+            DVec3::new(-0.5, -0.87, 1.0),
+        ];
+        let mut idx = Vec::new();
+        for a in 0..3u32 {
+            let b = (a + 1) % 3;
+            idx.extend([a, b, b + 3, a, b + 3, a + 3]);
+        }
+        let offsets: Vec<u32> = (0..=6).map(|k| 3 * k).collect();
+        let c = Complex::new(pos, &offsets, &idx).0;
+        assert!(pinches(&c, 0, 1));
+        assert!(!pinches(&c, 0, 3));
+        // Not a face side: nothing to pinch.
+        assert!(!pinches(&c, 0, 4));
+        // A closed end folds: the tetrahedron's edges all fold it flat;
+        // the octahedron's edges neither pinch nor fold.
+        let t = tetra();
+        assert!(pinches(&t, 0, 1));
+        let o = octahedron();
+        for e in 0..o.edges.len() {
+            let [i, j] = o.edges[e].ends;
+            assert!(!pinches(&o, i, j), "{i}-{j}");
+        }
+    }
+
+    fn octahedron() -> Complex {
         let pos = vec![
             DVec3::X,
             -DVec3::X,
@@ -257,7 +351,12 @@ mod tests {
         ];
         let idx: Vec<u32> = tris.iter().flatten().copied().collect();
         let off: Vec<u32> = (0..=8).map(|k| 3 * k).collect();
-        let (c, _) = Complex::new(pos, &off, &idx);
+        Complex::new(pos, &off, &idx).0
+    }
+
+    #[test]
+    fn octahedron_edges_pass_the_link_condition() {
+        let c = octahedron();
         let mut s = Vec::new();
         for e in 0..c.edges.len() {
             let [i, j] = c.edges[e].ends;

@@ -119,6 +119,17 @@ pub struct Metric {
     /// (1.66 → 1.89×) and re-baking `bob` at 10% loses 7% of its texture
     /// fidelity; appearance comes first.
     pub area_floor: f64,
+    /// Added to the cost of a collapse that pinches the surface (see
+    /// `guards::pinches`): the first step by which a thin part (a tube, a
+    /// strip, a scanned hair) flattens into edges no face uses, which the
+    /// output cannot show, so the part vanishes at far more than the cost
+    /// its planes report. In cost units of the unit-diagonal mesh (area
+    /// times squared distance): 1 ranks pinches after every ordinary
+    /// collapse, as the link condition of Blender and meshoptimizer would,
+    /// while still letting them happen, cheapest first, when nothing else
+    /// is left. Virtual edges never pinch: W's merging of parts stays.
+    /// 0 disables it.
+    pub pinch_cost: f64,
 }
 
 impl Default for Metric {
@@ -132,6 +143,7 @@ impl Default for Metric {
             introduced_error: false,
             regularization: 1e-4,
             area_floor: 0.0,
+            pinch_cost: 0.0,
         }
     }
 }

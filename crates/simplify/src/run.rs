@@ -9,7 +9,7 @@ use crate::attributes::{AttrScratch, AttributeInput, AttributeState};
 use crate::cost::{
     distance, face_plane, vertex_quadric_parts, CostModel, EdgeImportance, Evaluation, Scratch,
 };
-use crate::guards::{flips_a_face, keeps_topology, removed_triangles};
+use crate::guards::{flips_a_face, keeps_topology, pinches, removed_triangles};
 use crate::heap::{CollapseQueue, Entry};
 use crate::history::HistoryRecorder;
 use crate::options::Metric;
@@ -467,7 +467,30 @@ impl<'o> Run<'o> {
                     break;
                 }
             };
-            self.last_cost = cost;
+            // A pinching collapse (see `Metric::pinch_cost`) goes back
+            // with its penalty the first time it reaches the top: checked
+            // here, once per pop, not at every evaluation.
+            let pinch = self.model.metric.pinch_cost;
+            if pinch > 0.0 && cost < pinch {
+                let [a, b] = self.p.complex.edges[e as usize].ends;
+                if pinches(&self.p.complex, a, b) {
+                    let edge = &mut self.p.complex.edges[e as usize];
+                    edge.queued = true;
+                    self.queue.push(Entry {
+                        cost: cost + pinch,
+                        edge: e,
+                        gen: edge.gen,
+                    });
+                    continue;
+                }
+            }
+            // Neighbours of this collapse are put back under this key to
+            // be evaluated soon: without the penalty of a pinch.
+            self.last_cost = if pinch > 0.0 && cost >= pinch {
+                cost - pinch
+            } else {
+                cost
+            };
             // The entry is current, so evaluating again gives its cost back,
             // now with the position (cheaper than storing one per edge),
             // unless it was just evaluated on its way to the top.

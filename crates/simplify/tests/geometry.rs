@@ -372,3 +372,45 @@ fn hair_thin_spur_keeps_its_height_under_the_area_floor() {
         "lost only {without} of {h} without the floor"
     );
 }
+
+/// The same spur at a tenth: by then collapsing across it is cheaper than
+/// anything left on the sheet, and without the pinch cost it flattens
+/// into faceless edges (70% of its height gone, whatever the floor); with
+/// it, it stays a tube.
+#[test]
+fn hair_thin_spur_survives_a_tenth_under_the_pinch_cost() {
+    let (r, h) = (0.0005f32, 0.1f32);
+    let mesh = sheet_with_spur(60, r, h);
+    let want = mesh.positions.iter().map(|p| p[2]).fold(f32::MIN, f32::max);
+    let lost = |pinch: f64| {
+        let mut o = ratio(0.1);
+        o.metric.pinch_cost = pinch;
+        let (out, report) = simplify_mesh(&mesh, &o).unwrap();
+        assert!(report.output_triangles.abs_diff(report.target_triangles) <= 1);
+        want - out.positions.iter().map(|p| p[2]).fold(f32::MIN, f32::max)
+    };
+    let with = lost(1.0);
+    assert!(with <= 0.02 * h, "lost {with} of {h} with the pinch cost");
+    let without = lost(0.0);
+    assert!(without >= 0.3 * h, "lost only {without} of {h} without it");
+}
+
+/// Pinching is ranked last, not forbidden: 300 small closed boxes (12
+/// triangles each, none near another, so no virtual edge merges them)
+/// still reach 1%, which only removing whole boxes can do.
+#[test]
+fn pinch_cost_still_reaches_the_target_on_many_closed_parts() {
+    let mut parts = Vec::new();
+    for k in 0..300 {
+        let (x, y) = ((k % 20) as f32, (k / 20) as f32);
+        let s = 0.2 + 0.002 * k as f32;
+        parts.push(shapes::cuboid([x, y, 0.0], [x + s, y + s, s]));
+    }
+    let mesh = shapes::merge(&parts);
+    let mut o = ratio(0.01);
+    o.metric.pinch_cost = 1.0;
+    let (out, report) = simplify_mesh(&mesh, &o).unwrap();
+    assert_eq!(report.target_triangles, 36);
+    assert!(report.output_triangles <= 36, "{}", report.output_triangles);
+    assert!(!out.faces.is_empty());
+}

@@ -148,6 +148,7 @@ pub(crate) fn tuning(t: &TuningArgs) -> Tuning {
         tangent_weight: t.tangent_weight,
         symmetry: t.symmetry,
         area_floor: t.area_floor,
+        pinch_cost: t.pinch_cost,
         classic: t.classic,
         uv_weight: t.uv_weight,
         normal_weight: t.normal_weight,
