@@ -151,14 +151,42 @@ fn shares_a_far_side(c: &Complex, i: u32, j: u32) -> bool {
         .any(|s| si.binary_search(s).is_ok())
 }
 
-/// Whether collapsing the face side `i`–`j` pinches or folds the surface,
-/// by the first two rules of the link condition (see [`keeps_topology`])
+/// The far sides `i` and `j` share (see [`shares_a_far_side`]).
+fn shared_far_sides(c: &Complex, i: u32, j: u32) -> Vec<(u32, u32)> {
+    let si = far_sides(c, i, j);
+    let mut out = far_sides(c, j, i);
+    out.retain(|s| si.binary_search(s).is_ok());
+    out
+}
+
+/// Whether face `f` faces away from `center`: its normal points from the
+/// center to the face, so the surface there wraps around material that
+/// contains `center` (a solid strand), not around air (a hole's wall).
+fn faces_away(c: &Complex, f: u32, center: DVec3) -> bool {
+    let p: smallvec::SmallVec<[DVec3; 8]> = c.face(f).iter().map(|&v| c.pos[v as usize]).collect();
+    let centroid = p.iter().copied().sum::<DVec3>() / p.len().max(1) as f64;
+    polygon_normal(&p).dot(centroid - center) > 0.0
+}
+
+/// A face of `v`'s star holding every vertex in `with`.
+fn face_with(c: &Complex, v: u32, with: &[u32]) -> Option<u32> {
+    c.vert_faces[v as usize]
+        .iter()
+        .copied()
+        .find(|&f| with.iter().all(|w| c.face(f).contains(w)))
+}
+
+/// Whether collapsing the face side `i`–`j` flattens material, by the
+/// first two rules of the link condition (see [`keeps_topology`])
 /// restricted to face sides, so that virtual edges, which merge parts,
 /// never count: some vertex `k` is a face-side neighbour of both without a
 /// triangle (i, j, k) (a thin tube's ring, a strip's width), or a side far
-/// from both belongs to faces of each (a tube's closed end folding flat).
-/// Repeated, such collapses flatten a thin part into edges no face uses,
-/// which the output cannot show. False when `i`–`j` is no face's side.
+/// from both belongs to faces of each (a tube's closed end folding flat);
+/// and the surface there faces away from the ring or cap, so it wraps
+/// material (a solid strand) rather than air (a hole through a plate,
+/// whose closing is W's ordinary simplification). Repeated, such collapses
+/// flatten a thin part into edges no face uses, which the output cannot
+/// show. False when `i`–`j` is no face's side.
 pub(crate) fn pinches(c: &Complex, i: u32, j: u32) -> bool {
     let mut ni: smallvec::SmallVec<[u32; 16]> = smallvec::SmallVec::new();
     let mut side = false;
@@ -177,6 +205,7 @@ pub(crate) fn pinches(c: &Complex, i: u32, j: u32) -> bool {
     if !side {
         return false;
     }
+    let (pi, pj) = (c.pos[i as usize], c.pos[j as usize]);
     for &f in &c.vert_faces[j as usize] {
         let face = c.face(f);
         let n = face.len();
@@ -191,12 +220,57 @@ pub(crate) fn pinches(c: &Complex, i: u32, j: u32) -> bool {
                 let face = c.face(g);
                 face.len() == 3 && face.contains(&j) && face.contains(&w)
             });
-            if !closed {
+            if closed {
+                continue;
+            }
+            let ring = (pi + pj + c.pos[w as usize]) / 3.0;
+            if face_with(c, i, &[j]).is_some_and(|g| faces_away(c, g, ring)) {
                 return true;
             }
         }
     }
-    shares_a_far_side(c, i, j)
+    for (a, b) in shared_far_sides(c, i, j) {
+        let cap = (pi + pj + c.pos[a as usize] + c.pos[b as usize]) / 4.0;
+        if face_with(c, i, &[a, b]).is_some_and(|g| faces_away(c, g, cap)) {
+            return true;
+        }
+    }
+    false
+}
+
+/// The fewest triangles a closed part can keep its topology with (a
+/// tetrahedron).
+const CLOSED_MINIMUM: f64 = 4.0;
+
+/// Vertices of parts too small to keep their topology at the target:
+/// connected parts whose share of `target` triangles, by area (`area` per
+/// vertex), is below what the smallest closed surface needs. Their pinches
+/// are W's ordinary topology changes, not the loss of a thin feature: at
+/// the target they could not stay closed surfaces anyway, and letting them
+/// pinch lets them vanish before larger parts lose detail.
+pub(crate) fn pinch_free_parts(c: &Complex, area: &[f64], target: usize) -> Vec<bool> {
+    let n = c.pos.len();
+    let mut sets = wildlod_mesh::disjoint_sets::DisjointSets::new(n);
+    for f in 0..c.faces.len() as u32 {
+        let face = c.face(f);
+        for w in face.windows(2) {
+            sets.union(w[0], w[1]);
+        }
+    }
+    let (label, parts) = sets.labels();
+    let mut part_area = vec![0.0f64; parts];
+    for (v, &l) in label.iter().enumerate() {
+        part_area[l as usize] += area.get(v).copied().unwrap_or(0.0);
+    }
+    let total: f64 = part_area.iter().sum();
+    if !(total > 0.0) {
+        return vec![false; n];
+    }
+    let budget = target.max(1) as f64;
+    label
+        .iter()
+        .map(|&l| budget * part_area[l as usize] / total < CLOSED_MINIMUM)
+        .collect()
 }
 
 /// Exactly how many triangles collapsing `i`–`j` removes, without making
@@ -295,6 +369,28 @@ mod tests {
     }
 
     #[test]
+    fn parts_too_small_for_a_closed_shape_at_the_target_may_pinch() {
+        // Two tetrahedra, one with 99 times the other's area (per-vertex
+        // areas given directly). At 100 triangles the small one's share is
+        // 1 triangle, below a tetrahedron's 4: free; the large one's 99 is
+        // not. At 1000 triangles the small one's 10 is enough to keep.
+        let t = tetra();
+        let mut pos = t.pos.clone();
+        pos.extend(t.pos.iter().map(|p| *p + DVec3::splat(5.0)));
+        let idx: Vec<u32> = [0, 2, 1, 0, 1, 3, 0, 3, 2, 1, 2, 3]
+            .iter()
+            .chain([4, 6, 5, 4, 5, 7, 4, 7, 6, 5, 6, 7].iter())
+            .copied()
+            .collect();
+        let off: Vec<u32> = (0..=8).map(|k| 3 * k).collect();
+        let c = Complex::new(pos, &off, &idx).0;
+        let area = [24.75, 24.75, 24.75, 24.75, 0.25, 0.25, 0.25, 0.25];
+        let free = pinch_free_parts(&c, &area, 100);
+        assert_eq!(free, [false, false, false, false, true, true, true, true]);
+        assert!(pinch_free_parts(&c, &area, 1000).iter().all(|&f| !f));
+    }
+
+    #[test]
     fn a_triangular_tube_pinches_and_a_closed_surface_does_not() {
         // An open tube of triangular cross-section: rings (0,1,2) and
         // (3,4,5), each side a quad split in two. Collapsing a ring edge
@@ -317,6 +413,11 @@ mod tests {
         let c = Complex::new(pos, &offsets, &idx).0;
         assert!(pinches(&c, 0, 1));
         assert!(!pinches(&c, 0, 3));
+        // Turned inside out it is a hole's wall: closing it wraps air,
+        // not material, and is no pinch.
+        let flipped: Vec<u32> = idx.chunks(3).flat_map(|t| [t[0], t[2], t[1]]).collect();
+        let hole = Complex::new(c.pos.clone(), &offsets, &flipped).0;
+        assert!(!pinches(&hole, 0, 1));
         // Not a face side: nothing to pinch.
         assert!(!pinches(&c, 0, 4));
         // A closed end folds: the tetrahedron's edges all fold it flat;

@@ -9,7 +9,7 @@ use crate::attributes::{AttrScratch, AttributeInput, AttributeState};
 use crate::cost::{
     distance, face_plane, vertex_quadric_parts, CostModel, EdgeImportance, Evaluation, Scratch,
 };
-use crate::guards::{flips_a_face, keeps_topology, pinches, removed_triangles};
+use crate::guards::{flips_a_face, keeps_topology, pinch_free_parts, pinches, removed_triangles};
 use crate::heap::{CollapseQueue, Entry};
 use crate::history::HistoryRecorder;
 use crate::options::Metric;
@@ -154,6 +154,9 @@ pub(crate) struct Run<'o> {
     /// vertices shared with other chunks, in the partitioned path.
     locked: Vec<bool>,
     track_border: bool,
+    /// Vertices of parts too small to keep their topology at the target
+    /// (see `guards::pinch_free_parts`); empty when pinches cost nothing.
+    pinch_free: Vec<bool>,
     moved: Vec<bool>,
     /// The vertex each vertex was merged into (itself while alive).
     merged_into: Vec<u32>,
@@ -252,6 +255,7 @@ impl<'o> Run<'o> {
             border: Vec::new(),
             locked: Vec::new(),
             track_border: model.needs_border(),
+            pinch_free: Vec::new(),
             moved: vec![false; nv],
             merged_into: (0..nv as u32).collect(),
             target,
@@ -268,6 +272,17 @@ impl<'o> Run<'o> {
         };
         run.progress_start = run.p.complex.triangles;
         run.area_vertices = area_vertices(&run.quadrics);
+        if run.model.metric.pinch_cost > 0.0 {
+            let area: Vec<f64> = run.quadrics.iter().map(|q| q.weight).collect();
+            // An error-only target has no budget to share: every part
+            // counts as large enough to keep.
+            let budget = if target > 0 {
+                target
+            } else {
+                run.p.complex.triangles
+            };
+            run.pinch_free = pinch_free_parts(&run.p.complex, &area, budget);
+        }
         run
     }
 
@@ -300,6 +315,7 @@ impl<'o> Run<'o> {
             border: Vec::new(),
             locked,
             track_border: parent.model.needs_border(),
+            pinch_free: Vec::new(),
             moved: vec![false; nv],
             merged_into: (0..nv as u32).collect(),
             target,
@@ -319,6 +335,17 @@ impl<'o> Run<'o> {
         };
         run.init_queue();
         run
+    }
+
+    /// A chunk's share of its parent's small parts (see `pinch_free`),
+    /// `vertex` mapping its vertices to the parent's.
+    pub fn inherit_pinch_free(&mut self, parent: &Run<'o>, vertex: &[u32]) {
+        if !parent.pinch_free.is_empty() {
+            self.pinch_free = vertex
+                .iter()
+                .map(|&v| parent.pinch_free[v as usize])
+                .collect();
+        }
     }
 
     /// Everything before the global loop: the partitioned phase when it
@@ -473,7 +500,8 @@ impl<'o> Run<'o> {
             let pinch = self.model.metric.pinch_cost;
             if pinch > 0.0 && cost < pinch {
                 let [a, b] = self.p.complex.edges[e as usize].ends;
-                if pinches(&self.p.complex, a, b) {
+                let free = self.pinch_free.get(a as usize).copied().unwrap_or(false);
+                if !free && pinches(&self.p.complex, a, b) {
                     let edge = &mut self.p.complex.edges[e as usize];
                     edge.queued = true;
                     self.queue.push(Entry {

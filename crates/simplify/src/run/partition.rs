@@ -269,7 +269,8 @@ fn build_chunk<'o>(run: &Run<'o>, layout: Layout, locked: &[bool]) -> Chunk<'o> 
         weights: Vec::new(),
         input: Vec::new(),
     };
-    let chunk_run = Run::chunk(run, prepared, quadrics, reg, chunk_locked, floor);
+    let mut chunk_run = Run::chunk(run, prepared, quadrics, reg, chunk_locked, floor);
+    chunk_run.inherit_pinch_free(run, &vertex);
     Chunk {
         run: chunk_run,
         vertex,
