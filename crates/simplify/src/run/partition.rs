@@ -190,8 +190,16 @@ fn layouts(
     let mut seen = vec![NONE; c.pos.len()];
     let mut out: Vec<Layout> = Vec::with_capacity(chunks.len());
     for (k, faces) in chunks.into_iter().enumerate() {
+        // Exact capacities: the chunks' arrays live through every round, and
+        // grown by doubling they would hold up to twice their size.
+        let corners: usize = faces
+            .iter()
+            .map(|&f| c.faces[f as usize].len as usize)
+            .sum();
         let mut l = Layout {
             slots: Vec::with_capacity(faces.len()),
+            slot_vertex: Vec::with_capacity(corners),
+            slot_corner: Vec::with_capacity(corners),
             ..Layout::default()
         };
         for &f in &faces {
@@ -216,6 +224,7 @@ fn layouts(
                 l.ring += n - 2;
             }
         }
+        l.vertex.shrink_to_fit();
         l.face = faces;
         out.push(l);
     }
