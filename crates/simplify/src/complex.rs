@@ -139,7 +139,6 @@ impl Complex {
     /// the triangle count: what the partitioned path needs, which builds
     /// them once at the end with [`Complex::build_adjacency`].
     pub fn faces_only(pos: Vec<DVec3>, offsets: &[u32], indices: &[u32]) -> (Complex, Cleaned) {
-        let nv = pos.len();
         let nf = offsets.len().saturating_sub(1);
         let mut c = Complex {
             vert_faces: Vec::new(),
@@ -156,8 +155,11 @@ impl Complex {
             triangles: 0,
             copies: Vec::new(),
             riders: Vec::new(),
-            vmark: vec![0; nv],
-            fmark: vec![0; nf],
+            // The marks serve the star walks: `build_adjacency` sizes them.
+            // The partitioned path keeps this complex without star lists
+            // through every pass, beside the chunks: no room to spare.
+            vmark: Vec::new(),
+            fmark: Vec::new(),
             stamp: 0,
             killed: Vec::new(),
             touched: Vec::new(),

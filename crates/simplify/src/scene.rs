@@ -461,15 +461,17 @@ struct Member {
     exact: HashMap<[u32; 3], [f32; 3]>,
 }
 
-/// A group as one mesh.
-struct Merged {
-    mesh: Mesh,
+/// A group as one mesh: the scene's own mesh when the group is one mesh in
+/// place (no copy: on a large single-mesh file a copy is a fifth of the
+/// peak memory).
+struct Merged<'s> {
+    mesh: std::borrow::Cow<'s, Mesh>,
     members: Vec<Member>,
     /// Group-space units → world units (1 for world-space groups).
     scale: f64,
 }
 
-impl Merged {
+impl Merged<'_> {
     /// The group's diagonal in world units: errors relative to the run's
     /// diagonal times this are world distances.
     fn world_size(&self) -> f64 {
@@ -477,7 +479,7 @@ impl Merged {
     }
 }
 
-fn merge(scene: &Scene, group: &Group, placements: &[Placement]) -> Merged {
+fn merge<'s>(scene: &'s Scene, group: &Group, placements: &[Placement]) -> Merged<'s> {
     let world = group.space == GroupSpace::World;
     let scale = if world {
         1.0
@@ -488,7 +490,7 @@ fn merge(scene: &Scene, group: &Group, placements: &[Placement]) -> Merged {
             .map(|&m| placements[m as usize].scale)
             .fold(0.0, f64::max)
     };
-    let placed: Vec<(u32, [f32; 16], std::borrow::Cow<'_, Mesh>)> = group
+    let mut placed: Vec<(u32, [f32; 16], std::borrow::Cow<'_, Mesh>)> = group
         .meshes
         .iter()
         .map(|&m| {
@@ -506,20 +508,22 @@ fn merge(scene: &Scene, group: &Group, placements: &[Placement]) -> Merged {
             (m, matrix, cow)
         })
         .collect();
-    if let [(m, matrix, mesh)] = placed.as_slice() {
-        // One mesh: no concatenation to do.
-        let members = vec![Member {
-            mesh: *m,
-            part_base: 0,
-            parts: mesh.parts.len() as u32,
-            matrix: *matrix,
-            exact: exact_map(&scene.meshes[*m as usize], mesh, matrix),
-        }];
-        return Merged {
-            mesh: mesh.clone().into_owned(),
-            members,
-            scale,
-        };
+    if placed.len() == 1 {
+        if let Some((m, matrix, mesh)) = placed.pop() {
+            // One mesh: no concatenation to do.
+            let members = vec![Member {
+                mesh: m,
+                part_base: 0,
+                parts: mesh.parts.len() as u32,
+                matrix,
+                exact: exact_map(&scene.meshes[m as usize], &mesh, &matrix),
+            }];
+            return Merged {
+                mesh,
+                members,
+                scale,
+            };
+        }
     }
     let mut out = Mesh::default();
     let mut members = Vec::with_capacity(placed.len());
@@ -600,7 +604,7 @@ fn merge(scene: &Scene, group: &Group, placements: &[Placement]) -> Merged {
     out.attributes = streams;
     out.skinning = skin;
     Merged {
-        mesh: out,
+        mesh: std::borrow::Cow::Owned(out),
         members,
         scale,
     }

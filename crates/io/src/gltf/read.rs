@@ -349,6 +349,11 @@ fn read_mesh(
             .map(|s| first_corner.saturating_sub(s.indices.len()))
             .sum();
         budget.take(&here(), backfill as u64)?;
+        // Reserved up front: grown by doubling, these arrays would hold up
+        // to twice their size for the rest of the run.
+        mesh.faces.indices.reserve(tris.len());
+        mesh.faces.offsets.reserve(tris.len() / 3);
+        mesh.face_parts.reserve(tris.len() / 3);
         for t in tris.chunks_exact(3) {
             mesh.faces.push(&[base + t[0], base + t[1], base + t[2]]);
             mesh.face_parts.push(part);

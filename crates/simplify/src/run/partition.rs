@@ -3,6 +3,10 @@
 //! parallel rounds of a rising cost cap with the vertices near the cuts
 //! locked, then written back into the global complex for the global loop.
 
+use std::sync::atomic::AtomicBool;
+use std::sync::atomic::AtomicU32;
+use std::sync::atomic::Ordering::Relaxed;
+
 use glam::DVec3;
 use rayon::prelude::*;
 
@@ -118,45 +122,60 @@ fn cut(c: &Complex, size: usize, shift: DVec3) -> Vec<Vec<u32>> {
 /// so guards, duplicates and the link condition see all they would see
 /// globally. Also returns each vertex's chunk (`SHARED` on a cut, `NONE`
 /// when unused).
+///
+/// The chunks are swept in parallel (a sequential sweep of random vertex
+/// accesses was a tenth of the phase's wall time): every result is the same
+/// in any order, a vertex's owner being its one chunk or `SHARED`.
 fn locked_vertices(
     c: &Complex,
     chunks: &[Vec<u32>],
     virtual_pairs: &[(u32, u32)],
 ) -> (Vec<bool>, Vec<u32>) {
-    let mut owner = vec![NONE; c.pos.len()];
-    for (k, faces) in chunks.iter().enumerate() {
+    let owner: Vec<AtomicU32> = (0..c.pos.len()).map(|_| AtomicU32::new(NONE)).collect();
+    chunks.par_iter().enumerate().for_each(|(k, faces)| {
+        let k = k as u32;
         for &f in faces {
             for &v in c.face(f) {
-                let o = &mut owner[v as usize];
-                if *o == NONE {
-                    *o = k as u32;
-                } else if *o != k as u32 {
-                    *o = SHARED;
+                let o = &owner[v as usize];
+                let now = o.load(Relaxed);
+                if now == k || now == SHARED {
+                    continue;
                 }
+                // Ignoring the result: `None` means nothing to change.
+                let _ = o.fetch_update(Relaxed, Relaxed, |x| match x {
+                    NONE => Some(k),
+                    x if x == k || x == SHARED => None,
+                    _ => Some(SHARED),
+                });
             }
         }
-    }
-    let mut locked: Vec<bool> = owner.iter().map(|&o| o == SHARED).collect();
+    });
+    let owner: Vec<u32> = owner.into_iter().map(AtomicU32::into_inner).collect();
+    let locked: Vec<AtomicBool> = owner
+        .par_iter()
+        .map(|&o| AtomicBool::new(o == SHARED))
+        .collect();
     // A virtual edge between chunks is a cut too: the global order glues
     // such parts early (the gluing term is cheap for close parts), so their
     // ends must still be there when the global loop gets to them. Where
     // parts touch everywhere, everything locks and the phase steps aside.
     for &(a, b) in virtual_pairs {
         if owner[a as usize] != owner[b as usize] || owner[a as usize] == SHARED {
-            locked[a as usize] = true;
-            locked[b as usize] = true;
+            locked[a as usize].store(true, Relaxed);
+            locked[b as usize].store(true, Relaxed);
         }
     }
-    for faces in chunks {
+    chunks.par_iter().for_each(|faces| {
         for &f in faces {
             let face = c.face(f);
             if face.iter().any(|&v| owner[v as usize] == SHARED) {
                 for &v in face {
-                    locked[v as usize] = true;
+                    locked[v as usize].store(true, Relaxed);
                 }
             }
         }
-    }
+    });
+    let locked = locked.into_iter().map(AtomicBool::into_inner).collect();
     (locked, owner)
 }
 
@@ -190,8 +209,16 @@ fn layouts(
     let mut seen = vec![NONE; c.pos.len()];
     let mut out: Vec<Layout> = Vec::with_capacity(chunks.len());
     for (k, faces) in chunks.into_iter().enumerate() {
+        // Exact capacities: the chunks' arrays live through every round, and
+        // grown by doubling they would hold up to twice their size.
+        let corners: usize = faces
+            .iter()
+            .map(|&f| c.faces[f as usize].len as usize)
+            .sum();
         let mut l = Layout {
             slots: Vec::with_capacity(faces.len()),
+            slot_vertex: Vec::with_capacity(corners),
+            slot_corner: Vec::with_capacity(corners),
             ..Layout::default()
         };
         for &f in &faces {
@@ -216,6 +243,7 @@ fn layouts(
                 l.ring += n - 2;
             }
         }
+        l.vertex.shrink_to_fit();
         l.face = faces;
         out.push(l);
     }
