@@ -223,13 +223,13 @@ pub struct TuningArgs {
     /// the corpus it costs textured meshes more than it gains elsewhere.
     #[arg(long, value_name = "K", default_value_t = wildlod_simplify::Metric::default().area_floor)]
     pub area_floor: f64,
-    /// Added to the cost of a collapse that pinches or folds the surface
-    /// (the link condition, on face sides only): thin tubes, strips and
-    /// hair-thin scanned strands then stay until nothing cheaper is left,
-    /// instead of flattening into edges the output cannot show. 1 ranks
-    /// such collapses after every ordinary one; 0 lets W's topology changes
-    /// compete at their plane cost. Merging parts across virtual edges is
-    /// never penalized.
+    /// Added to the cost of a collapse that pinches or folds material
+    /// (the link condition, on face sides only): thin legs, blades and
+    /// hair-thin strands stay until nothing cheaper is left, instead of
+    /// flattening into edges the output cannot show. 1 ranks such collapses
+    /// after every ordinary one; 0 lets W's topology changes compete at
+    /// their plane cost. Merging parts, closing holes and dropping parts
+    /// too small for the target are never penalized.
     #[arg(long, value_name = "C", default_value_t = wildlod_simplify::Metric::default().pinch_cost)]
     pub pinch_cost: f64,
     /// Classic quadric error simplification (Garland & Heckbert 1997):

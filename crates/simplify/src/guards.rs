@@ -159,13 +159,23 @@ fn shared_far_sides(c: &Complex, i: u32, j: u32) -> Vec<(u32, u32)> {
     out
 }
 
-/// Whether face `f` faces away from `center`: its normal points from the
-/// center to the face, so the surface there wraps around material that
-/// contains `center` (a solid strand), not around air (a hole's wall).
+/// How clearly a face must turn towards a ring's center (cosine of the
+/// angle between its normal and the direction to the center) for the ring
+/// to count as wrapping air. Flat strips and twin-faced sheets sit near 0
+/// either way; they count as material.
+const FACES_AIR: f64 = 0.2;
+
+/// Whether the surface at face `f` wraps material around `center` rather
+/// than air: false only when the face clearly turns towards the center,
+/// as a hole's wall does; a solid strand's faces turn away from it, and a
+/// flat strip's (or a twin-faced sheet's) neither way.
 fn faces_away(c: &Complex, f: u32, center: DVec3) -> bool {
     let p: smallvec::SmallVec<[DVec3; 8]> = c.face(f).iter().map(|&v| c.pos[v as usize]).collect();
     let centroid = p.iter().copied().sum::<DVec3>() / p.len().max(1) as f64;
-    polygon_normal(&p).dot(centroid - center) > 0.0
+    let n = polygon_normal(&p);
+    let d = centroid - center;
+    let scale = n.length() * d.length();
+    scale.is_nan() || scale <= 0.0 || n.dot(d) > -FACES_AIR * scale
 }
 
 /// A face of `v`'s star holding every vertex in `with`.
@@ -263,7 +273,7 @@ pub(crate) fn pinch_free_parts(c: &Complex, area: &[f64], target: usize) -> Vec<
         part_area[l as usize] += area.get(v).copied().unwrap_or(0.0);
     }
     let total: f64 = part_area.iter().sum();
-    if !(total > 0.0) {
+    if total.is_nan() || total <= 0.0 {
         return vec![false; n];
     }
     let budget = target.max(1) as f64;
