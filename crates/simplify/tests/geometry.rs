@@ -403,11 +403,13 @@ fn hair_thin_spur_survives_a_tenth_under_the_pinch_cost() {
 #[test]
 fn pinch_cost_still_reaches_a_target_below_the_topology_minimum() {
     let torus = shapes::triangulate(&shapes::torus(24, 12, 1.0, 0.3));
-    let mut o = wildlod_simplify::Options::default();
-    o.target = wildlod_simplify::Target {
-        ratio: None,
-        triangles: Some(8),
-        error: None,
+    let mut o = wildlod_simplify::Options {
+        target: wildlod_simplify::Target {
+            ratio: None,
+            triangles: Some(8),
+            error: None,
+        },
+        ..Default::default()
     };
     o.metric.pinch_cost = 1.0;
     let (_, report) = simplify_mesh(&torus, &o).unwrap();
