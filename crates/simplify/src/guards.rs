@@ -151,14 +151,6 @@ fn shares_a_far_side(c: &Complex, i: u32, j: u32) -> bool {
         .any(|s| si.binary_search(s).is_ok())
 }
 
-/// The far sides `i` and `j` share (see [`shares_a_far_side`]).
-fn shared_far_sides(c: &Complex, i: u32, j: u32) -> Vec<(u32, u32)> {
-    let si = far_sides(c, i, j);
-    let mut out = far_sides(c, j, i);
-    out.retain(|s| si.binary_search(s).is_ok());
-    out
-}
-
 /// How clearly a face must turn towards a ring's center (cosine of the
 /// angle between its normal and the direction to the center) for the ring
 /// to count as wrapping air. Flat strips and twin-faced sheets sit near 0
@@ -178,14 +170,6 @@ fn faces_away(c: &Complex, f: u32, center: DVec3) -> bool {
     scale.is_nan() || scale <= 0.0 || n.dot(d) > -FACES_AIR * scale
 }
 
-/// A face of `v`'s star holding every vertex in `with`.
-fn face_with(c: &Complex, v: u32, with: &[u32]) -> Option<u32> {
-    c.vert_faces[v as usize]
-        .iter()
-        .copied()
-        .find(|&f| with.iter().all(|w| c.face(f).contains(w)))
-}
-
 /// Whether collapsing the face side `i`–`j` flattens material, by the
 /// first two rules of the link condition (see [`keeps_topology`])
 /// restricted to face sides, so that virtual edges, which merge parts,
@@ -198,51 +182,76 @@ fn face_with(c: &Complex, v: u32, with: &[u32]) -> Option<u32> {
 /// flatten a thin part into edges no face uses, which the output cannot
 /// show. False when `i`–`j` is no face's side.
 pub(crate) fn pinches(c: &Complex, i: u32, j: u32) -> bool {
-    let mut ni: smallvec::SmallVec<[u32; 16]> = smallvec::SmallVec::new();
-    let mut side = false;
-    for &f in &c.vert_faces[i as usize] {
-        let face = c.face(f);
-        let n = face.len();
-        if let Some(k) = face.iter().position(|&v| v == i) {
-            for w in [face[(k + 1) % n], face[(k + n - 1) % n]] {
-                side |= w == j;
-                if w != j && !ni.contains(&w) {
-                    ni.push(w);
-                }
+    // Checked once per collapse the loop pops, so from one pass over each
+    // star: each face's neighbours of the star's center (`prev`, `next`),
+    // which for a triangle are also its far side.
+    let corners = |v: u32| {
+        let mut out: smallvec::SmallVec<[(u32, u32, u32, usize); 12]> = smallvec::SmallVec::new();
+        for &f in &c.vert_faces[v as usize] {
+            let face = c.face(f);
+            let n = face.len();
+            if let Some(k) = face.iter().position(|&w| w == v) {
+                out.push((f, face[(k + n - 1) % n], face[(k + 1) % n], n));
             }
         }
-    }
-    if !side {
+        out
+    };
+    let si = corners(i);
+    if !si.iter().any(|&(_, p, q, _)| p == j || q == j) {
         return false;
     }
+    let sj = corners(j);
     let (pi, pj) = (c.pos[i as usize], c.pos[j as usize]);
-    for &f in &c.vert_faces[j as usize] {
-        let face = c.face(f);
-        let n = face.len();
-        let Some(k) = face.iter().position(|&v| v == j) else {
-            continue;
-        };
-        for w in [face[(k + 1) % n], face[(k + n - 1) % n]] {
-            if w == i || !ni.contains(&w) {
+    let neighbour_of_i = |w: u32| si.iter().any(|&(_, p, q, _)| p == w || q == w);
+    // First rule: a common neighbour `w` with no triangle (i, j, w).
+    for &(_, p, q, _) in &sj {
+        for w in [p, q] {
+            if w == i || !neighbour_of_i(w) {
                 continue;
             }
-            let closed = c.vert_faces[i as usize].iter().any(|&g| {
-                let face = c.face(g);
-                face.len() == 3 && face.contains(&j) && face.contains(&w)
-            });
+            let closed = si
+                .iter()
+                .any(|&(_, a, b, n)| n == 3 && ((a == j && b == w) || (a == w && b == j)));
             if closed {
                 continue;
             }
             let ring = (pi + pj + c.pos[w as usize]) / 3.0;
-            if face_with(c, i, &[j]).is_some_and(|g| faces_away(c, g, ring)) {
+            let on_edge = si.iter().find(|&&(_, a, b, _)| a == j || b == j);
+            if on_edge.is_some_and(|&(g, ..)| faces_away(c, g, ring)) {
                 return true;
             }
         }
     }
-    for (a, b) in shared_far_sides(c, i, j) {
-        let cap = (pi + pj + c.pos[a as usize] + c.pos[b as usize]) / 4.0;
-        if face_with(c, i, &[a, b]).is_some_and(|g| faces_away(c, g, cap)) {
-            return true;
+    // Second rule: a far side of a face of each (triangles: the side
+    // opposite the center; other polygons: every side not touching it).
+    let far = |v: u32, other: u32, &(f, p, q, n): &(u32, u32, u32, usize)| {
+        let mut out: smallvec::SmallVec<[(u32, u32); 4]> = smallvec::SmallVec::new();
+        let face = c.face(f);
+        if face.contains(&other) {
+            return out;
+        }
+        if n == 3 {
+            out.push((p.min(q), p.max(q)));
+        } else {
+            for k in 0..n {
+                let (a, b) = (face[k], face[(k + 1) % n]);
+                if a != v && b != v {
+                    out.push((a.min(b), a.max(b)));
+                }
+            }
+        }
+        out
+    };
+    for ci in &si {
+        for (a, b) in far(i, j, ci) {
+            let shared = sj.iter().any(|cj| far(j, i, cj).contains(&(a, b)));
+            if !shared {
+                continue;
+            }
+            let cap = (pi + pj + c.pos[a as usize] + c.pos[b as usize]) / 4.0;
+            if faces_away(c, ci.0, cap) {
+                return true;
+            }
         }
     }
     false
