@@ -393,3 +393,36 @@ fn help_teaches_the_commands() {
         "{h}"
     );
 }
+
+#[test]
+fn pinch_cost_and_area_floor_reach_the_simplifier() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = torus_obj(dir.path());
+    let run = |name: &str, extra: &[&str]| {
+        let out = dir.path().join(name);
+        let mut args = vec!["simplify", s(&input), "-o", s(&out), "--faces", "8", "-q"];
+        args.extend_from_slice(extra);
+        let o = wildlod(&args);
+        assert!(o.status.success(), "{}", stderr(&o));
+        std::fs::read(&out).unwrap()
+    };
+    // Eight triangles are below what a torus can keep: the default ranks
+    // the pinches it must make after everything else, 0 lets them compete.
+    let default = run("default.obj", &[]);
+    assert_ne!(default, run("free.obj", &["--pinch-cost", "0"]));
+    assert_eq!(default, run("one.obj", &["--pinch-cost", "1"]));
+    // A floor of ten mean faces is above every vertex's area here.
+    assert_ne!(default, run("floor.obj", &["--area-floor", "10"]));
+    for flag in ["--pinch-cost=-1", "--area-floor=-1"] {
+        let o = wildlod(&[
+            "simplify",
+            s(&input),
+            "-o",
+            s(&dir.path().join("x.obj")),
+            flag,
+        ]);
+        assert_eq!(o.status.code(), Some(1));
+        let name = flag.split('=').next().unwrap();
+        assert!(stderr(&o).contains(name), "{}", stderr(&o));
+    }
+}

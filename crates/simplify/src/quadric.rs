@@ -106,11 +106,7 @@ impl Quadric {
     #[inline]
     pub fn eval(&self, x: DVec3) -> f64 {
         let a = &self.a;
-        let ax = DVec3::new(
-            a[0] * x.x + a[1] * x.y + a[2] * x.z,
-            a[1] * x.x + a[3] * x.y + a[4] * x.z,
-            a[2] * x.x + a[4] * x.y + a[5] * x.z,
-        );
+        let ax = sym_mul(a, x);
         x.dot(ax) + 2.0 * self.b.dot(x) + self.c
     }
 
@@ -183,11 +179,7 @@ impl Quadric {
     fn truncated_step(&self, x: DVec3, relative: f64) -> Option<Option<DVec3>> {
         let a = &self.a;
         // Gradient residual at x: −(A x + b).
-        let ax = DVec3::new(
-            a[0] * x.x + a[1] * x.y + a[2] * x.z,
-            a[1] * x.x + a[3] * x.y + a[4] * x.z,
-            a[2] * x.x + a[4] * x.y + a[5] * x.z,
-        );
+        let ax = sym_mul(a, x);
         let g = -(ax + self.b);
         // The cases without the iterative decomposition (a fifth of a
         // large run's time when it was always taken): every direction firm,
@@ -303,12 +295,18 @@ fn solve_symmetric(u: [f64; 6], g: DVec3) -> Option<DVec3> {
 
 /// `vᵀ A v` for a unit `v`: the eigenvalue `v` best stands for.
 fn rayleigh(a: &[f64; 6], v: DVec3) -> f64 {
-    let av = DVec3::new(
-        a[0] * v.x + a[1] * v.y + a[2] * v.z,
-        a[1] * v.x + a[3] * v.y + a[4] * v.z,
-        a[2] * v.x + a[4] * v.y + a[5] * v.z,
-    );
-    v.dot(av)
+    v.dot(sym_mul(a, v))
+}
+
+/// `A x` for the symmetric 3×3 matrix given by its upper triangle (xx, xy,
+/// xz, yy, yz, zz).
+#[inline]
+fn sym_mul(a: &[f64; 6], x: DVec3) -> DVec3 {
+    DVec3::new(
+        a[0] * x.x + a[1] * x.y + a[2] * x.z,
+        a[1] * x.x + a[3] * x.y + a[4] * x.z,
+        a[2] * x.x + a[4] * x.y + a[5] * x.z,
+    )
 }
 
 /// The unit eigenvector of eigenvalue `l` of the symmetric matrix given by
@@ -647,11 +645,7 @@ mod tests {
         let (values, vectors) = symmetric_eigen(q.a);
         let largest = values.iter().fold(0.0f64, |m, v| m.max(v.abs()));
         let a = &q.a;
-        let ax = DVec3::new(
-            a[0] * x.x + a[1] * x.y + a[2] * x.z,
-            a[1] * x.x + a[3] * x.y + a[4] * x.z,
-            a[2] * x.x + a[4] * x.y + a[5] * x.z,
-        );
+        let ax = sym_mul(a, x);
         let g = -(ax + q.b);
         let mut y = x;
         for (l, v) in values.iter().zip(vectors) {
