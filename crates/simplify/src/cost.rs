@@ -16,7 +16,7 @@ use rayon::prelude::*;
 use crate::attributes::{AttrScratch, AttributeState};
 use crate::complex::Complex;
 use crate::options::Metric;
-use crate::quadric::{place, place_exact, Quadric};
+use crate::quadric::{place, place_exact, Isotropic, Quadric};
 use crate::tangent::tangent_quadrics;
 pub(crate) use crate::tangent::EdgeImportance;
 
@@ -93,7 +93,7 @@ pub(crate) fn vertex_quadric_parts(
     metric: &Metric,
     weights: &[f64],
     importance: EdgeImportance<'_>,
-) -> (Vec<Quadric>, Vec<Quadric>) {
+) -> (Vec<Quadric>, Vec<Isotropic>) {
     let planes: Vec<Option<(DVec3, f64, DVec3)>> = (0..c.faces.len() as u32)
         .into_par_iter()
         .map(|f| {
@@ -130,8 +130,8 @@ pub(crate) fn vertex_quadric_parts(
             q += *b;
         }
         match weights.get(v) {
-            Some(&w) if w != 1.0 => (q.scaled(w), reg.scaled(w)),
-            _ => (q, reg),
+            Some(&w) if w != 1.0 => (q.scaled(w), Isotropic::of(&reg.scaled(w))),
+            _ => (q, Isotropic::of(&reg)),
         }
     };
     if !c.has_adjacency() {
@@ -321,7 +321,7 @@ impl CostModel {
         &self,
         c: &Complex,
         q: &[Quadric],
-        reg: &[Quadric],
+        reg: &[Isotropic],
         border: &[bool],
         locked: &[bool],
         attributes: Option<&AttributeState>,
@@ -392,7 +392,7 @@ impl CostModel {
             // free directions (see `place_exact`); with no record of it,
             // the regularized solve.
             let pl = match (reg.get(i as usize), reg.get(j as usize)) {
-                (Some(ri), Some(rj)) => place_exact(&total, &(*ri + *rj), pi, pj, REACH),
+                (Some(ri), Some(rj)) => place_exact(&total, &(*ri + *rj).quadric(), pi, pj, REACH),
                 _ => place(&total, pi, pj, REACH),
             };
             (pl.position, pl.error)

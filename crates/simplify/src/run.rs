@@ -15,7 +15,7 @@ use crate::history::HistoryRecorder;
 use crate::options::Metric;
 use crate::options::Options;
 use crate::ordering::{tie_tolerance, TieOrder};
-use crate::quadric::Quadric;
+use crate::quadric::{Isotropic, Quadric};
 use crate::report::{Report, StopReason};
 use crate::simplify::{Prepared, Simplified};
 use crate::symmetry::{edge_symmetry_weights, EdgeNormals, SymmetryInput, SymmetryOptions};
@@ -129,7 +129,7 @@ pub(crate) struct Run<'o> {
     quadrics: Vec<Quadric>,
     /// The regularization part of each quadric (in `quadrics` too), kept
     /// apart so that placement can solve without it.
-    reg: Vec<Quadric>,
+    reg: Vec<Isotropic>,
     /// Candidate collapses by cost, at most one entry per edge; an entry is
     /// stale when its generation differs from the edge's.
     queue: CollapseQueue,
@@ -293,7 +293,7 @@ impl<'o> Run<'o> {
         parent: &Run<'o>,
         p: Prepared,
         quadrics: Vec<Quadric>,
-        reg: Vec<Quadric>,
+        reg: Vec<Isotropic>,
         locked: Vec<bool>,
         target: usize,
     ) -> Self {

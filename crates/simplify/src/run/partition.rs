@@ -13,7 +13,7 @@ use rayon::prelude::*;
 use super::Run;
 use crate::complex::{Complex, FaceSlots, NONE};
 use crate::options::Options;
-use crate::quadric::Quadric;
+use crate::quadric::{Isotropic, Quadric};
 use crate::report::Report;
 use crate::simplify::Prepared;
 use wildlod_mesh::Faces;
@@ -277,7 +277,7 @@ fn build_chunk<'o>(run: &Run<'o>, layout: Layout, locked: &[bool]) -> Chunk<'o> 
         complex.add_edge(a, b);
     }
     let quadrics: Vec<Quadric> = vertex.iter().map(|&v| run.quadrics[v as usize]).collect();
-    let reg: Vec<Quadric> = vertex.iter().map(|&v| run.reg[v as usize]).collect();
+    let reg: Vec<Isotropic> = vertex.iter().map(|&v| run.reg[v as usize]).collect();
     let chunk_locked = vertex.iter().map(|&v| locked[v as usize]).collect();
     let triangles = complex.triangles;
     // Never below this chunk's share of the target, so that the chunks
