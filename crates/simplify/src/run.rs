@@ -808,12 +808,19 @@ impl<'o> Run<'o> {
             .map(|a| a.plan(c, i, j, &mut self.attr_scratch));
         let prefer_removed = pj.distance_squared(ev.position) < pi.distance_squared(ev.position);
         let outcome = c.collapse(e, i, ev.position, prefer_removed, &mut self.changed);
+        // j's edges are i's now: so are their refusals. The counts are
+        // hints for finding refused edges near a collapse; an edge whose
+        // ends moved under it may be counted at the old end, so they never
+        // go below zero (a debug build caught the wrap).
+        let moved = std::mem::take(&mut self.refused_around[j as usize]);
+        self.refused_around[i as usize] += moved;
         for &k in &c.killed {
             let edge = &mut c.edges[k as usize];
             if edge.refused {
                 edge.refused = false;
                 for v in edge.ends {
-                    self.refused_around[v as usize] -= 1;
+                    let n = &mut self.refused_around[v as usize];
+                    *n = n.saturating_sub(1);
                 }
             }
         }
@@ -895,7 +902,8 @@ impl<'o> Run<'o> {
             if edge.refused {
                 edge.refused = false;
                 for v in edge.ends {
-                    self.refused_around[v as usize] -= 1;
+                    let n = &mut self.refused_around[v as usize];
+                    *n = n.saturating_sub(1);
                 }
             }
             if !edge.queued {
