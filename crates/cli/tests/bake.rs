@@ -5,8 +5,10 @@
 //! every textured file at 10% and 1%.
 #![allow(clippy::unwrap_used, clippy::expect_used)] // test code
 
+mod support;
+
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use support::{s, wildlod};
 
 use wildlod_eval::{compare, CompareOptions, EvalMesh};
 use wildlod_io::{Document, WriteOptions};
@@ -14,17 +16,6 @@ use wildlod_mesh::{
     shapes, Attribute, ComponentFormat, ImageSource, Material, Scene, Semantic, Texture, TextureRef,
 };
 use wildlod_testkit::{corpus, short};
-
-fn wildlod(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_wildlod"))
-        .args(args)
-        .output()
-        .expect("run wildlod")
-}
-
-fn s(p: &Path) -> &str {
-    p.to_str().unwrap()
-}
 
 /// A textured torus (2304 triangles, every quad its own UV island) whose
 /// texture is the file `texture` (written by the caller or missing).

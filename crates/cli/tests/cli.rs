@@ -3,26 +3,13 @@
 //! input is never overwritten.
 #![allow(clippy::unwrap_used, clippy::expect_used)] // test code
 
+mod support;
+
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use support::{s, stderr, stdout, wildlod};
 
 use wildlod_io::{Document, WriteOptions};
 use wildlod_mesh::{shapes, Scene};
-
-fn wildlod(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_wildlod"))
-        .args(args)
-        .output()
-        .expect("run wildlod")
-}
-
-fn stdout(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stdout).into_owned()
-}
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
-}
 
 /// A bumpy torus of quads (1152 faces = 2304 triangles) written as OBJ.
 fn torus_obj(dir: &Path) -> PathBuf {
@@ -39,10 +26,6 @@ fn torus_obj(dir: &Path) -> PathBuf {
     )
     .unwrap();
     path
-}
-
-fn s(p: &Path) -> &str {
-    p.to_str().unwrap()
 }
 
 #[test]

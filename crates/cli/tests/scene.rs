@@ -3,27 +3,18 @@
 //! (two-vertex faces, OFF) accepted.
 #![allow(clippy::unwrap_used, clippy::expect_used)] // test code
 
+mod support;
+
 use std::path::Path;
-use std::process::{Command, Output};
+use support::{s, wildlod};
 
 use wildlod_eval::{compare, CompareOptions, EvalMesh};
 use wildlod_io::{Document, WriteOptions};
 use wildlod_mesh::{shapes, Mesh, Node, Scene, IDENTITY};
 use wildlod_simplify::{simplify_mesh, Options, Target};
 
-fn wildlod(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_wildlod"))
-        .args(args)
-        .output()
-        .expect("run wildlod")
-}
-
 fn text(b: &[u8]) -> String {
     String::from_utf8_lossy(b).into_owned()
-}
-
-fn s(p: &Path) -> &str {
-    p.to_str().unwrap()
 }
 
 /// A closed sphere with every vertex pushed in or out a little (no ties).
