@@ -61,6 +61,9 @@ pub struct Tuning {
     /// Added to the cost of collapses that pinch or fold the surface
     /// (`Metric::pinch_cost`); 0 is off.
     pub pinch_cost: f64,
+    /// Face planes weighted by area^A (`Metric::area_exponent`), in [0, 1];
+    /// 1 is W's area weighting, 0 every face alike.
+    pub area_exponent: f64,
     /// Classic quadric error simplification (Garland & Heckbert 1997).
     pub classic: bool,
     /// How much UVs steer the collapses.
@@ -95,6 +98,7 @@ impl Default for Tuning {
             symmetry: 0.0,
             area_floor: options.metric.area_floor,
             pinch_cost: options.metric.pinch_cost,
+            area_exponent: options.metric.area_exponent,
             classic: false,
             uv_weight: attributes.tex_coord_weight,
             normal_weight: attributes.normal_weight,
@@ -130,6 +134,13 @@ impl Tuning {
                 return Err(Error::setting(name, NON_NEGATIVE, value));
             }
         }
+        if !(self.area_exponent >= 0.0 && self.area_exponent <= 1.0) {
+            return Err(Error::setting(
+                "area_exponent",
+                "in [0, 1]",
+                self.area_exponent,
+            ));
+        }
         if !(self.max_normal_turn > 0.0 && self.max_normal_turn <= 180.0) {
             return Err(Error::setting(
                 "max_normal_turn",
@@ -161,6 +172,7 @@ impl Tuning {
         options.quad.symmetry = self.symmetry;
         options.metric.area_floor = self.area_floor;
         options.metric.pinch_cost = self.pinch_cost;
+        options.metric.area_exponent = self.area_exponent;
         options.attributes = AttributeOptions {
             tex_coord_weight: self.uv_weight,
             normal_weight: self.normal_weight,
@@ -176,6 +188,7 @@ impl Tuning {
                 NormalSetting::Recompute => NormalMode::Recompute,
             },
             seam_weight: self.seam_weight,
+            ..AttributeOptions::default()
         };
         options.guards = Guards {
             max_normal_turn_degrees: (self.max_normal_turn < 180.0).then_some(self.max_normal_turn),
@@ -248,6 +261,42 @@ mod tests {
                 ..
             })
         ));
+    }
+
+    #[test]
+    fn area_exponent_reaches_the_metric_and_is_range_checked() {
+        let o = Tuning {
+            area_exponent: 0.5,
+            ..Tuning::default()
+        }
+        .options()
+        .expect("valid");
+        assert_eq!(o.metric.area_exponent, 0.5);
+        // Classic QEM keeps the exponent too: it is a weighting, not a term.
+        let o = Tuning {
+            area_exponent: 0.0,
+            classic: true,
+            ..Tuning::default()
+        }
+        .options()
+        .expect("valid");
+        assert_eq!(o.metric.area_exponent, 0.0);
+        for bad in [-0.1, 1.5, f64::NAN] {
+            let t = Tuning {
+                area_exponent: bad,
+                ..Tuning::default()
+            };
+            assert!(
+                matches!(
+                    t.options(),
+                    Err(Error::Setting {
+                        name: "area_exponent",
+                        ..
+                    })
+                ),
+                "{bad}"
+            );
+        }
     }
 
     #[test]

@@ -104,6 +104,7 @@ pub(crate) fn vertex_quadric_parts(
             }
         })
         .collect();
+    let planes = weigh_planes(planes, metric.area_exponent);
     let tangent = if metric.tangent_weight > 0.0 {
         let normals: Vec<Option<DVec3>> = planes.iter().map(|p| p.map(|p| p.0)).collect();
         tangent_quadrics(c, &normals, importance, metric.tangent_weight)
@@ -170,6 +171,37 @@ pub(crate) fn vertex_quadric_parts(
             finish(v, q, area)
         })
         .unzip()
+}
+
+/// The weight each face plane carries, in place of its area:
+/// `mean · (area / mean)^exponent` over the faces with area (see
+/// [`Metric::area_exponent`]). Exponent 1 leaves the areas as they are.
+fn weigh_planes(
+    planes: Vec<Option<(DVec3, f64, DVec3)>>,
+    exponent: f64,
+) -> Vec<Option<(DVec3, f64, DVec3)>> {
+    if exponent == 1.0 {
+        return planes;
+    }
+    let (count, sum) = planes
+        .iter()
+        .flatten()
+        .fold((0usize, 0.0), |(n, s), p| (n + 1, s + p.1));
+    if count == 0 || sum.is_nan() || sum <= 0.0 {
+        return planes;
+    }
+    let mean = sum / count as f64;
+    planes
+        .into_par_iter()
+        .map(|p| p.map(|(n, a, c)| (n, plane_weight(a, mean, exponent), c)))
+        .collect()
+}
+
+/// `mean · (area / mean)^exponent`: the plane weight of a face of `area`
+/// on a mesh whose mean face area is `mean`.
+#[inline]
+pub(crate) fn plane_weight(area: f64, mean: f64, exponent: f64) -> f64 {
+    mean * (area / mean).powf(exponent)
 }
 
 /// Garland & Heckbert's boundary constraints (1997 §6; Blender's Decimate
@@ -295,6 +327,8 @@ pub(crate) struct CostModel {
     /// [`Metric::area_floor`] in the complex's area units (times the mean
     /// face area of the whole input, so chunks rank alike).
     pub area_floor: f64,
+    /// [`crate::AttributeOptions::attributes_move_vertices`].
+    pub attributes_move_vertices: bool,
 }
 
 /// Reusable buffers of one evaluating thread.
@@ -375,6 +409,9 @@ impl CostModel {
             (self.lock_borders && bi) || locked.get(i as usize).copied().unwrap_or(false);
         let mut fixed_j =
             (self.lock_borders && bj) || locked.get(j as usize).copied().unwrap_or(false);
+        // The surface's own quadric, before attributes join it: where the
+        // vertex goes unless attributes may move it.
+        let geometry = total;
         if let Some(a) = attributes {
             let t = a.terms(c, i, j, &mut s.attributes)?;
             total += t.quadric;
@@ -391,11 +428,19 @@ impl CostModel {
             // Solved without the regularization, which only steadies the
             // free directions (see `place_exact`); with no record of it,
             // the regularized solve.
+            let joint = self.attributes_move_vertices || attributes.is_none();
+            let placed = if joint { &total } else { &geometry };
             let pl = match (reg.get(i as usize), reg.get(j as usize)) {
-                (Some(ri), Some(rj)) => place_exact(&total, &(*ri + *rj).quadric(), pi, pj, REACH),
-                _ => place(&total, pi, pj, REACH),
+                (Some(ri), Some(rj)) => place_exact(placed, &(*ri + *rj).quadric(), pi, pj, REACH),
+                _ => place(placed, pi, pj, REACH),
             };
-            (pl.position, pl.error)
+            if joint {
+                (pl.position, pl.error)
+            } else {
+                // Attributes are fitted at the placed vertex and cost what
+                // they lose there.
+                (pl.position, total.eval(pl.position).max(0.0))
+            }
         };
         // Knodt Eq. 5: what the collapse adds to the error the endpoints
         // already carry. Never negative: the quadric sum at the optimum is
@@ -431,6 +476,121 @@ mod tests {
         assert_eq!(floored(2e-6, 3.0, 2.0), 2e-6);
         assert_eq!(floored(2e-6, 0.0, 2.0), 2e-6);
         assert_eq!(floored(2e-6, 0.5, 0.0), 2e-6);
+    }
+
+    #[test]
+    fn attributes_rank_collapses_but_do_not_move_the_vertex_unless_asked() {
+        // A fan of six triangles around vertex 0 on a bowl (z = r²), with
+        // a scalar attribute that is far from linear (x³): the joint
+        // minimum trades surface for attribute fit and leaves the
+        // geometric one.
+        let mut pos = vec![DVec3::new(0.05, 0.02, 0.0)];
+        for k in 0..6 {
+            let a = k as f64 * std::f64::consts::PI / 3.0;
+            pos.push(DVec3::new(a.cos(), a.sin(), 1.0));
+        }
+        pos[0].z = pos[0].x * pos[0].x + pos[0].y * pos[0].y;
+        let mut idx = Vec::new();
+        for k in 0..6u32 {
+            idx.extend_from_slice(&[0, 1 + k, 1 + (k + 1) % 6]);
+        }
+        let offsets: Vec<u32> = (0..=6).map(|f| 3 * f).collect();
+        let (c, _) = Complex::new(pos.clone(), &offsets, &idx);
+        let values: Vec<f32> = idx
+            .iter()
+            .map(|&v| (pos[v as usize].x.powi(3) * 4.0) as f32)
+            .collect();
+        let corners: Vec<u32> = (0..idx.len() as u32).collect();
+        let input = crate::AttributeInput {
+            streams: vec![crate::AttributeStream {
+                components: 1,
+                values: &values,
+                indices: &corners,
+                weight: 1.0,
+                seams: false,
+                kind: crate::StreamKind::Generic,
+            }],
+            ..Default::default()
+        };
+        let attrs =
+            AttributeState::new(&input, &idx, &c, &[], crate::SeamPolicy::Penalize, 1.0).unwrap();
+        let metric = Metric {
+            regularization: 0.0,
+            ..Metric::default()
+        };
+        let q = vertex_quadrics(&c, &metric, &[], EdgeImportance::default());
+        let model = |joint| CostModel {
+            metric,
+            lock_borders: false,
+            area_floor: 0.0,
+            attributes_move_vertices: joint,
+        };
+        let border = vec![true; c.pos.len()];
+        let mut s = Scratch::default();
+        let e = (0..c.edges.len() as u32)
+            .find(|&e| {
+                c.edges[e as usize].ends.contains(&0) && c.edges[e as usize].ends.contains(&1)
+            })
+            .unwrap();
+        let eval = |joint, a: Option<&AttributeState>, s: &mut Scratch| {
+            model(joint)
+                .evaluate(&c, &q, &[], &border, &[], a, e, s)
+                .unwrap()
+        };
+        let surface = eval(false, None, &mut s);
+        let fitted = eval(false, Some(&attrs), &mut s);
+        let joint = eval(true, Some(&attrs), &mut s);
+        // By default the vertex goes where the surface alone puts it, and
+        // the attribute error it causes there is added to the cost.
+        assert_eq!(fitted.position, surface.position);
+        assert!(fitted.cost > surface.cost, "{fitted:?} {surface:?}");
+        // Jointly minimized, the attribute pulls it elsewhere, for a lower
+        // total cost.
+        assert!(
+            joint.position.distance(surface.position) > 1e-6,
+            "{joint:?}"
+        );
+        assert!(joint.cost <= fitted.cost, "{joint:?} {fitted:?}");
+    }
+
+    #[test]
+    fn plane_weight_interpolates_between_area_and_uniform() {
+        // A face of area 4 on a mesh of mean face area 1.
+        assert_eq!(plane_weight(4.0, 1.0, 1.0), 4.0);
+        assert_eq!(plane_weight(4.0, 1.0, 0.5), 2.0);
+        assert_eq!(plane_weight(4.0, 1.0, 0.0), 1.0);
+        // The mean face keeps its weight whatever the exponent.
+        assert_eq!(plane_weight(3.0, 3.0, 0.25), 3.0);
+    }
+
+    #[test]
+    fn uniform_plane_weights_give_every_face_the_mean_area() {
+        // Two triangles sharing vertex 0: areas 1/2 and 2 (mean 5/4). With
+        // exponent 0 each plane weighs 5/4, shared by 3 corners: vertex 0
+        // carries 2 · 5/12 of weight; with exponent 1, (1/2 + 2) / 3.
+        let pos = vec![
+            DVec3::ZERO,
+            DVec3::X,
+            DVec3::Y,
+            DVec3::new(-2.0, 0.0, 0.0),
+            DVec3::new(0.0, -2.0, 0.0),
+        ];
+        let c = Complex::new(pos, &[0, 3, 6], &[0, 1, 2, 0, 3, 4]).0;
+        let weigh = |exponent| {
+            let metric = Metric {
+                regularization: 0.0,
+                border_weight: 0.0,
+                area_exponent: exponent,
+                ..Metric::default()
+            };
+            vertex_quadrics(&c, &metric, &[], EdgeImportance::default())[0].weight
+        };
+        assert!((weigh(1.0) - 2.5 / 3.0).abs() < 1e-9, "{}", weigh(1.0));
+        assert!(
+            (weigh(0.0) - 2.0 * 1.25 / 3.0).abs() < 1e-9,
+            "{}",
+            weigh(0.0)
+        );
     }
 
     #[test]
@@ -507,11 +667,13 @@ mod tests {
         let q = vertex_quadrics(&c, &metric, &[], EdgeImportance::default());
         let with = CostModel {
             area_floor: 0.0,
+            attributes_move_vertices: false,
             metric,
             lock_borders: false,
         };
         let without = CostModel {
             area_floor: 0.0,
+            attributes_move_vertices: false,
             metric: Metric {
                 boundary_area: false,
                 ..metric
@@ -538,6 +700,7 @@ mod tests {
         let q = vertex_quadrics(&c, &metric, &[], EdgeImportance::default());
         let m = CostModel {
             area_floor: 0.0,
+            attributes_move_vertices: false,
             metric,
             lock_borders: false,
         };
@@ -546,6 +709,7 @@ mod tests {
         let ev = m.evaluate(&c, &q, &[], &[], &[], None, e, &mut s).unwrap();
         let plain = CostModel {
             area_floor: 0.0,
+            attributes_move_vertices: false,
             metric: Metric {
                 boundary_area: false,
                 ..metric
@@ -579,6 +743,7 @@ mod tests {
         let e = c.edge_between(1, 2).unwrap();
         let plain = CostModel {
             area_floor: 0.0,
+            attributes_move_vertices: false,
             metric: base,
             lock_borders: false,
         }
@@ -586,6 +751,7 @@ mod tests {
         .unwrap();
         let eq5 = CostModel {
             area_floor: 0.0,
+            attributes_move_vertices: false,
             metric: Metric {
                 introduced_error: true,
                 ..base
@@ -629,6 +795,7 @@ mod tests {
         let q = vertex_quadrics(&c, &metric, &[], EdgeImportance::default());
         let m = CostModel {
             area_floor: 0.0,
+            attributes_move_vertices: false,
             metric,
             lock_borders: false,
         };
@@ -643,6 +810,7 @@ mod tests {
         // Without the term the collapse is free.
         let free = CostModel {
             area_floor: 0.0,
+            attributes_move_vertices: false,
             metric: Metric {
                 gluing_weight: 0.0,
                 ..metric
@@ -663,6 +831,7 @@ mod tests {
         let q = vertex_quadrics(&c, &Metric::default(), &[], EdgeImportance::default());
         let m = CostModel {
             area_floor: 0.0,
+            attributes_move_vertices: false,
             metric: Metric::default(),
             lock_borders: true,
         };

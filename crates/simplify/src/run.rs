@@ -220,6 +220,7 @@ impl<'o> Run<'o> {
         let model = CostModel {
             metric,
             lock_borders: options.guards.lock_borders,
+            attributes_move_vertices: options.attributes.attributes_move_vertices,
             area_floor: metric.area_floor.max(0.0) * area / faces.max(1) as f64,
         };
         // A ratio is of the triangles that are surface: degenerate faces and
