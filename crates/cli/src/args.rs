@@ -232,6 +232,13 @@ pub struct TuningArgs {
     /// too small for the target are never penalized.
     #[arg(long, value_name = "C", default_value_t = wildlod_simplify::Metric::default().pinch_cost)]
     pub pinch_cost: f64,
+    /// How face planes weigh in the error, from 0 to 1: by their area to
+    /// this power. 1 (W's area-weighted quadrics) gives the lowest mean
+    /// distance; 0 weighs every face alike, as Blender's Decimate does,
+    /// which keeps finely tessellated details and lowers the worst-case
+    /// (Hausdorff) distance at some cost in the mean.
+    #[arg(long, value_name = "A", default_value_t = wildlod_simplify::Metric::default().area_exponent)]
+    pub area_exponent: f64,
     /// Classic quadric error simplification (Garland & Heckbert 1997):
     /// no virtual edges, no area term. For comparisons.
     #[arg(long)]

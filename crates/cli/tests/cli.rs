@@ -378,7 +378,7 @@ fn help_teaches_the_commands() {
 }
 
 #[test]
-fn pinch_cost_and_area_floor_reach_the_simplifier() {
+fn pinch_cost_area_floor_and_area_exponent_reach_the_simplifier() {
     let dir = tempfile::tempdir().unwrap();
     let input = torus_obj(dir.path());
     let run = |name: &str, extra: &[&str]| {
@@ -396,7 +396,16 @@ fn pinch_cost_and_area_floor_reach_the_simplifier() {
     assert_eq!(default, run("one.obj", &["--pinch-cost", "1"]));
     // A floor of ten mean faces is above every vertex's area here.
     assert_ne!(default, run("floor.obj", &["--area-floor", "10"]));
-    for flag in ["--pinch-cost=-1", "--area-floor=-1"] {
+    // The torus's faces shrink towards its hole: weighing them alike
+    // changes which go first.
+    assert_ne!(default, run("uniform.obj", &["--area-exponent", "0"]));
+    assert_eq!(default, run("area.obj", &["--area-exponent", "1"]));
+    for flag in [
+        "--pinch-cost=-1",
+        "--area-floor=-1",
+        "--area-exponent=1.5",
+        "--area-exponent=-0.5",
+    ] {
         let o = wildlod(&[
             "simplify",
             s(&input),

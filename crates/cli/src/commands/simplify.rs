@@ -149,6 +149,7 @@ pub(crate) fn tuning(t: &TuningArgs) -> Tuning {
         symmetry: t.symmetry,
         area_floor: t.area_floor,
         pinch_cost: t.pinch_cost,
+        area_exponent: t.area_exponent,
         classic: t.classic,
         uv_weight: t.uv_weight,
         normal_weight: t.normal_weight,
