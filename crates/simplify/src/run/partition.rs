@@ -301,6 +301,8 @@ impl Slots {
     /// ones it needs.
     fn move_to_chunks<T: Copy + Default>(&self, g: &mut Vec<T>, layouts: &[Layout]) {
         let nv = g.len();
+        // Exactly: `resize` alone would double the capacity.
+        g.reserve_exact(self.len() - nv);
         g.resize(self.len(), T::default());
         // Each vertex's value to its slot, following chains of displaced
         // values; a chain ends at a slot whose value is no longer needed.
