@@ -110,6 +110,61 @@ fn area_vertices(q: &[Quadric]) -> usize {
     q.iter().filter(|q| q.weight > 0.0).count()
 }
 
+/// Per-vertex values of a run: its own, or, in a chunk of the partitioned
+/// path, its range of the pass's array, which holds every chunk's values
+/// in the memory of the global ones (moved there, not copied).
+#[derive(Debug)]
+pub(crate) enum PerVertex<'a, T> {
+    /// A whole run's array.
+    Owned(Vec<T>),
+    /// A chunk's range of the pass's array (see `partition::Slots`).
+    Borrowed(&'a mut [T]),
+}
+
+impl<T> Default for PerVertex<'_, T> {
+    fn default() -> Self {
+        PerVertex::Owned(Vec::new())
+    }
+}
+
+impl<T> std::ops::Deref for PerVertex<'_, T> {
+    type Target = [T];
+    fn deref(&self) -> &[T] {
+        match self {
+            PerVertex::Owned(v) => v,
+            PerVertex::Borrowed(s) => s,
+        }
+    }
+}
+
+impl<T> std::ops::DerefMut for PerVertex<'_, T> {
+    fn deref_mut(&mut self) -> &mut [T] {
+        match self {
+            PerVertex::Owned(v) => v,
+            PerVertex::Borrowed(s) => s,
+        }
+    }
+}
+
+impl<T: Clone> PerVertex<'_, T> {
+    /// The values as an owned array (a copy only when borrowed).
+    pub fn into_vec(self) -> Vec<T> {
+        match self {
+            PerVertex::Owned(v) => v,
+            PerVertex::Borrowed(s) => s.to_vec(),
+        }
+    }
+}
+
+/// A vertex's quadrics as they were before the first collapse onto it, in
+/// a chunk of the partitioned path (see `Run::before_merge`).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct BeforeMerge {
+    pub vertex: u32,
+    pub quadric: Quadric,
+    pub reg: Isotropic,
+}
+
 /// What the loop takes next.
 enum Next {
     /// An edge, with its cost, its evaluation when just computed, and its
@@ -126,10 +181,10 @@ pub(crate) struct Run<'o> {
     p: Prepared,
     options: &'o Options,
     model: CostModel,
-    quadrics: Vec<Quadric>,
+    quadrics: PerVertex<'o, Quadric>,
     /// The regularization part of each quadric (in `quadrics` too), kept
     /// apart so that placement can solve without it.
-    reg: Vec<Isotropic>,
+    reg: PerVertex<'o, Isotropic>,
     /// Candidate collapses by cost, at most one entry per edge; an entry is
     /// stale when its generation differs from the edge's.
     queue: CollapseQueue,
@@ -160,6 +215,14 @@ pub(crate) struct Run<'o> {
     moved: Vec<bool>,
     /// The vertex each vertex was merged into (itself while alive).
     merged_into: Vec<u32>,
+    /// In a chunk, the quadrics of each vertex kept by a collapse as they
+    /// were before its first one (`None` outside chunks). The chunk owns
+    /// the only copy of its vertices' quadrics while it runs, and the
+    /// write-back rebuilds the global ones from these starting values plus
+    /// the removed vertices' quadrics in vertex order, as the global
+    /// arrays summed them when they stayed alive beside the chunks: the
+    /// chunk's own sums, in collapse order, round differently.
+    before_merge: Option<Vec<BeforeMerge>>,
     target: usize,
     /// Triangles when the run started (progress is measured from there).
     progress_start: usize,
@@ -244,8 +307,8 @@ impl<'o> Run<'o> {
             p,
             options,
             model,
-            quadrics,
-            reg,
+            quadrics: PerVertex::Owned(quadrics),
+            reg: PerVertex::Owned(reg),
             queue: CollapseQueue::default(),
             ties: None,
             quads_active,
@@ -259,6 +322,7 @@ impl<'o> Run<'o> {
             pinch_free: Vec::new(),
             moved: vec![false; nv],
             merged_into: (0..nv as u32).collect(),
+            before_merge: None,
             target,
             progress_start: 0,
             error_limited: false,
@@ -288,13 +352,14 @@ impl<'o> Run<'o> {
     }
 
     /// A run over one chunk of the partitioned path: its own small complex
-    /// (local ids), the global quadrics of its vertices, the vertices it
-    /// shares with other chunks locked, and its share of the target.
+    /// (local ids), the quadrics of its vertices (moved out of the global
+    /// arrays), the vertices it shares with other chunks locked, and its
+    /// share of the target.
     pub fn chunk(
         parent: &Run<'o>,
         p: Prepared,
-        quadrics: Vec<Quadric>,
-        reg: Vec<Isotropic>,
+        quadrics: &'o mut [Quadric],
+        reg: &'o mut [Isotropic],
         locked: Vec<bool>,
         target: usize,
     ) -> Self {
@@ -304,8 +369,8 @@ impl<'o> Run<'o> {
             p,
             options: parent.options,
             model: parent.model,
-            quadrics,
-            reg,
+            quadrics: PerVertex::Borrowed(quadrics),
+            reg: PerVertex::Borrowed(reg),
             queue: CollapseQueue::default(),
             ties: None,
             quads_active: parent.quads_active,
@@ -319,6 +384,7 @@ impl<'o> Run<'o> {
             pinch_free: Vec::new(),
             moved: vec![false; nv],
             merged_into: (0..nv as u32).collect(),
+            before_merge: Some(Vec::new()),
             target,
             progress_start: 0,
             error_limited: false,
@@ -823,6 +889,16 @@ impl<'o> Run<'o> {
                     let n = &mut self.refused_around[v as usize];
                     *n = n.saturating_sub(1);
                 }
+            }
+        }
+        if let Some(before) = &mut self.before_merge {
+            // `moved` is set by collapses only: this is i's first.
+            if !self.moved[i as usize] {
+                before.push(BeforeMerge {
+                    vertex: i,
+                    quadric: self.quadrics[i as usize],
+                    reg: self.reg.get(i as usize).copied().unwrap_or_default(),
+                });
             }
         }
         self.moved[i as usize] = true;

@@ -10,7 +10,7 @@ use std::sync::atomic::Ordering::Relaxed;
 use glam::DVec3;
 use rayon::prelude::*;
 
-use super::Run;
+use super::{PerVertex, Run};
 use crate::complex::{Complex, FaceSlots, NONE};
 use crate::options::Options;
 use crate::quadric::{Isotropic, Quadric};
@@ -258,9 +258,147 @@ fn layouts(
     out
 }
 
-/// Builds a chunk's run from its layout: the global quadrics and locks of
-/// its vertices, its virtual edges, and a floor (see below) as its target.
-fn build_chunk<'o>(run: &Run<'o>, layout: Layout, locked: &[bool]) -> Chunk<'o> {
+/// Where a pass keeps every per-vertex value (quadrics, regularization
+/// quadrics) while its chunks run: in the global array itself, rearranged
+/// so that the chunks' ranges follow one another, each in its local order.
+/// The values are moved there and back in place, not copied: the global
+/// arrays alive beside the chunks' copies were the run's peak.
+struct Slots {
+    /// Start of each chunk's range, and the end of the last.
+    start: Vec<usize>,
+    /// Each vertex's slot: its one copy, or the first of its copies for a
+    /// vertex on a cut (in several chunks, read-only in all); `NONE` for a
+    /// vertex in no chunk.
+    slot: Vec<u32>,
+}
+
+impl Slots {
+    fn new(layouts: &[Layout], nv: usize) -> Slots {
+        let mut start = Vec::with_capacity(layouts.len() + 1);
+        let mut slot = vec![NONE; nv];
+        let mut next = 0usize;
+        for l in layouts {
+            start.push(next);
+            for &v in &l.vertex {
+                if slot[v as usize] == NONE {
+                    slot[v as usize] = next as u32;
+                }
+                next += 1;
+            }
+        }
+        start.push(next);
+        Slots { start, slot }
+    }
+
+    /// Length of the rearranged array: the chunks' ranges, or more where
+    /// dead vertices make the global array longer.
+    fn len(&self) -> usize {
+        self.slot.len().max(self.start.last().copied().unwrap_or(0))
+    }
+
+    /// Rearranges `g` (one value per vertex) into the chunks' ranges.
+    /// Values of vertices in no chunk are lost: the caller sets aside the
+    /// ones it needs.
+    fn move_to_chunks<T: Copy + Default>(&self, g: &mut Vec<T>, layouts: &[Layout]) {
+        let nv = g.len();
+        // Exactly: `resize` alone would double the capacity.
+        g.reserve_exact(self.len() - nv);
+        g.resize(self.len(), T::default());
+        // Each vertex's value to its slot, following chains of displaced
+        // values; a chain ends at a slot whose value is no longer needed.
+        let mut done = vec![false; nv];
+        for v in 0..nv {
+            if done[v] || self.slot[v] == NONE {
+                continue;
+            }
+            done[v] = true;
+            let (mut at, mut value) = (v, g[v]);
+            loop {
+                let to = self.slot[at] as usize;
+                if to < nv && !done[to] && self.slot[to] != NONE {
+                    done[to] = true;
+                    value = std::mem::replace(&mut g[to], value);
+                    at = to;
+                } else {
+                    g[to] = value;
+                    break;
+                }
+            }
+        }
+        // The further copies of vertices on a cut.
+        for (l, &start) in layouts.iter().zip(&self.start) {
+            for (k, &v) in l.vertex.iter().enumerate() {
+                let first = self.slot[v as usize] as usize;
+                if first != start + k {
+                    g[start + k] = g[first];
+                }
+            }
+        }
+    }
+
+    /// Puts the values back in vertex order (undoes [`Slots::move_to_chunks`]),
+    /// each vertex taking its first copy; vertices in no chunk get the
+    /// default value.
+    fn move_back<T: Copy + Default>(&self, g: &mut Vec<T>) {
+        let nv = self.slot.len();
+        let mut vertex = vec![NONE; g.len()];
+        for (v, &s) in self.slot.iter().enumerate() {
+            if s != NONE {
+                vertex[s as usize] = v as u32;
+            }
+        }
+        let mut done = vec![false; g.len()];
+        for s in 0..g.len() {
+            if done[s] || vertex[s] == NONE {
+                continue;
+            }
+            done[s] = true;
+            let (mut at, mut value) = (s, g[s]);
+            loop {
+                let to = vertex[at] as usize;
+                if !done[to] && vertex[to] != NONE {
+                    done[to] = true;
+                    value = std::mem::replace(&mut g[to], value);
+                    at = to;
+                } else {
+                    g[to] = value;
+                    break;
+                }
+            }
+        }
+        g.truncate(nv);
+        g.shrink_to_fit();
+        for (v, &s) in self.slot.iter().enumerate() {
+            if s == NONE {
+                g[v] = T::default();
+            }
+        }
+    }
+}
+
+/// `s` cut into consecutive ranges, `start` giving their bounds.
+fn split_ranges<'a, T>(mut s: &'a mut [T], start: &[usize]) -> Vec<&'a mut [T]> {
+    let mut out = Vec::with_capacity(start.len().saturating_sub(1));
+    for w in start.windows(2) {
+        let (range, rest) = std::mem::take(&mut s).split_at_mut(w[1] - w[0]);
+        out.push(range);
+        s = rest;
+    }
+    out
+}
+
+/// A live vertex in no chunk (unused by the live faces) and its quadrics,
+/// set aside while the global arrays hold the chunks' values.
+type Aside = (u32, Quadric, Isotropic);
+/// Builds a chunk's run from its layout: its vertices' quadrics (its
+/// ranges of the pass's arrays, see [`Slots`]) and locks, its virtual
+/// edges, and a floor (see below) as its target.
+fn build_chunk<'a>(
+    run: &Run<'a>,
+    layout: Layout,
+    (quadrics, reg): (&'a mut [Quadric], &'a mut [Isotropic]),
+    locked: &[bool],
+) -> Chunk<'a> {
     let c = &run.p.complex;
     let Layout {
         vertex,
@@ -276,8 +414,6 @@ fn build_chunk<'o>(run: &Run<'o>, layout: Layout, locked: &[bool]) -> Chunk<'o> 
     for (a, b) in pairs {
         complex.add_edge(a, b);
     }
-    let quadrics: Vec<Quadric> = vertex.iter().map(|&v| run.quadrics[v as usize]).collect();
-    let reg: Vec<Isotropic> = vertex.iter().map(|&v| run.reg[v as usize]).collect();
     let chunk_locked = vertex.iter().map(|&v| locked[v as usize]).collect();
     let triangles = complex.triangles;
     // Never below this chunk's share of the target, so that the chunks
@@ -344,13 +480,32 @@ fn one_pass(run: &mut Run, shift: DVec3, handoff: usize, progress: &dyn Fn(f64))
     let start = run.progress_start;
     let remove = start.saturating_sub(run.target);
     let layouts = layouts(&run.p.complex, chunks, &locked, &owner, &run.virtual_pairs);
+    drop(owner);
+    let slots = Slots::new(&layouts, run.p.complex.pos.len());
+    // Live vertices in no chunk keep their quadrics; a removed vertex's
+    // are never read again.
+    let aside: Vec<Aside> = (0..slots.slot.len() as u32)
+        .filter(|&v| slots.slot[v as usize] == NONE && run.merged_into[v as usize] == v)
+        .map(|v| (v, run.quadrics[v as usize], run.reg[v as usize]))
+        .collect();
+    let mut quadrics = std::mem::take(&mut run.quadrics).into_vec();
+    let mut reg = std::mem::take(&mut run.reg).into_vec();
+    slots.move_to_chunks(&mut quadrics, &layouts);
+    slots.move_to_chunks(&mut reg, &layouts);
+    let ranges: Vec<_> = split_ranges(&mut quadrics, &slots.start)
+        .into_iter()
+        .zip(split_ranges(&mut reg, &slots.start))
+        .collect();
     let mut parts: Vec<Chunk> = {
         let this = &*run;
         layouts
             .into_par_iter()
-            .map(|layout| build_chunk(this, layout, &locked))
+            .zip(ranges)
+            .map(|(layout, q)| build_chunk(this, layout, q, &locked))
             .collect()
     };
+    // Not needed in the rounds, the peak.
+    drop(locked);
     // Rounds: every chunk makes its collapses up to the cap, which then
     // doubles (or jumps to the cheapest collapse left). Within a round the
     // order is each chunk's greedy order; across rounds, the global one.
@@ -375,11 +530,52 @@ fn one_pass(run: &mut Run, shift: DVec3, handoff: usize, progress: &dyn Fn(f64))
         });
     }
     write_back(run, parts);
+    slots.move_back(&mut quadrics);
+    slots.move_back(&mut reg);
+    for (v, q, r) in aside {
+        quadrics[v as usize] = q;
+        reg[v as usize] = r;
+    }
+    run.quadrics = PerVertex::Owned(quadrics);
+    run.reg = PerVertex::Owned(reg);
 }
 
-/// Copies every chunk's faces, moved positions, merged quadrics and merges
-/// back to the global complex (chunks in order: deterministic).
-fn write_back(run: &mut Run, parts: Vec<Chunk>) {
+/// A chunk's quadrics summed as the global arrays summed them when they
+/// stayed alive beside the chunks' copies (outputs must not change): a
+/// kept vertex's value before the pass, plus the values of the vertices
+/// merged into it, as they were when they merged, in local vertex order.
+/// The chunk's own sums, made in collapse order, round differently. A
+/// removed vertex keeps its value, which only these sums read.
+fn global_sums(local: &mut Run) {
+    let Run {
+        quadrics,
+        reg,
+        merged_into,
+        before_merge,
+        ..
+    } = local;
+    let alive = |v: u32| merged_into[v as usize] == v;
+    for b in before_merge.iter().flatten() {
+        if alive(b.vertex) {
+            quadrics[b.vertex as usize] = b.quadric;
+            reg[b.vertex as usize] = b.reg;
+        }
+    }
+    for (lv, &into) in merged_into.iter().enumerate() {
+        if into != lv as u32 && alive(into) {
+            let (q, r) = (quadrics[lv], reg[lv]);
+            quadrics[into as usize] += q;
+            reg[into as usize] += r;
+        }
+    }
+}
+
+/// Copies every chunk's faces, moved positions and merges back to the
+/// global complex (chunks in order: deterministic), and leaves each
+/// chunk's quadrics, in its ranges of the pass's arrays, as
+/// [`global_sums`] makes them.
+fn write_back(run: &mut Run, mut parts: Vec<Chunk>) {
+    parts.par_iter_mut().for_each(|p| global_sums(&mut p.run));
     for part in parts {
         let Chunk {
             run: local,
@@ -406,12 +602,7 @@ fn write_back(run: &mut Run, parts: Vec<Chunk>) {
             }
             let into = local.merged_into[lv];
             if into != lv as u32 {
-                // A removed vertex: its quadric, as it was when it merged,
-                // goes to the vertex it merged into.
-                let gi = vertex[into as usize];
-                run.merged_into[gv as usize] = gi;
-                run.quadrics[gi as usize] += local.quadrics[lv];
-                run.reg[gi as usize] += local.reg[lv];
+                run.merged_into[gv as usize] = vertex[into as usize];
             }
         }
         add_report(&mut run.report, &local.report);
@@ -493,6 +684,31 @@ mod tests {
         let (locked, _) = locked_vertices(&c, &chunks, &[(0, 8), (1, 10)]);
         assert!(locked[0] && locked[8]);
         assert!(!locked[1] && !locked[10]);
+    }
+
+    #[test]
+    fn slots_move_values_to_the_chunks_and_back() {
+        let c = strip();
+        let chunks = vec![(0..8).collect::<Vec<u32>>(), (8..16).collect()];
+        let (locked, owner) = locked_vertices(&c, &chunks, &[]);
+        let l = layouts(&c, chunks, &locked, &owner, &[]);
+        // Two more vertices than the faces use: they are in no chunk.
+        let nv = c.pos.len() + 2;
+        let slots = Slots::new(&l, nv);
+        let values: Vec<u64> = (0..nv as u64).map(|v| 100 + v).collect();
+        let mut g = values.clone();
+        slots.move_to_chunks(&mut g, &l);
+        for (part, &start) in l.iter().zip(&slots.start) {
+            for (k, &v) in part.vertex.iter().enumerate() {
+                assert_eq!(g[start + k], values[v as usize], "vertex {v}");
+            }
+        }
+        // The cut's column is in both chunks.
+        assert_eq!(slots.start[2], c.pos.len() + 2);
+        slots.move_back(&mut g);
+        let mut expected = values;
+        expected[nv - 2..].fill(0);
+        assert_eq!(g, expected);
     }
 
     #[test]
