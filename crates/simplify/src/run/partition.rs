@@ -304,27 +304,12 @@ impl Slots {
         // Exactly: `resize` alone would double the capacity.
         g.reserve_exact(self.len() - nv);
         g.resize(self.len(), T::default());
-        // Each vertex's value to its slot, following chains of displaced
-        // values; a chain ends at a slot whose value is no longer needed.
-        let mut done = vec![false; nv];
-        for v in 0..nv {
-            if done[v] || self.slot[v] == NONE {
-                continue;
-            }
-            done[v] = true;
-            let (mut at, mut value) = (v, g[v]);
-            loop {
-                let to = self.slot[at] as usize;
-                if to < nv && !done[to] && self.slot[to] != NONE {
-                    done[to] = true;
-                    value = std::mem::replace(&mut g[to], value);
-                    at = to;
-                } else {
-                    g[to] = value;
-                    break;
-                }
-            }
-        }
+        // Each vertex's value to its slot; a chain ends at a slot whose
+        // value is no longer needed.
+        let slot = &self.slot;
+        permute(g, |at| {
+            (at < nv && slot[at] != NONE).then(|| slot[at] as usize)
+        });
         // The further copies of vertices on a cut.
         for (l, &start) in layouts.iter().zip(&self.start) {
             for (k, &v) in l.vertex.iter().enumerate() {
@@ -347,30 +332,36 @@ impl Slots {
                 vertex[s as usize] = v as u32;
             }
         }
-        let mut done = vec![false; g.len()];
-        for s in 0..g.len() {
-            if done[s] || vertex[s] == NONE {
-                continue;
-            }
-            done[s] = true;
-            let (mut at, mut value) = (s, g[s]);
-            loop {
-                let to = vertex[at] as usize;
-                if !done[to] && vertex[to] != NONE {
-                    done[to] = true;
-                    value = std::mem::replace(&mut g[to], value);
-                    at = to;
-                } else {
-                    g[to] = value;
-                    break;
-                }
-            }
-        }
+        permute(g, |at| (vertex[at] != NONE).then(|| vertex[at] as usize));
         g.truncate(nv);
         g.shrink_to_fit();
         for (v, &s) in self.slot.iter().enumerate() {
             if s == NONE {
                 g[v] = T::default();
+            }
+        }
+    }
+}
+
+/// Moves every value of `g` at an index with a destination there, in
+/// place: each cycle or chain of displaced values is followed once, and a
+/// chain ends at an index without a destination, whose value is dropped.
+fn permute<T: Copy>(g: &mut [T], dest: impl Fn(usize) -> Option<usize>) {
+    let mut done = vec![false; g.len()];
+    for start in 0..g.len() {
+        if done[start] || dest(start).is_none() {
+            continue;
+        }
+        done[start] = true;
+        let (mut at, mut value) = (start, g[start]);
+        while let Some(to) = dest(at) {
+            if !done[to] && dest(to).is_some() {
+                done[to] = true;
+                value = std::mem::replace(&mut g[to], value);
+                at = to;
+            } else {
+                g[to] = value;
+                break;
             }
         }
     }
