@@ -239,6 +239,14 @@ pub struct TuningArgs {
     /// (Hausdorff) distance at some cost in the mean.
     #[arg(long, value_name = "A", default_value_t = wildlod_simplify::Metric::default().area_exponent)]
     pub area_exponent: f64,
+    /// Face planes weigh at least this many mean face areas: details
+    /// tessellated finer than the rest (a scanned hair, a fillet, engraved
+    /// text) then cost like the rest of the surface instead of going
+    /// first, which lowers the worst-case distance. Parts too small for the
+    /// target still go first. 0 is W's plain area weighting. Quad mode
+    /// (Knodt) always uses plain area weighting.
+    #[arg(long, value_name = "K", default_value_t = wildlod_simplify::Metric::default().face_weight_floor)]
+    pub face_weight_floor: f64,
     /// Classic quadric error simplification (Garland & Heckbert 1997):
     /// no virtual edges, no area term. For comparisons.
     #[arg(long)]

@@ -378,17 +378,18 @@ fn help_teaches_the_commands() {
 }
 
 #[test]
-fn pinch_cost_area_floor_and_area_exponent_reach_the_simplifier() {
+fn plane_weighting_and_pinch_flags_reach_the_simplifier() {
     let dir = tempfile::tempdir().unwrap();
     let input = torus_obj(dir.path());
-    let run = |name: &str, extra: &[&str]| {
+    let run_to = |faces: &str, name: &str, extra: &[&str]| {
         let out = dir.path().join(name);
-        let mut args = vec!["simplify", s(&input), "-o", s(&out), "--faces", "8", "-q"];
+        let mut args = vec!["simplify", s(&input), "-o", s(&out), "--faces", faces, "-q"];
         args.extend_from_slice(extra);
         let o = wildlod(&args);
         assert!(o.status.success(), "{}", stderr(&o));
         std::fs::read(&out).unwrap()
     };
+    let run = |name: &str, extra: &[&str]| run_to("8", name, extra);
     // Eight triangles are below what a torus can keep: the default ranks
     // the pinches it must make after everything else, 0 lets them compete.
     let default = run("default.obj", &[]);
@@ -396,15 +397,29 @@ fn pinch_cost_area_floor_and_area_exponent_reach_the_simplifier() {
     assert_eq!(default, run("one.obj", &["--pinch-cost", "1"]));
     // A floor of ten mean faces is above every vertex's area here.
     assert_ne!(default, run("floor.obj", &["--area-floor", "10"]));
-    // The torus's faces shrink towards its hole: weighing them alike
-    // changes which go first.
-    assert_ne!(default, run("uniform.obj", &["--area-exponent", "0"]));
-    assert_eq!(default, run("area.obj", &["--area-exponent", "1"]));
+    // The torus's faces shrink towards its hole: weighing them alike, or
+    // lifting the small ones, changes which go first (at a third, without
+    // the quad ordering, which keeps W's plain area weighting).
+    let run = |name: &str, extra: &[&str]| {
+        let mut args = vec!["--no-quads"];
+        args.extend_from_slice(extra);
+        run_to("768", name, &args)
+    };
+    let default = run("default3.obj", &[]);
+    let same = |name: &str, extra: &[&str]| run(name, extra) == default;
+    assert!(!same("uniform.obj", &["--area-exponent", "0"]));
+    assert!(same("area.obj", &["--area-exponent", "1"]));
+    // Its smallest faces are about 0.65 of the mean: the default floor
+    // (half the mean) lifts none of them, a floor of the mean does.
+    assert!(same("unlifted.obj", &["--face-weight-floor", "0"]));
+    assert!(!same("lifted.obj", &["--face-weight-floor", "1"]));
+    assert!(same("half.obj", &["--face-weight-floor", "0.5"]));
     for flag in [
         "--pinch-cost=-1",
         "--area-floor=-1",
         "--area-exponent=1.5",
         "--area-exponent=-0.5",
+        "--face-weight-floor=-1",
     ] {
         let o = wildlod(&[
             "simplify",

@@ -64,6 +64,9 @@ pub struct Tuning {
     /// Face planes weighted by area^A (`Metric::area_exponent`), in [0, 1];
     /// 1 is W's area weighting, 0 every face alike.
     pub area_exponent: f64,
+    /// Face planes weigh at least this many mean face areas
+    /// (`Metric::face_weight_floor`); 0 is off.
+    pub face_weight_floor: f64,
     /// Classic quadric error simplification (Garland & Heckbert 1997).
     pub classic: bool,
     /// How much UVs steer the collapses.
@@ -99,6 +102,7 @@ impl Default for Tuning {
             area_floor: options.metric.area_floor,
             pinch_cost: options.metric.pinch_cost,
             area_exponent: options.metric.area_exponent,
+            face_weight_floor: options.metric.face_weight_floor,
             classic: false,
             uv_weight: attributes.tex_coord_weight,
             normal_weight: attributes.normal_weight,
@@ -124,6 +128,7 @@ impl Tuning {
             ("symmetry", self.symmetry),
             ("area_floor", self.area_floor),
             ("pinch_cost", self.pinch_cost),
+            ("face_weight_floor", self.face_weight_floor),
             ("uv_weight", self.uv_weight),
             ("normal_weight", self.normal_weight),
             ("color_weight", self.color_weight),
@@ -173,6 +178,7 @@ impl Tuning {
         options.metric.area_floor = self.area_floor;
         options.metric.pinch_cost = self.pinch_cost;
         options.metric.area_exponent = self.area_exponent;
+        options.metric.face_weight_floor = self.face_weight_floor;
         options.attributes = AttributeOptions {
             tex_coord_weight: self.uv_weight,
             normal_weight: self.normal_weight,
@@ -272,6 +278,24 @@ mod tests {
         .options()
         .expect("valid");
         assert_eq!(o.metric.area_exponent, 0.5);
+        let o = Tuning {
+            face_weight_floor: 2.0,
+            ..Tuning::default()
+        }
+        .options()
+        .expect("valid");
+        assert_eq!(o.metric.face_weight_floor, 2.0);
+        assert!(matches!(
+            Tuning {
+                face_weight_floor: -1.0,
+                ..Tuning::default()
+            }
+            .options(),
+            Err(Error::Setting {
+                name: "face_weight_floor",
+                ..
+            })
+        ));
         // Classic QEM keeps the exponent too: it is a weighting, not a term.
         let o = Tuning {
             area_exponent: 0.0,

@@ -382,6 +382,18 @@ impl Complex {
         &self.slot_vertex[s..s + self.faces[f as usize].len as usize]
     }
 
+    /// Connected parts (faces sharing a vertex): the part of every vertex,
+    /// numbered densely, and how many there are.
+    pub fn part_labels(&self) -> (Vec<u32>, usize) {
+        let mut sets = wildlod_mesh::disjoint_sets::DisjointSets::new(self.pos.len());
+        for f in 0..self.faces.len() as u32 {
+            for w in self.face(f).windows(2) {
+                sets.union(w[0], w[1]);
+            }
+        }
+        sets.labels()
+    }
+
     /// Where the face's cycle starts when rotated to its smallest vertex.
     fn canonical_start(&self, f: u32) -> usize {
         let face = self.face(f);

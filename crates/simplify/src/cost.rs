@@ -15,6 +15,7 @@ use rayon::prelude::*;
 
 use crate::attributes::{AttrScratch, AttributeState};
 use crate::complex::Complex;
+use crate::guards::too_small_for_budget;
 use crate::options::Metric;
 use crate::quadric::{place, place_exact, Isotropic, Quadric};
 use crate::tangent::tangent_quadrics;
@@ -82,17 +83,20 @@ pub(crate) fn vertex_quadrics(
     weights: &[f64],
     importance: EdgeImportance<'_>,
 ) -> Vec<Quadric> {
-    vertex_quadric_parts(c, metric, weights, importance).0
+    // A budget no part is too small for.
+    vertex_quadric_parts(c, metric, weights, importance, usize::MAX).0
 }
 
 /// [`vertex_quadrics`], and the regularization part of each (already in
 /// the first), which the placement takes back out to solve exactly (see
-/// [`crate::quadric::place_exact`]).
+/// [`crate::quadric::place_exact`]). `budget` is the run's target in
+/// triangles (see [`Metric::face_weight_floor`]).
 pub(crate) fn vertex_quadric_parts(
     c: &Complex,
     metric: &Metric,
     weights: &[f64],
     importance: EdgeImportance<'_>,
+    budget: usize,
 ) -> (Vec<Quadric>, Vec<Isotropic>) {
     let planes: Vec<Option<(DVec3, f64, DVec3)>> = (0..c.faces.len() as u32)
         .into_par_iter()
@@ -104,7 +108,13 @@ pub(crate) fn vertex_quadric_parts(
             }
         })
         .collect();
-    let planes = weigh_planes(planes, metric.area_exponent);
+    let planes = weigh_planes(
+        c,
+        planes,
+        metric.area_exponent,
+        metric.face_weight_floor,
+        budget,
+    );
     let tangent = if metric.tangent_weight > 0.0 {
         let normals: Vec<Option<DVec3>> = planes.iter().map(|p| p.map(|p| p.0)).collect();
         tangent_quadrics(c, &normals, importance, metric.tangent_weight)
@@ -173,14 +183,20 @@ pub(crate) fn vertex_quadric_parts(
         .unzip()
 }
 
-/// The weight each face plane carries, in place of its area:
-/// `mean · (area / mean)^exponent` over the faces with area (see
-/// [`Metric::area_exponent`]). Exponent 1 leaves the areas as they are.
+/// The weight each face plane carries, in place of its area (see
+/// [`plane_weight`]), `mean` being the mean area of all faces: the floor
+/// lifts faces below it except in parts too small to keep a closed
+/// surface at `budget` triangles (`guards::too_small_for_budget`), which
+/// stay as cheap as W's budget makes them, so they still go first (W §1,
+/// Fig. 1). Exponent 1 and floor 0 leave the areas as they are.
 fn weigh_planes(
+    c: &Complex,
     planes: Vec<Option<(DVec3, f64, DVec3)>>,
     exponent: f64,
+    floor: f64,
+    budget: usize,
 ) -> Vec<Option<(DVec3, f64, DVec3)>> {
-    if exponent == 1.0 {
+    if exponent == 1.0 && floor <= 0.0 {
         return planes;
     }
     let (count, sum) = planes
@@ -191,17 +207,58 @@ fn weigh_planes(
         return planes;
     }
     let mean = sum / count as f64;
+    let small = if floor > 0.0 {
+        small_part_faces(c, &planes, sum, budget)
+    } else {
+        Vec::new()
+    };
     planes
         .into_par_iter()
-        .map(|p| p.map(|(n, a, c)| (n, plane_weight(a, mean, exponent), c)))
+        .enumerate()
+        .map(|(f, p)| {
+            p.map(|(n, a, centroid)| {
+                let lift = if small.get(f).copied().unwrap_or(false) {
+                    0.0
+                } else {
+                    floor * mean
+                };
+                (n, plane_weight(a, mean, exponent, lift), centroid)
+            })
+        })
         .collect()
 }
 
-/// `mean · (area / mean)^exponent`: the plane weight of a face of `area`
-/// on a mesh whose mean face area is `mean`.
+/// Whether each face lies in a connected part too small, by its share of
+/// the area `total`, to keep a closed surface at `budget` triangles.
+fn small_part_faces(
+    c: &Complex,
+    planes: &[Option<(DVec3, f64, DVec3)>],
+    total: f64,
+    budget: usize,
+) -> Vec<bool> {
+    let (label, parts) = c.part_labels();
+    let part = |f: usize| {
+        c.face(f as u32)
+            .first()
+            .map(|&v| label[v as usize] as usize)
+    };
+    let mut area = vec![0.0f64; parts];
+    for (f, p) in planes.iter().enumerate() {
+        if let (Some(k), Some(p)) = (part(f), p) {
+            area[k] += p.1;
+        }
+    }
+    (0..planes.len())
+        .map(|f| part(f).is_some_and(|k| too_small_for_budget(area[k], total, budget)))
+        .collect()
+}
+
+/// `max(mean · (area / mean)^exponent, lift)`: the plane weight of a face
+/// of `area` on a mesh whose mean face area is `mean`, at least `lift`
+/// (see [`Metric::area_exponent`] and [`Metric::face_weight_floor`]).
 #[inline]
-pub(crate) fn plane_weight(area: f64, mean: f64, exponent: f64) -> f64 {
-    mean * (area / mean).powf(exponent)
+pub(crate) fn plane_weight(area: f64, mean: f64, exponent: f64, lift: f64) -> f64 {
+    (mean * (area / mean).powf(exponent)).max(lift)
 }
 
 /// Garland & Heckbert's boundary constraints (1997 §6; Blender's Decimate
@@ -556,11 +613,15 @@ mod tests {
     #[test]
     fn plane_weight_interpolates_between_area_and_uniform() {
         // A face of area 4 on a mesh of mean face area 1.
-        assert_eq!(plane_weight(4.0, 1.0, 1.0), 4.0);
-        assert_eq!(plane_weight(4.0, 1.0, 0.5), 2.0);
-        assert_eq!(plane_weight(4.0, 1.0, 0.0), 1.0);
+        assert_eq!(plane_weight(4.0, 1.0, 1.0, 0.0), 4.0);
+        assert_eq!(plane_weight(4.0, 1.0, 0.5, 0.0), 2.0);
+        assert_eq!(plane_weight(4.0, 1.0, 0.0, 0.0), 1.0);
         // The mean face keeps its weight whatever the exponent.
-        assert_eq!(plane_weight(3.0, 3.0, 0.25), 3.0);
+        assert_eq!(plane_weight(3.0, 3.0, 0.25, 0.0), 3.0);
+        // The lift raises small faces only: with a lift of 1, a face of
+        // area 0.2 weighs 1, one of area 4 keeps its area.
+        assert_eq!(plane_weight(0.2, 2.0, 1.0, 1.0), 1.0);
+        assert_eq!(plane_weight(4.0, 2.0, 1.0, 1.0), 4.0);
     }
 
     #[test]
@@ -576,21 +637,53 @@ mod tests {
             DVec3::new(0.0, -2.0, 0.0),
         ];
         let c = Complex::new(pos, &[0, 3, 6], &[0, 1, 2, 0, 3, 4]).0;
-        let weigh = |exponent| {
+        let weigh = |exponent, floor| {
             let metric = Metric {
                 regularization: 0.0,
                 border_weight: 0.0,
                 area_exponent: exponent,
+                face_weight_floor: floor,
                 ..Metric::default()
             };
             vertex_quadrics(&c, &metric, &[], EdgeImportance::default())[0].weight
         };
-        assert!((weigh(1.0) - 2.5 / 3.0).abs() < 1e-9, "{}", weigh(1.0));
-        assert!(
-            (weigh(0.0) - 2.0 * 1.25 / 3.0).abs() < 1e-9,
-            "{}",
-            weigh(0.0)
-        );
+        let w = weigh(1.0, 0.0);
+        assert!((w - 2.5 / 3.0).abs() < 1e-9, "{w}");
+        let w = weigh(0.0, 0.0);
+        assert!((w - 2.0 * 1.25 / 3.0).abs() < 1e-9, "{w}");
+        // A floor of the mean lifts the small face (1/2) to 5/4 and leaves
+        // the large one (2): (5/4 + 2) / 3.
+        let w = weigh(1.0, 1.0);
+        assert!((w - 3.25 / 3.0).abs() < 1e-9, "{w}");
+        // Apart, each triangle is a part too small for a budget of two
+        // triangles (a closed part needs four): nothing is lifted, so small
+        // parts still go first.
+        let pos = vec![
+            DVec3::ZERO,
+            DVec3::X,
+            DVec3::Y,
+            DVec3::new(5.0, 0.0, 0.0),
+            DVec3::new(3.0, 0.0, 0.0),
+            DVec3::new(5.0, -2.0, 0.0),
+        ];
+        let apart = Complex::new(pos, &[0, 3, 6], &[0, 1, 2, 3, 4, 5]).0;
+        let metric = Metric {
+            regularization: 0.0,
+            border_weight: 0.0,
+            face_weight_floor: 1.0,
+            ..Metric::default()
+        };
+        let weights = |budget| {
+            vertex_quadric_parts(&apart, &metric, &[], EdgeImportance::default(), budget).0
+        };
+        let q = weights(2);
+        assert!((q[0].weight - 0.5 / 3.0).abs() < 1e-12, "{}", q[0].weight);
+        assert!((q[3].weight - 2.0 / 3.0).abs() < 1e-12, "{}", q[3].weight);
+        // With room for both (a budget of 40: the small one gets 8), the
+        // small triangle is lifted to the mean, 5/4.
+        let q = weights(40);
+        assert!((q[0].weight - 1.25 / 3.0).abs() < 1e-12, "{}", q[0].weight);
+        assert!((q[3].weight - 2.0 / 3.0).abs() < 1e-12, "{}", q[3].weight);
     }
 
     #[test]

@@ -269,14 +269,7 @@ const CLOSED_MINIMUM: f64 = 4.0;
 /// pinch lets them vanish before larger parts lose detail.
 pub(crate) fn pinch_free_parts(c: &Complex, area: &[f64], target: usize) -> Vec<bool> {
     let n = c.pos.len();
-    let mut sets = wildlod_mesh::disjoint_sets::DisjointSets::new(n);
-    for f in 0..c.faces.len() as u32 {
-        let face = c.face(f);
-        for w in face.windows(2) {
-            sets.union(w[0], w[1]);
-        }
-    }
-    let (label, parts) = sets.labels();
+    let (label, parts) = c.part_labels();
     let mut part_area = vec![0.0f64; parts];
     for (v, &l) in label.iter().enumerate() {
         part_area[l as usize] += area.get(v).copied().unwrap_or(0.0);
@@ -285,11 +278,17 @@ pub(crate) fn pinch_free_parts(c: &Complex, area: &[f64], target: usize) -> Vec<
     if total.is_nan() || total <= 0.0 {
         return vec![false; n];
     }
-    let budget = target.max(1) as f64;
     label
         .iter()
-        .map(|&l| budget * part_area[l as usize] / total < CLOSED_MINIMUM)
+        .map(|&l| too_small_for_budget(part_area[l as usize], total, target))
         .collect()
+}
+
+/// Whether a part of `area`, out of `total`, gets less than the smallest
+/// closed surface (a tetrahedron) of a `budget`-triangle target when the
+/// budget is shared by area.
+pub(crate) fn too_small_for_budget(area: f64, total: f64, budget: usize) -> bool {
+    budget.max(1) as f64 * area / total < CLOSED_MINIMUM
 }
 
 /// Exactly how many triangles collapsing `i`–`j` removes, without making

@@ -271,7 +271,20 @@ impl<'o> Run<'o> {
             symmetry: &symmetry,
             joints: &joints,
         };
-        let (mut quadrics, reg) = vertex_quadric_parts(&p.complex, &metric, &p.weights, importance);
+        // A ratio is of the triangles that are surface: degenerate faces and
+        // exact repeats are cleaned away first (as Blender validates a mesh
+        // before decimating), twins count (the output keeps them). A mesh
+        // and the same mesh with every face doubled then simplify alike.
+        let target = options.target.triangles_for(p.complex.triangles);
+        // An error-only target has no budget to share: every part counts
+        // as large enough to keep.
+        let budget = if target > 0 {
+            target
+        } else {
+            p.complex.triangles
+        };
+        let (mut quadrics, reg) =
+            vertex_quadric_parts(&p.complex, &metric, &p.weights, importance, budget);
         if let Some(a) = &attrs {
             let planes = a.seam_planes(&p.complex, options.attributes.seam_weight);
             for (q, plane) in quadrics.iter_mut().zip(planes) {
@@ -286,11 +299,6 @@ impl<'o> Run<'o> {
             attributes_move_vertices: options.attributes.attributes_move_vertices,
             area_floor: metric.area_floor.max(0.0) * area / faces.max(1) as f64,
         };
-        // A ratio is of the triangles that are surface: degenerate faces and
-        // exact repeats are cleaned away first (as Blender validates a mesh
-        // before decimating), twins count (the output keeps them). A mesh
-        // and the same mesh with every face doubled then simplify alike.
-        let target = options.target.triangles_for(p.complex.triangles);
         let report = Report {
             input_triangles: p.input_triangles,
             target_triangles: target,
@@ -339,13 +347,6 @@ impl<'o> Run<'o> {
         run.area_vertices = area_vertices(&run.quadrics);
         if run.model.metric.pinch_cost > 0.0 {
             let area: Vec<f64> = run.quadrics.iter().map(|q| q.weight).collect();
-            // An error-only target has no budget to share: every part
-            // counts as large enough to keep.
-            let budget = if target > 0 {
-                target
-            } else {
-                run.p.complex.triangles
-            };
             run.pinch_free = pinch_free_parts(&run.p.complex, &area, budget);
         }
         run

@@ -375,6 +375,7 @@ fn hair_thin_spur_keeps_its_height_under_the_area_floor() {
         hair_height_lost(0.2, |o| {
             o.metric.area_floor = floor;
             o.metric.pinch_cost = 0.0;
+            o.metric.face_weight_floor = 0.0;
         })
     };
     let with = lost(1.0);
@@ -387,6 +388,27 @@ fn hair_thin_spur_keeps_its_height_under_the_area_floor() {
     );
 }
 
+/// The face weight floor keeps the same spur at 20% with neither the
+/// area floor nor the pinch cost: its tiny tip faces weigh half a mean
+/// face, so shortening it costs what it costs elsewhere on the sheet.
+#[test]
+fn hair_thin_spur_keeps_its_height_under_the_face_weight_floor() {
+    let h = HAIR.1;
+    let lost = |floor: f64| {
+        hair_height_lost(0.2, |o| {
+            o.metric.face_weight_floor = floor;
+            o.metric.pinch_cost = 0.0;
+        })
+    };
+    let with = lost(0.5);
+    assert!(with <= 0.02 * h, "lost {with} of {h} with the face floor");
+    let without = lost(0.0);
+    assert!(
+        without >= 0.3 * h,
+        "lost only {without} of {h} without the face floor"
+    );
+}
+
 /// The same spur at a tenth: by then collapsing across it is cheaper than
 /// anything left on the sheet, and without the pinch cost it flattens
 /// into faceless edges (70% of its height gone, whatever the floor); with
@@ -394,7 +416,14 @@ fn hair_thin_spur_keeps_its_height_under_the_area_floor() {
 #[test]
 fn hair_thin_spur_survives_a_tenth_under_the_pinch_cost() {
     let h = HAIR.1;
-    let lost = |pinch: f64| hair_height_lost(0.1, |o| o.metric.pinch_cost = pinch);
+    // Under W's plain area weighting: the face weight floor keeps the
+    // spur too (see above), and this is about the pinch cost.
+    let lost = |pinch: f64| {
+        hair_height_lost(0.1, |o| {
+            o.metric.pinch_cost = pinch;
+            o.metric.face_weight_floor = 0.0;
+        })
+    };
     let with = lost(1.0);
     assert!(with <= 0.02 * h, "lost {with} of {h} with the pinch cost");
     let without = lost(0.0);

@@ -150,6 +150,7 @@ pub(crate) fn tuning(t: &TuningArgs) -> Tuning {
         area_floor: t.area_floor,
         pinch_cost: t.pinch_cost,
         area_exponent: t.area_exponent,
+        face_weight_floor: t.face_weight_floor,
         classic: t.classic,
         uv_weight: t.uv_weight,
         normal_weight: t.normal_weight,
