@@ -156,15 +156,6 @@ impl<T: Clone> PerVertex<'_, T> {
     }
 }
 
-/// A vertex's quadrics as they were before the first collapse onto it, in
-/// a chunk of the partitioned path (see `Run::before_merge`).
-#[derive(Clone, Copy, Debug)]
-pub(crate) struct BeforeMerge {
-    pub vertex: u32,
-    pub quadric: Quadric,
-    pub reg: Isotropic,
-}
-
 /// What the loop takes next.
 enum Next {
     /// An edge, with its cost, its evaluation when just computed, and its
@@ -215,14 +206,6 @@ pub(crate) struct Run<'o> {
     moved: Vec<bool>,
     /// The vertex each vertex was merged into (itself while alive).
     merged_into: Vec<u32>,
-    /// In a chunk, the quadrics of each vertex kept by a collapse as they
-    /// were before its first one (`None` outside chunks). The chunk owns
-    /// the only copy of its vertices' quadrics while it runs, and the
-    /// write-back rebuilds the global ones from these starting values plus
-    /// the removed vertices' quadrics in vertex order, as the global
-    /// arrays summed them when they stayed alive beside the chunks: the
-    /// chunk's own sums, in collapse order, round differently.
-    before_merge: Option<Vec<BeforeMerge>>,
     target: usize,
     /// Triangles when the run started (progress is measured from there).
     progress_start: usize,
@@ -330,7 +313,6 @@ impl<'o> Run<'o> {
             pinch_free: Vec::new(),
             moved: vec![false; nv],
             merged_into: (0..nv as u32).collect(),
-            before_merge: None,
             target,
             progress_start: 0,
             error_limited: false,
@@ -385,7 +367,6 @@ impl<'o> Run<'o> {
             pinch_free: Vec::new(),
             moved: vec![false; nv],
             merged_into: (0..nv as u32).collect(),
-            before_merge: Some(Vec::new()),
             target,
             progress_start: 0,
             error_limited: false,
@@ -890,16 +871,6 @@ impl<'o> Run<'o> {
                     let n = &mut self.refused_around[v as usize];
                     *n = n.saturating_sub(1);
                 }
-            }
-        }
-        if let Some(before) = &mut self.before_merge {
-            // `moved` is set by collapses only: this is i's first.
-            if !self.moved[i as usize] {
-                before.push(BeforeMerge {
-                    vertex: i,
-                    quadric: self.quadrics[i as usize],
-                    reg: self.reg.get(i as usize).copied().unwrap_or_default(),
-                });
             }
         }
         self.moved[i as usize] = true;

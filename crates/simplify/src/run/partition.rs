@@ -531,42 +531,11 @@ fn one_pass(run: &mut Run, shift: DVec3, handoff: usize, progress: &dyn Fn(f64))
     run.reg = PerVertex::Owned(reg);
 }
 
-/// A chunk's quadrics summed as the global arrays summed them when they
-/// stayed alive beside the chunks' copies (outputs must not change): a
-/// kept vertex's value before the pass, plus the values of the vertices
-/// merged into it, as they were when they merged, in local vertex order.
-/// The chunk's own sums, made in collapse order, round differently. A
-/// removed vertex keeps its value, which only these sums read.
-fn global_sums(local: &mut Run) {
-    let Run {
-        quadrics,
-        reg,
-        merged_into,
-        before_merge,
-        ..
-    } = local;
-    let alive = |v: u32| merged_into[v as usize] == v;
-    for b in before_merge.iter().flatten() {
-        if alive(b.vertex) {
-            quadrics[b.vertex as usize] = b.quadric;
-            reg[b.vertex as usize] = b.reg;
-        }
-    }
-    for (lv, &into) in merged_into.iter().enumerate() {
-        if into != lv as u32 && alive(into) {
-            let (q, r) = (quadrics[lv], reg[lv]);
-            quadrics[into as usize] += q;
-            reg[into as usize] += r;
-        }
-    }
-}
-
 /// Copies every chunk's faces, moved positions and merges back to the
-/// global complex (chunks in order: deterministic), and leaves each
-/// chunk's quadrics, in its ranges of the pass's arrays, as
-/// [`global_sums`] makes them.
-fn write_back(run: &mut Run, mut parts: Vec<Chunk>) {
-    parts.par_iter_mut().for_each(|p| global_sums(&mut p.run));
+/// global complex (chunks in order: deterministic). Each chunk's quadrics
+/// stay where they are, in its ranges of the pass's arrays, summed by its
+/// own collapses.
+fn write_back(run: &mut Run, parts: Vec<Chunk>) {
     for part in parts {
         let Chunk {
             run: local,
