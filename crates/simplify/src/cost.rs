@@ -258,7 +258,14 @@ fn small_part_faces(
 /// (see [`Metric::area_exponent`] and [`Metric::face_weight_floor`]).
 #[inline]
 pub(crate) fn plane_weight(area: f64, mean: f64, exponent: f64, lift: f64) -> f64 {
-    (mean * (area / mean).powf(exponent)).max(lift)
+    // Exponent 1 is the area itself, to the bit: a floor that lifts no
+    // face must leave the quadrics exactly as W's weighting makes them.
+    let weighted = if exponent == 1.0 {
+        area
+    } else {
+        mean * (area / mean).powf(exponent)
+    };
+    weighted.max(lift)
 }
 
 /// Garland & Heckbert's boundary constraints (1997 §6; Blender's Decimate
