@@ -38,6 +38,7 @@ mod mesh;
 mod options;
 mod ordering;
 mod quadric;
+mod refit;
 mod report;
 mod run;
 mod scene;

@@ -971,6 +971,80 @@ impl<'o> Run<'o> {
         self.changed = todo;
     }
 
+    /// Where each welded vertex went: the collapse forest followed to its
+    /// roots. It only points from removed to kept vertices, so it has no
+    /// cycle.
+    fn collapse_roots(&self) -> Vec<u32> {
+        let mut root = self.merged_into.clone();
+        for v in 0..root.len() {
+            let mut r = v as u32;
+            while root[r as usize] != r {
+                r = root[r as usize];
+            }
+            root[v] = r;
+        }
+        root
+    }
+
+    /// The final refit (see `refit.rs`) against the input `faces` (input
+    /// vertex ids) that the complex kept (`kept`, per face; empty: all).
+    /// With the history recorded too: successive mapping projects the final
+    /// mesh's points onto the recorded one-rings by closest point (W
+    /// §4.3.1), which a surface moved closer to the input only helps.
+    pub fn refit(&mut self, faces: &Faces, kept: &[bool]) {
+        let sweeps = self.options.refit_sweeps;
+        // Soft symmetry asks for a mirror-symmetric result: vertices on the
+        // mirror plane stay on it, which a fit to the input points around
+        // them, never quite symmetric, would undo.
+        if sweeps == 0 || self.p.input.is_empty() || self.options.quad.symmetry > 0.0 {
+            return;
+        }
+        let root = self.collapse_roots();
+        let c = &self.p.complex;
+        let fixed: Vec<bool> = if self.options.guards.lock_borders && c.has_adjacency() {
+            let mut buf = Vec::new();
+            (0..c.pos.len() as u32)
+                .map(|v| {
+                    buf.clear();
+                    c.boundary_neighbors(v, &mut buf);
+                    !buf.is_empty()
+                })
+                .collect()
+        } else {
+            Vec::new()
+        };
+        // Never more than a right angle, whatever the flip guard allows.
+        let min_cos = self
+            .options
+            .guards
+            .max_normal_turn_degrees
+            .map_or(0.0, |d| d.to_radians().cos().max(0.0));
+        // What neither the refit nor `assemble` reads, freed first (the
+        // star lists and edges are most of it): the refit then fits under
+        // the run's earlier peak.
+        self.queue = CollapseQueue::default();
+        self.refused_around = Vec::new();
+        self.p.complex.clear_adjacency();
+        let input = crate::refit::RefitInput {
+            positions: &self.p.input,
+            center: self.p.center,
+            scale: self.p.scale,
+            offsets: &faces.offsets,
+            indices: &faces.indices,
+            weld: &self.p.weld,
+            kept,
+            root: &root,
+            quadrics: &self.quadrics,
+            regularization: &self.reg,
+            fixed: &fixed,
+            min_cos,
+        };
+        let moved = crate::refit::refit(&mut self.p.complex, &input, sweeps);
+        for (m, r) in self.moved.iter_mut().zip(moved) {
+            *m |= r;
+        }
+    }
+
     /// The live faces in input order, positions de-normalized (untouched
     /// vertices keep their input bits), and the maps back to the input.
     pub fn assemble(self, input: &AttributeInput<'_>) -> Simplified {
@@ -1028,16 +1102,7 @@ impl<'o> Run<'o> {
                 }));
             }
         }
-        // Where each welded vertex went: follow the collapse forest, which
-        // only points from removed to kept vertices, so it has no cycle.
-        let mut root = self.merged_into.clone();
-        for v in 0..nv {
-            let mut r = v as u32;
-            while root[r as usize] != r {
-                r = root[r as usize];
-            }
-            root[v] = r;
-        }
+        let root = self.collapse_roots();
         let vertex_map = self
             .p
             .weld

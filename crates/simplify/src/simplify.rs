@@ -178,9 +178,17 @@ pub fn simplify_with_attributes_and_progress(
     } else {
         None
     };
+    // The input faces the complex keeps (duplicates and twins folded
+    // away), for the refit to see the surface the quadrics saw.
+    let kept: Vec<bool> = if options.refit_sweeps > 0 {
+        prepared.complex.faces.iter().map(|f| f.len > 0).collect()
+    } else {
+        Vec::new()
+    };
     let mut run = Run::new(prepared, options, attrs);
     run.start(progress);
     run.collapse_loop(progress);
+    run.refit(faces, &kept);
     progress(1.0);
     let mut out = run.assemble(attributes);
     if let Some(s) = &split {

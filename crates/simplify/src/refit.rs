@@ -1,0 +1,693 @@
+//! Refitting the simplified surface to the input, once the collapses are
+//! done.
+//!
+//! Every vertex was placed where its quadric (the planes of the input faces
+//! merged into it, W Eq. 13–14) is smallest *when it was made*. Later
+//! collapses around it change the faces it spans, so at the end the output
+//! no longer lies where the input does: a vertex that was right for the
+//! faces of its day leaves the input's points between it and its newer
+//! neighbours farther from the output than they need be. That is one-sided:
+//! the quadric measures the output vertices' distance to the input's planes
+//! and never the input's distance to the output, which is half of what
+//! Chamfer and Hausdorff distances measure.
+//!
+//! The refit adds that half. A few Jacobi sweeps move every vertex to the
+//! minimizer of
+//!
+//! `Q_v(p) + Σ w_i (b_i n_i·(p − p_v) − r_i)² + λ W_v |p − p_v|²`
+//!
+//! where `Q_v` is the vertex's own quadric (which keeps it on the input's
+//! planes: a sharp corner stays put), the sum runs over the input vertices
+//! whose closest point on the output lies on a face of `v` (with weight
+//! `w_i` their area share, as in `Q_v`; `b_i` the barycentric weight of `v`
+//! at that point, `n_i` the face's normal, `r_i` the signed distance along
+//! it), and the last term damps the step. Both terms are area-weighted
+//! squared distances, so they balance at every scale. `Q_v` is taken
+//! without its regularization part, whose pull toward the merged vertices'
+//! centre would move a vertex off the planes that hold it. Input points are
+//! matched only to faces around the output vertex they were merged into and
+//! only to faces within 60° of their own normal: a crease's other side and
+//! a thin part's other side are never pulled in. Repeated faces and twins
+//! of the other orientation count once, as in the quadrics.
+//!
+//! Three guards keep it safe: a step is at most half the vertex's shortest
+//! edge; a vertex never ends farther from the input faces it stands for
+//! than it was or than the farthest input point it fits (it trades its own
+//! distance for the input's, never beyond the worst it is fitting); and a
+//! sweep that would turn a face by more than the flip guard allows (at most
+//! a right angle) puts that face's vertices back. Only positions change;
+//! attributes are fitted at the new positions like after any collapse.
+//!
+//! Not part of either paper: measured on the corpus against the peers
+//! (`docs/evaluation.md`, "Refit").
+
+use glam::{DVec3, Vec3};
+use rayon::prelude::*;
+use smallvec::SmallVec;
+use wildlod_geometry::closest_point_on_triangle;
+
+use crate::complex::Complex;
+use crate::cost::polygon_normal;
+use crate::quadric::{Isotropic, Quadric};
+
+/// Damping λ of a vertex's step, relative to the weight it carries: small
+/// enough that a vertex goes nearly all the way to its minimizer, large
+/// enough to keep the solve well conditioned where the planes are flat.
+const DAMPING: f64 = 0.05;
+
+/// A step is at most this fraction of the vertex's shortest edge, so that
+/// a sweep, where every vertex moves at once, cannot fold a face over.
+const MAX_STEP: f64 = 0.5;
+
+/// An input point is matched only to output faces whose normal is within
+/// 60° of its own: a face turned farther away stands for another part of
+/// the surface (the other side of a crease or of a thin part), and pulling
+/// the point onto it would round the crease off.
+const FACING: f64 = 0.5;
+
+/// Input points handled per parallel block: bounds the memory of the
+/// matches, which are applied block by block.
+const BLOCK: usize = 1 << 14;
+
+/// What the refit works from: the input surface, and where each input
+/// vertex went.
+pub(crate) struct RefitInput<'a> {
+    /// Input positions, one per welded vertex, in the input's coordinates.
+    pub positions: &'a [[f32; 3]],
+    /// The complex's coordinates are `(p − center) / scale`.
+    pub center: DVec3,
+    pub scale: f64,
+    /// Input faces: `offsets` (one past the last too) into `indices`, which
+    /// are input vertex ids, welded by `weld` (empty: already welded).
+    pub offsets: &'a [u32],
+    pub indices: &'a [u32],
+    pub weld: &'a [u32],
+    /// Which input faces count (empty: all): those the complex kept, so
+    /// that a repeated face or a twin of the other orientation counts once,
+    /// as in the quadrics.
+    pub kept: &'a [bool],
+    /// The output vertex every welded vertex was merged into (itself when
+    /// it survived).
+    pub root: &'a [u32],
+    /// The output vertices' quadrics, and the regularization part of each
+    /// (taken back out: its pull toward the input vertices' centre would
+    /// move a vertex off the planes that hold it; the damping steadies the
+    /// solve instead).
+    pub quadrics: &'a [Quadric],
+    pub regularization: &'a [Isotropic],
+    /// Vertices that must not move (locked borders); empty: none.
+    pub fixed: &'a [bool],
+    /// The flip guard's bound: a face's normal may turn by at most this
+    /// cosine in one sweep.
+    pub min_cos: f64,
+}
+
+impl RefitInput<'_> {
+    /// Welded input vertex `w` in the complex's coordinates.
+    fn point(&self, w: u32) -> DVec3 {
+        (DVec3::from(self.positions[w as usize].map(f64::from)) - self.center) / self.scale
+    }
+
+    fn face_count(&self) -> usize {
+        self.offsets.len().saturating_sub(1)
+    }
+
+    /// Whether input face `f` counts.
+    fn counts(&self, f: usize) -> bool {
+        self.kept.get(f).copied().unwrap_or(true)
+    }
+
+    /// The welded vertices of input face `f`.
+    fn face(&self, f: usize) -> impl Iterator<Item = u32> + '_ {
+        let (a, b) = (self.offsets[f] as usize, self.offsets[f + 1] as usize);
+        self.indices[a..b]
+            .iter()
+            .map(|&v| self.weld.get(v as usize).copied().unwrap_or(v))
+    }
+}
+
+/// One input point's match on the output: the face triangle's corners,
+/// their barycentric weights, the face normal and the signed distance.
+#[derive(Clone, Copy)]
+struct Match {
+    corners: [u32; 3],
+    bary: [f64; 3],
+    normal: DVec3,
+    distance: f64,
+    weight: f64,
+}
+
+/// Refits `c`'s vertex positions to the input in `sweeps` Jacobi sweeps
+/// (see the module documentation). Returns which vertices moved.
+pub(crate) fn refit(c: &mut Complex, input: &RefitInput<'_>, sweeps: u32) -> Vec<bool> {
+    let nv = c.pos.len();
+    let mut moved = vec![false; nv];
+    if sweeps == 0 || input.positions.is_empty() {
+        return moved;
+    }
+    let (weight, normal) = input_vertex_area_and_normal(input);
+    let class = class_faces(input, nv);
+    for _ in 0..sweeps {
+        let star = output_stars(c);
+        // The output's vertices, numbered compactly: at a low target most
+        // of the complex's vertices are gone.
+        let live: Vec<u32> = (0..nv as u32).filter(|&v| !star.of(v).is_empty()).collect();
+        let mut slot = vec![u32::MAX; nv];
+        for (k, &v) in live.iter().enumerate() {
+            slot[v as usize] = k as u32;
+        }
+        // Per output vertex: the data terms as one quadric, and the
+        // largest distance of an input point pulling on it.
+        let mut data = vec![Quadric::ZERO; live.len()];
+        let mut reach = vec![0.0f64; live.len()];
+        let n = input.positions.len();
+        for block in (0..n).step_by(BLOCK) {
+            let matches: Vec<Option<Match>> = (block..(block + BLOCK).min(n))
+                .into_par_iter()
+                .map(|i| match_point(c, &star, input, &weight, &normal, i as u32))
+                .collect();
+            for m in matches.into_iter().flatten() {
+                for k in 0..3 {
+                    let b = m.bary[k];
+                    if b <= 1e-6 {
+                        continue;
+                    }
+                    let v = m.corners[k] as usize;
+                    let s = slot[v] as usize;
+                    // b n·(p − p_v) = r  ⇔  n·p = n·p_v + r / b, weighed
+                    // by w b².
+                    let target = c.pos[v] + m.normal * (m.distance / b);
+                    data[s] += Quadric::plane(m.normal, target, m.weight * b * b);
+                    reach[s] = reach[s].max(m.distance.abs());
+                }
+            }
+        }
+        let placed: Vec<DVec3> = live
+            .par_iter()
+            .zip(&data)
+            .zip(&reach)
+            .map(|((&v, d), &reach)| place(c, &star, &class, input, v, d, reach))
+            .collect();
+        drop(data);
+        let old: Vec<DVec3> = live.iter().map(|&v| c.pos[v as usize]).collect();
+        for (&v, &p) in live.iter().zip(&placed) {
+            c.pos[v as usize] = p;
+        }
+        keep_faces_unfolded(c, &star, &slot, &old, input.min_cos);
+        for (k, &v) in live.iter().enumerate() {
+            if c.pos[v as usize] != old[k] {
+                moved[v as usize] = true;
+            }
+        }
+    }
+    moved
+}
+
+/// Where vertex `v` goes: the minimizer of its quadric plus its data terms
+/// `d`, damped, the step bounded by its shortest edge; and not farther from
+/// the input faces it stands for than it was or than the farthest input
+/// point it fits (`reach`): it trades its own distance for the input's,
+/// never beyond the worst it is fitting.
+fn place(
+    c: &Complex,
+    star: &Stars,
+    class: &Stars,
+    input: &RefitInput<'_>,
+    v: u32,
+    d: &Quadric,
+    reach: f64,
+) -> DVec3 {
+    let here = c.pos[v as usize];
+    if d.weight <= 0.0 || input.fixed.get(v as usize).copied().unwrap_or(false) {
+        return here;
+    }
+    let q = input
+        .quadrics
+        .get(v as usize)
+        .copied()
+        .unwrap_or(Quadric::ZERO);
+    let q = match input.regularization.get(v as usize) {
+        Some(r) => q.minus(&r.quadric()),
+        None => q,
+    };
+    let total = q + *d + Quadric::point(here, DAMPING * (q.weight + d.weight));
+    let Some(p) = total.minimizer() else {
+        return here;
+    };
+    let limit = MAX_STEP * shortest_edge(c, star, v);
+    let step = p - here;
+    let len = step.length();
+    if !len.is_finite() {
+        return here;
+    }
+    let p = if len > limit {
+        here + step * (limit / len)
+    } else {
+        here + step
+    };
+    let faces = class.of(v);
+    let after = distance_to(input, faces, p);
+    if after > reach && after > distance_to(input, faces, here) {
+        return here;
+    }
+    p
+}
+
+/// Every input vertex's area share (its faces' areas over their corner
+/// counts, as in the vertex quadrics) and area-weighted normal.
+fn input_vertex_area_and_normal(input: &RefitInput<'_>) -> (Vec<f32>, Vec<Vec3>) {
+    let n = input.positions.len();
+    let mut area = vec![0.0f32; n];
+    let mut normal = vec![Vec3::ZERO; n];
+    let mut corners: SmallVec<[DVec3; 8]> = SmallVec::new();
+    for f in (0..input.face_count()).filter(|&f| input.counts(f)) {
+        corners.clear();
+        corners.extend(input.face(f).map(|w| input.point(w)));
+        if corners.len() < 3 {
+            continue;
+        }
+        let n2 = polygon_normal(&corners);
+        let share = 0.5 * n2.length() / corners.len() as f64;
+        if !share.is_finite() {
+            continue;
+        }
+        for w in input.face(f) {
+            area[w as usize] += share as f32;
+            normal[w as usize] += n2.as_vec3();
+        }
+    }
+    (area, normal)
+}
+
+/// A compact index of lists per vertex: `start[v]..start[v + 1]` into
+/// `list` (with a value per entry in `normal` where kept).
+struct Stars {
+    start: Vec<u32>,
+    list: Vec<u32>,
+    /// Unit normal of each listed face (output stars only).
+    normal: Vec<DVec3>,
+}
+
+impl Stars {
+    fn range(&self, v: u32) -> std::ops::Range<usize> {
+        let v = v as usize;
+        match (self.start.get(v), self.start.get(v + 1)) {
+            (Some(&a), Some(&b)) => a as usize..b as usize,
+            _ => 0..0,
+        }
+    }
+
+    fn of(&self, v: u32) -> &[u32] {
+        &self.list[self.range(v)]
+    }
+
+    /// Fills an index from `count(visit)` calls of `visit(vertex, item)`,
+    /// made twice (once to count, once to fill).
+    fn build(nv: usize, each: impl Fn(&mut dyn FnMut(u32, u32))) -> Stars {
+        let mut start = vec![0u32; nv + 1];
+        each(&mut |v, _| start[v as usize + 1] += 1);
+        for v in 0..nv {
+            start[v + 1] += start[v];
+        }
+        let mut fill = start.clone();
+        let mut list = vec![0u32; start[nv] as usize];
+        each(&mut |v, item| {
+            list[fill[v as usize] as usize] = item;
+            fill[v as usize] += 1;
+        });
+        Stars {
+            start,
+            list,
+            normal: Vec::new(),
+        }
+    }
+}
+
+/// The live faces around every output vertex, with their unit normals (a
+/// zero vector for a face without area).
+fn output_stars(c: &Complex) -> Stars {
+    let faces: Vec<u32> = c.live_faces().collect();
+    let mut s = Stars::build(c.pos.len(), |visit| {
+        for &f in &faces {
+            for &v in c.face(f) {
+                visit(v, f);
+            }
+        }
+    });
+    s.normal = s
+        .list
+        .par_iter()
+        .map(|&f| face_normal(c, &c.pos, f).normalize_or_zero())
+        .collect();
+    s
+}
+
+/// The input faces around the input vertices merged into each output
+/// vertex (each face once per output vertex).
+fn class_faces(input: &RefitInput<'_>, nv: usize) -> Stars {
+    Stars::build(nv, |visit| {
+        let mut roots: SmallVec<[u32; 8]> = SmallVec::new();
+        for f in (0..input.face_count()).filter(|&f| input.counts(f)) {
+            roots.clear();
+            for w in input.face(f) {
+                if let Some(&r) = input.root.get(w as usize) {
+                    if (r as usize) < nv && !roots.contains(&r) {
+                        roots.push(r);
+                    }
+                }
+            }
+            for &r in &roots {
+                visit(r, f as u32);
+            }
+        }
+    })
+}
+
+/// Distance from `p` to the nearest of the input `faces` (polygons as
+/// fans); infinite when there are none.
+fn distance_to(input: &RefitInput<'_>, faces: &[u32], p: DVec3) -> f64 {
+    let mut best = f64::INFINITY;
+    for &f in faces {
+        let corners: SmallVec<[DVec3; 8]> =
+            input.face(f as usize).map(|w| input.point(w)).collect();
+        for k in 1..corners.len().saturating_sub(1) {
+            let (q, _) = closest_point_on_triangle(p, corners[0], corners[k], corners[k + 1]);
+            best = best.min((p - q).length_squared());
+        }
+    }
+    best.sqrt()
+}
+
+/// Normal (length twice the area) of face `f` at positions `pos`.
+fn face_normal(c: &Complex, pos: &[DVec3], f: u32) -> DVec3 {
+    let p: SmallVec<[DVec3; 8]> = c.face(f).iter().map(|&u| pos[u as usize]).collect();
+    polygon_normal(&p)
+}
+
+/// The closest point to input vertex `i` on the faces around the output
+/// vertex it went to, among faces that face its way (within 60°, see
+/// [`FACING`]; polygons as fans).
+fn match_point(
+    c: &Complex,
+    star: &Stars,
+    input: &RefitInput<'_>,
+    weight: &[f32],
+    normal: &[Vec3],
+    i: u32,
+) -> Option<Match> {
+    let w = f64::from(weight[i as usize]);
+    if w.is_nan() || w <= 0.0 {
+        return None;
+    }
+    let x = input.point(i);
+    let own = normal[i as usize].as_dvec3();
+    let v = *input.root.get(i as usize)?;
+    let mut best: Option<(f64, Match)> = None;
+    for k in star.range(v) {
+        let (f, n) = (star.list[k], star.normal[k]);
+        if n.dot(own) <= FACING * own.length() {
+            continue;
+        }
+        let face = c.face(f);
+        let p0 = c.pos[face[0] as usize];
+        for t in 1..face.len() - 1 {
+            let (a, b) = (c.pos[face[t] as usize], c.pos[face[t + 1] as usize]);
+            let (q, bary) = closest_point_on_triangle(x, p0, a, b);
+            let d2 = (x - q).length_squared();
+            if best.as_ref().map_or(true, |(b, _)| d2 < *b) {
+                best = Some((
+                    d2,
+                    Match {
+                        corners: [face[0], face[t], face[t + 1]],
+                        bary,
+                        normal: n,
+                        distance: n.dot(x - q),
+                        weight: w,
+                    },
+                ));
+            }
+        }
+    }
+    best.map(|(_, m)| m)
+}
+
+/// The shortest edge from `v` to the other corners of its faces.
+fn shortest_edge(c: &Complex, star: &Stars, v: u32) -> f64 {
+    let p = c.pos[v as usize];
+    let mut shortest = f64::INFINITY;
+    for &f in star.of(v) {
+        for &u in c.face(f) {
+            if u != v {
+                shortest = shortest.min(p.distance(c.pos[u as usize]));
+            }
+        }
+    }
+    if shortest.is_finite() {
+        shortest
+    } else {
+        0.0
+    }
+}
+
+/// Puts back where they were (`old`, indexed by `slot`) the corners of
+/// every face whose normal turned by more than the bound, until no face
+/// does. `star` holds the normals before the sweep.
+fn keep_faces_unfolded(c: &mut Complex, star: &Stars, slot: &[u32], old: &[DVec3], min_cos: f64) {
+    // Every live face once, with its normal before the sweep: the entry
+    // under its first corner.
+    let faces: Vec<(u32, DVec3)> = c
+        .live_faces()
+        .filter_map(|f| {
+            let first = *c.face(f).first()?;
+            let k = star.range(first).find(|&k| star.list[k] == f)?;
+            Some((f, star.normal[k]))
+        })
+        .collect();
+    // Each round only puts vertices back, so it ends.
+    loop {
+        let bad: Vec<u32> = faces
+            .par_iter()
+            .filter(|&&(f, a)| {
+                let b = face_normal(c, &c.pos, f);
+                let lb = b.length();
+                // A face with no area before is judged by its corners'
+                // other faces.
+                a != DVec3::ZERO && !(lb > 0.0 && a.dot(b) >= min_cos * lb)
+            })
+            .map(|&(f, _)| f)
+            .collect();
+        let mut reverted = false;
+        for f in bad {
+            let face: SmallVec<[u32; 8]> = c.face(f).iter().copied().collect();
+            for u in face {
+                let was = old[slot[u as usize] as usize];
+                if c.pos[u as usize] != was {
+                    c.pos[u as usize] = was;
+                    reverted = true;
+                }
+            }
+        }
+        if !reverted {
+            break;
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A flat 5 × 5 grid of input vertices in z = 0 over [−1, 1]², as
+    /// triangles.
+    fn flat_input() -> (Vec<[f32; 3]>, Vec<u32>, Vec<u32>) {
+        let n = 5;
+        let origin: Vec<[f32; 3]> = (0..n * n)
+            .map(|k| {
+                let (i, j) = (k % n, k / n);
+                [-1.0 + 0.5 * i as f32, -1.0 + 0.5 * j as f32, 0.0]
+            })
+            .collect();
+        let mut indices = Vec::new();
+        for j in 0..n - 1 {
+            for i in 0..n - 1 {
+                let v = (j * n + i) as u32;
+                let n = n as u32;
+                indices.extend_from_slice(&[v, v + 1, v + n + 1, v, v + n + 1, v + n]);
+            }
+        }
+        let offsets = (0..=indices.len() as u32 / 3).map(|f| 3 * f).collect();
+        (origin, offsets, indices)
+    }
+
+    /// The output: a tent over the square whose apex (vertex 4) stands
+    /// `h` above the centre, the four corners on the plane.
+    fn tent(h: f64) -> Complex {
+        let pos = vec![
+            DVec3::new(-1.0, -1.0, 0.0),
+            DVec3::new(1.0, -1.0, 0.0),
+            DVec3::new(1.0, 1.0, 0.0),
+            DVec3::new(-1.0, 1.0, 0.0),
+            DVec3::new(0.0, 0.0, h),
+        ];
+        Complex::new(
+            pos,
+            &[0, 3, 6, 9, 12],
+            &[0, 1, 4, 1, 2, 4, 2, 3, 4, 3, 0, 4],
+        )
+        .0
+    }
+
+    /// Input grid vertex → output vertex: the corners to the tent's
+    /// corners, everything else merged into the apex.
+    fn roots() -> Vec<u32> {
+        (0..25)
+            .map(|k| match k {
+                0 => 0,
+                4 => 1,
+                24 => 2,
+                20 => 3,
+                _ => 4,
+            })
+            .collect()
+    }
+
+    fn run(c: &mut Complex, quadrics: &[Quadric], fixed: &[bool], sweeps: u32) -> Vec<bool> {
+        let (origin, offsets, indices) = flat_input();
+        let root = roots();
+        let input = RefitInput {
+            positions: &origin,
+            center: DVec3::ZERO,
+            scale: 1.0,
+            offsets: &offsets,
+            indices: &indices,
+            weld: &[],
+            kept: &[],
+            root: &root,
+            quadrics,
+            regularization: &[],
+            fixed,
+            min_cos: 0.0,
+        };
+        refit(c, &input, sweeps)
+    }
+
+    #[test]
+    fn refit_lowers_an_apex_onto_the_input_it_stands_for() {
+        // Nothing holds the apex but the input's points, all in z = 0 and
+        // all matched to the tent's faces: it comes down. The corners'
+        // quadrics (the plane z = 0, as the input's faces merged into them
+        // give) keep them on the plane: the pull they share with the apex
+        // only slides them a little, on the plane.
+        let mut c = tent(0.2);
+        let mut q = vec![Quadric::plane(DVec3::Z, DVec3::ZERO, 1.0); 4];
+        q.push(Quadric::ZERO);
+        let moved = run(&mut c, &q, &[], 4);
+        assert!(moved[4]);
+        assert!(c.pos[4].z.abs() < 0.02, "apex at {}", c.pos[4].z);
+        for v in 0..4 {
+            assert!(c.pos[v].z.abs() < 0.01, "corner {v} at {}", c.pos[v]);
+        }
+        // It comes down, not sideways: the pulls are along the faces'
+        // normals, which lean in from all four sides.
+        let drift = c.pos[4].truncate().length();
+        assert!(drift < 0.05, "apex drifted {drift}");
+    }
+
+    #[test]
+    fn a_step_is_at_most_half_the_shortest_edge() {
+        // One sweep from 0.2 above a plane: the minimizer is 0.2 away and
+        // the apex's shortest edge (to a corner) about 1.43, so the bound
+        // does not bind, and the apex lands near the plane in one sweep:
+        // the damping keeps it a little above.
+        let mut c = tent(0.2);
+        run(&mut c, &[], &[], 1);
+        let z = c.pos[4].z;
+        assert!(z > 0.0 && z < 0.2 * DAMPING * 4.0, "apex at {z}");
+        // A tent of height 1.5 over the same square (its faces 56° from
+        // the plane, within the 60° a match allows): the minimizer is 1.5
+        // away, the shortest edge sqrt(2 + 2.25) ≈ 2.06, so one sweep
+        // moves the apex by at most 1.03.
+        let mut c = tent(1.5);
+        run(&mut c, &[], &[], 1);
+        let step = 1.5 - c.pos[4].z;
+        assert!(step <= 0.5 * 4.25f64.sqrt() + 1e-9, "step {step}");
+        assert!(step > 0.9, "step {step}");
+    }
+
+    #[test]
+    fn a_vertex_its_quadric_holds_stays() {
+        // The apex's quadric: three orthogonal planes through its position
+        // (a corner), each far heavier than the input's pull.
+        let mut c = tent(0.2);
+        let apex = c.pos[4];
+        let mut q = vec![Quadric::ZERO; 5];
+        for n in [DVec3::X, DVec3::Y, DVec3::Z] {
+            q[4] += Quadric::plane(n, apex, 1e4);
+        }
+        run(&mut c, &q, &[], 2);
+        assert!(c.pos[4].distance(apex) < 1e-3, "moved to {}", c.pos[4]);
+    }
+
+    #[test]
+    fn fixed_vertices_do_not_move() {
+        let mut c = tent(0.2);
+        let before = c.pos.clone();
+        let moved = run(&mut c, &[], &[true; 5], 2);
+        assert!(!moved.iter().any(|&m| m));
+        assert_eq!(c.pos, before);
+    }
+
+    #[test]
+    fn a_sweep_that_would_fold_a_face_is_undone() {
+        // The apex pulled from 0.2 above to the plane turns each face by
+        // about 11°: allowed under a right angle, refused under 5°.
+        let mut c = tent(0.2);
+        let (origin, offsets, indices) = flat_input();
+        let root = roots();
+        let input = RefitInput {
+            positions: &origin,
+            center: DVec3::ZERO,
+            scale: 1.0,
+            offsets: &offsets,
+            indices: &indices,
+            weld: &[],
+            kept: &[],
+            root: &root,
+            quadrics: &[],
+            regularization: &[],
+            fixed: &[],
+            min_cos: 5f64.to_radians().cos(),
+        };
+        let moved = refit(&mut c, &input, 1);
+        assert!(!moved[4]);
+        assert_eq!(c.pos[4], DVec3::new(0.0, 0.0, 0.2));
+    }
+
+    #[test]
+    fn points_on_the_other_side_of_a_sheet_are_not_matched() {
+        // Input faces turned over (facing −z) do not pull on a tent facing
+        // +z: a thin part's two sides stay apart.
+        let mut c = tent(0.2);
+        let (origin, offsets, mut indices) = flat_input();
+        for t in indices.chunks_mut(3) {
+            t.swap(1, 2);
+        }
+        let root = roots();
+        let input = RefitInput {
+            positions: &origin,
+            center: DVec3::ZERO,
+            scale: 1.0,
+            offsets: &offsets,
+            indices: &indices,
+            weld: &[],
+            kept: &[],
+            root: &root,
+            quadrics: &[],
+            regularization: &[],
+            fixed: &[],
+            min_cos: 0.0,
+        };
+        let moved = refit(&mut c, &input, 2);
+        assert!(!moved.iter().any(|&m| m));
+    }
+}
