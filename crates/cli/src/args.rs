@@ -247,6 +247,15 @@ pub struct TuningArgs {
     /// (Knodt) always uses plain area weighting.
     #[arg(long, value_name = "K", default_value_t = wildlod_simplify::Metric::default().face_weight_floor)]
     pub face_weight_floor: f64,
+    /// Sweeps of the final refit: once the collapses are done, every vertex
+    /// moves to where its error quadric plus the input's distances to its
+    /// faces are smallest, which lowers the distance between input and
+    /// output (the collapses place each vertex for the faces of its day).
+    /// A vertex never moves farther from the input than the input points it
+    /// fits, nor folds a face. 0 turns it off; --classic and --symmetry do
+    /// not refit (it would move vertices off the mirror plane)
+    #[arg(long, value_name = "N", default_value_t = wildlod_simplify::Options::default().refit_sweeps)]
+    pub refit_sweeps: u32,
     /// Classic quadric error simplification (Garland & Heckbert 1997):
     /// no virtual edges, no area term. For comparisons.
     #[arg(long)]

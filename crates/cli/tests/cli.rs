@@ -433,3 +433,42 @@ fn plane_weighting_and_pinch_flags_reach_the_simplifier() {
         assert!(stderr(&o).contains(name), "{}", stderr(&o));
     }
 }
+
+#[test]
+fn refit_sweeps_flag_reaches_the_simplifier() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = torus_obj(dir.path());
+    let run = |name: &str, extra: &[&str]| {
+        let out = dir.path().join(name);
+        let mut args = vec!["simplify", s(&input), "-o", s(&out), "--ratio", "0.2", "-q"];
+        args.extend_from_slice(extra);
+        let o = wildlod(&args);
+        assert!(o.status.success(), "{}", stderr(&o));
+        std::fs::read_to_string(&out).unwrap()
+    };
+    let faces = |obj: &str| -> Vec<String> {
+        obj.lines()
+            .filter(|l| l.starts_with("f "))
+            .map(str::to_string)
+            .collect()
+    };
+    let default = run("default.obj", &[]);
+    let off = run("off.obj", &["--refit-sweeps", "0"]);
+    // The refit moves vertices, never faces.
+    assert_ne!(default, off);
+    assert_eq!(faces(&default), faces(&off));
+    assert_eq!(default, run("one.obj", &["--refit-sweeps", "1"]));
+    // Classic QEM is the plain algorithm: no refit.
+    assert_eq!(
+        run("classic.obj", &["--classic"]),
+        run("classic0.obj", &["--classic", "--refit-sweeps", "0"])
+    );
+    let o = wildlod(&[
+        "simplify",
+        s(&input),
+        "-o",
+        s(&dir.path().join("x.obj")),
+        "--refit-sweeps=-1",
+    ]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+}

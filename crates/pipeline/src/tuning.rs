@@ -83,6 +83,9 @@ pub struct Tuning {
     pub seam_weight: f64,
     /// How output normals are made.
     pub normals: NormalSetting,
+    /// Sweeps of the final refit to the input (`Options::refit_sweeps`);
+    /// 0 is off, and `classic` turns it off.
+    pub refit_sweeps: u32,
 }
 
 impl Default for Tuning {
@@ -111,6 +114,7 @@ impl Default for Tuning {
             seams: SeamSetting::Penalize,
             seam_weight: attributes.seam_weight,
             normals: NormalSetting::Fit,
+            refit_sweeps: options.refit_sweeps,
         }
     }
 }
@@ -179,6 +183,8 @@ impl Tuning {
         options.metric.pinch_cost = self.pinch_cost;
         options.metric.area_exponent = self.area_exponent;
         options.metric.face_weight_floor = self.face_weight_floor;
+        // Classic QEM is the plain algorithm, for comparisons.
+        options.refit_sweeps = if self.classic { 0 } else { self.refit_sweeps };
         options.attributes = AttributeOptions {
             tex_coord_weight: self.uv_weight,
             normal_weight: self.normal_weight,
@@ -267,6 +273,29 @@ mod tests {
                 ..
             })
         ));
+    }
+
+    #[test]
+    fn refit_sweeps_reach_the_options_except_in_classic_mode() {
+        assert_eq!(
+            Tuning::default().refit_sweeps,
+            Options::default().refit_sweeps
+        );
+        let o = Tuning {
+            refit_sweeps: 5,
+            ..Tuning::default()
+        }
+        .options()
+        .expect("valid");
+        assert_eq!(o.refit_sweeps, 5);
+        let o = Tuning {
+            refit_sweeps: 5,
+            classic: true,
+            ..Tuning::default()
+        }
+        .options()
+        .expect("valid");
+        assert_eq!(o.refit_sweeps, 0);
     }
 
     #[test]

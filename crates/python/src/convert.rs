@@ -8,7 +8,7 @@ use wildlod_pipeline::{NormalSetting, SeamSetting, Tuning};
 
 /// The names `**options` accepts: the fields of [`Tuning`], and
 /// `normal_mode` for `normals` (in `simplify`, `normals` is the stream).
-pub const OPTION_NAMES: [&str; 21] = [
+pub const OPTION_NAMES: [&str; 22] = [
     "virtual_radius",
     "keep_topology",
     "lock_borders",
@@ -21,6 +21,7 @@ pub const OPTION_NAMES: [&str; 21] = [
     "pinch_cost",
     "area_exponent",
     "face_weight_floor",
+    "refit_sweeps",
     "classic",
     "uv_weight",
     "normal_weight",
@@ -96,6 +97,7 @@ pub fn tuning(py: Python<'_>, options: Option<&Bound<'_, PyDict>>) -> PyResult<T
             "pinch_cost" => t.pinch_cost = value.extract()?,
             "area_exponent" => t.area_exponent = value.extract()?,
             "face_weight_floor" => t.face_weight_floor = value.extract()?,
+            "refit_sweeps" => t.refit_sweeps = value.extract()?,
             "classic" => t.classic = value.extract()?,
             "uv_weight" => t.uv_weight = value.extract()?,
             "normal_weight" => t.normal_weight = value.extract()?,

@@ -228,3 +228,12 @@ def test_two_threads_simplify_at_the_same_time():
     assert len(inside) >= 5, f"the ticker starved: {len(inside)} ticks in {overlap:.3f} s"
     gaps = np.diff([max(s0, s1)] + inside + [min(e0, e1)])
     assert gaps.max() < 0.5 * overlap, f"the ticker stalled for {gaps.max():.3f} s"
+
+
+def test_refit_moves_vertices_not_faces():
+    pos, tris, _, _ = torus()
+    fitted = wildlod.simplify(pos, tris, ratio=0.2, no_quads=True)
+    plain = wildlod.simplify(pos, tris, ratio=0.2, no_quads=True, refit_sweeps=0)
+    assert np.array_equal(fitted["indices"], plain["indices"])
+    assert not np.array_equal(fitted["positions"], plain["positions"])
+    assert "refit_sweeps" in wildlod.option_names()

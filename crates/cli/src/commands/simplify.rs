@@ -151,6 +151,7 @@ pub(crate) fn tuning(t: &TuningArgs) -> Tuning {
         pinch_cost: t.pinch_cost,
         area_exponent: t.area_exponent,
         face_weight_floor: t.face_weight_floor,
+        refit_sweeps: t.refit_sweeps,
         classic: t.classic,
         uv_weight: t.uv_weight,
         normal_weight: t.normal_weight,
