@@ -551,24 +551,36 @@ mod tests {
             .collect()
     }
 
-    fn run(c: &mut Complex, quadrics: &[Quadric], fixed: &[bool], sweeps: u32) -> Vec<bool> {
-        let (origin, offsets, indices) = flat_input();
+    /// Refits `c` against the flat input with `indices` (its triangles).
+    fn refit_against(
+        c: &mut Complex,
+        indices: &[u32],
+        quadrics: &[Quadric],
+        fixed: &[bool],
+        min_cos: f64,
+        sweeps: u32,
+    ) -> Vec<bool> {
+        let (origin, offsets, _) = flat_input();
         let root = roots();
         let input = RefitInput {
             positions: &origin,
             center: DVec3::ZERO,
             scale: 1.0,
             offsets: &offsets,
-            indices: &indices,
+            indices,
             weld: &[],
             kept: &[],
             root: &root,
             quadrics,
             regularization: &[],
             fixed,
-            min_cos: 0.0,
+            min_cos,
         };
         refit(c, &input, sweeps)
+    }
+
+    fn run(c: &mut Complex, quadrics: &[Quadric], fixed: &[bool], sweeps: u32) -> Vec<bool> {
+        refit_against(c, &flat_input().2, quadrics, fixed, 0.0, sweeps)
     }
 
     #[test]
@@ -642,23 +654,8 @@ mod tests {
         // The apex pulled from 0.2 above to the plane turns each face by
         // about 11°: allowed under a right angle, refused under 5°.
         let mut c = tent(0.2);
-        let (origin, offsets, indices) = flat_input();
-        let root = roots();
-        let input = RefitInput {
-            positions: &origin,
-            center: DVec3::ZERO,
-            scale: 1.0,
-            offsets: &offsets,
-            indices: &indices,
-            weld: &[],
-            kept: &[],
-            root: &root,
-            quadrics: &[],
-            regularization: &[],
-            fixed: &[],
-            min_cos: 5f64.to_radians().cos(),
-        };
-        let moved = refit(&mut c, &input, 1);
+        let indices = flat_input().2;
+        let moved = refit_against(&mut c, &indices, &[], &[], 5f64.to_radians().cos(), 1);
         assert!(!moved[4]);
         assert_eq!(c.pos[4], DVec3::new(0.0, 0.0, 0.2));
     }
@@ -668,26 +665,11 @@ mod tests {
         // Input faces turned over (facing −z) do not pull on a tent facing
         // +z: a thin part's two sides stay apart.
         let mut c = tent(0.2);
-        let (origin, offsets, mut indices) = flat_input();
+        let mut indices = flat_input().2;
         for t in indices.chunks_mut(3) {
             t.swap(1, 2);
         }
-        let root = roots();
-        let input = RefitInput {
-            positions: &origin,
-            center: DVec3::ZERO,
-            scale: 1.0,
-            offsets: &offsets,
-            indices: &indices,
-            weld: &[],
-            kept: &[],
-            root: &root,
-            quadrics: &[],
-            regularization: &[],
-            fixed: &[],
-            min_cos: 0.0,
-        };
-        let moved = refit(&mut c, &input, 2);
+        let moved = refit_against(&mut c, &indices, &[], &[], 0.0, 2);
         assert!(!moved.iter().any(|&m| m));
     }
 }
