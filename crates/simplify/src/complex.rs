@@ -850,6 +850,29 @@ impl Complex {
         self.edges[e as usize].gen = self.edges[e as usize].gen.wrapping_add(1);
     }
 
+    /// The live faces of every vertex as one flat list in face order
+    /// (offsets, faces): the star lists without their cost.
+    pub fn vertex_face_index(&self) -> (Vec<u32>, Vec<u32>) {
+        let mut start = vec![0u32; self.pos.len() + 1];
+        for f in self.live_faces() {
+            for &v in self.face(f) {
+                start[v as usize + 1] += 1;
+            }
+        }
+        for v in 0..self.pos.len() {
+            start[v + 1] += start[v];
+        }
+        let mut fill = start.clone();
+        let mut list = vec![0u32; start[self.pos.len()] as usize];
+        for f in self.live_faces() {
+            for &v in self.face(f) {
+                list[fill[v as usize] as usize] = f;
+                fill[v as usize] += 1;
+            }
+        }
+        (start, list)
+    }
+
     /// Live faces, for output.
     pub fn live_faces(&self) -> impl Iterator<Item = u32> + '_ {
         (0..self.faces.len() as u32).filter(|&f| self.faces[f as usize].len > 0)

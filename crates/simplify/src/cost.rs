@@ -149,7 +149,7 @@ pub(crate) fn vertex_quadric_parts(
         // No star lists (the partitioned path defers them): a compact
         // vertex → faces index, filled in face order like the star lists,
         // so the sums are the same to the bit.
-        let (start, list) = vertex_face_index(c);
+        let (start, list) = c.vertex_face_index();
         return (0..c.pos.len())
             .into_par_iter()
             .map(|v| {
@@ -327,29 +327,6 @@ pub(crate) fn border_planes(
         g = h;
     }
     out
-}
-
-/// The faces of every vertex as one flat list in face order (offsets,
-/// faces): the star lists without their cost.
-fn vertex_face_index(c: &Complex) -> (Vec<u32>, Vec<u32>) {
-    let mut start = vec![0u32; c.pos.len() + 1];
-    for f in c.live_faces() {
-        for &v in c.face(f) {
-            start[v as usize + 1] += 1;
-        }
-    }
-    for v in 0..c.pos.len() {
-        start[v + 1] += start[v];
-    }
-    let mut fill = start.clone();
-    let mut list = vec![0u32; start[c.pos.len()] as usize];
-    for f in c.live_faces() {
-        for &v in c.face(f) {
-            list[fill[v as usize] as usize] = f;
-            fill[v as usize] += 1;
-        }
-    }
-    (start, list)
 }
 
 /// The result of evaluating a collapse.

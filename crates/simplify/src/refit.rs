@@ -189,11 +189,17 @@ pub(crate) fn refit(c: &mut Complex, input: &RefitInput<'_>, sweeps: u32) -> Vec
             .map(|((&v, d), &reach)| place(c, &star, &class, input, v, d, reach))
             .collect();
         drop(data);
+        // Every live face with its unit normal before the sweep.
+        let faces: Vec<u32> = c.live_faces().collect();
+        let before: Vec<DVec3> = faces
+            .par_iter()
+            .map(|&f| face_normal(c, &c.pos, f).normalize_or_zero())
+            .collect();
         let old: Vec<DVec3> = live.iter().map(|&v| c.pos[v as usize]).collect();
         for (&v, &p) in live.iter().zip(&placed) {
             c.pos[v as usize] = p;
         }
-        keep_faces_unfolded(c, &star, &slot, &old, input.min_cos);
+        keep_faces_unfolded(c, &faces, &before, &slot, &old, input.min_cos);
         for (k, &v) in live.iter().enumerate() {
             if c.pos[v as usize] != old[k] {
                 moved[v as usize] = true;
@@ -326,20 +332,16 @@ impl Stars {
 /// The live faces around every output vertex, with their unit normals (a
 /// zero vector for a face without area).
 fn output_stars(c: &Complex) -> Stars {
-    let faces: Vec<u32> = c.live_faces().collect();
-    let mut s = Stars::build(c.pos.len(), |visit| {
-        for &f in &faces {
-            for &v in c.face(f) {
-                visit(v, f);
-            }
-        }
-    });
-    s.normal = s
-        .list
+    let (start, list) = c.vertex_face_index();
+    let normal = list
         .par_iter()
         .map(|&f| face_normal(c, &c.pos, f).normalize_or_zero())
         .collect();
-    s
+    Stars {
+        start,
+        list,
+        normal,
+    }
 }
 
 /// The input faces around the input vertices merged into each output
@@ -450,31 +452,29 @@ fn shortest_edge(c: &Complex, star: &Stars, v: u32) -> f64 {
 }
 
 /// Puts back where they were (`old`, indexed by `slot`) the corners of
-/// every face whose normal turned by more than the bound, until no face
-/// does. `star` holds the normals before the sweep.
-fn keep_faces_unfolded(c: &mut Complex, star: &Stars, slot: &[u32], old: &[DVec3], min_cos: f64) {
-    // Every live face once, with its normal before the sweep: the entry
-    // under its first corner.
-    let faces: Vec<(u32, DVec3)> = c
-        .live_faces()
-        .filter_map(|f| {
-            let first = *c.face(f).first()?;
-            let k = star.range(first).find(|&k| star.list[k] == f)?;
-            Some((f, star.normal[k]))
-        })
-        .collect();
+/// every face whose normal turned from its unit normal `before` by more
+/// than the bound, until no face does.
+fn keep_faces_unfolded(
+    c: &mut Complex,
+    faces: &[u32],
+    before: &[DVec3],
+    slot: &[u32],
+    old: &[DVec3],
+    min_cos: f64,
+) {
     // Each round only puts vertices back, so it ends.
     loop {
         let bad: Vec<u32> = faces
             .par_iter()
-            .filter(|&&(f, a)| {
+            .zip(before)
+            .filter(|&(&f, &a)| {
                 let b = face_normal(c, &c.pos, f);
                 let lb = b.length();
                 // A face with no area before is judged by its corners'
                 // other faces.
                 a != DVec3::ZERO && !(lb > 0.0 && a.dot(b) >= min_cos * lb)
             })
-            .map(|&(f, _)| f)
+            .map(|(&f, _)| f)
             .collect();
         let mut reverted = false;
         for f in bad {
