@@ -12,11 +12,16 @@
 use glam::DVec3;
 use rayon::prelude::*;
 use smallvec::SmallVec;
+use std::collections::HashMap;
 
 /// A star list: faces or edges around a vertex. Inline up to 8 (valence is
 /// about 6 on most meshes), so walking a star touches one cache line
 /// instead of chasing a pointer per vertex.
 pub(crate) type Star = SmallVec<[u32; 8]>;
+
+/// Above this many faces, a vertex's boundary neighbours are found edge by
+/// edge rather than by sorting the sides of its star.
+const HIGH_VALENCE: usize = 32;
 
 /// Marks a dead face (`face_len == 0`) or an unused scratch entry.
 pub(crate) const NONE: u32 = u32::MAX;
@@ -53,9 +58,22 @@ pub(crate) struct Complex {
     stamp: u32,
     /// Edges the last collapse killed (collapsed or merged away).
     pub killed: Vec<u32>,
+    /// Boundary sides at each vertex: sides used by exactly one live face.
+    /// Kept through every collapse, so that asking whether a vertex is on
+    /// a border costs nothing and listing its border neighbours never
+    /// scans a closed star (a fan's centre has the whole mesh in its star).
+    border_sides: Vec<u32>,
+    /// The boundary neighbours of every vertex with more than
+    /// `high_valence` faces, kept with `border_sides`: such a vertex (a
+    /// fan's centre) is in the star of most collapses, and finding them
+    /// from its faces each time would make the whole run quadratic.
+    border_lists: HashMap<u32, SmallVec<[u32; 4]>>,
+    /// The valence above which a vertex gets a list (tests lower it).
+    pub high_valence: usize,
     /// Scratch of `collapse`.
     touched: Vec<u32>,
     j_corners: Vec<u32>,
+    sides: Vec<(u32, u32)>,
 }
 
 /// Per-edge state, packed in 16 bytes: the collapse loop touches an edge's
@@ -162,8 +180,12 @@ impl Complex {
             fmark: Vec::new(),
             stamp: 0,
             killed: Vec::new(),
+            border_sides: Vec::new(),
+            border_lists: HashMap::new(),
+            high_valence: HIGH_VALENCE,
             touched: Vec::new(),
             j_corners: Vec::new(),
+            sides: Vec::new(),
             pos,
         };
         let mut cleaned = Cleaned::default();
@@ -249,6 +271,8 @@ impl Complex {
     pub fn clear_adjacency(&mut self) {
         self.vert_faces = Vec::new();
         self.vert_edges = Vec::new();
+        self.border_sides = Vec::new();
+        self.border_lists = HashMap::new();
         self.edges.clear();
     }
 
@@ -280,8 +304,12 @@ impl Complex {
             fmark: Vec::new(),
             stamp: 0,
             killed: Vec::new(),
+            border_sides: Vec::new(),
+            border_lists: HashMap::new(),
+            high_valence: HIGH_VALENCE,
             touched: Vec::new(),
             j_corners: Vec::new(),
+            sides: Vec::new(),
             pos,
         };
         c.build_adjacency();
@@ -314,8 +342,23 @@ impl Complex {
                 ek.push(((a.min(b) as u64) << 32) | a.max(b) as u64);
             }
         }
-        // Physical edges: consecutive corners, deduplicated.
+        // Physical edges: consecutive corners, deduplicated. A side that
+        // occurs once is a boundary side.
         ek.par_sort_unstable();
+        self.border_sides.clear();
+        self.border_sides.resize(nv, 0);
+        let mut r = 0;
+        while r < ek.len() {
+            let mut t = r + 1;
+            while t < ek.len() && ek[t] == ek[r] {
+                t += 1;
+            }
+            if t - r == 1 {
+                self.border_sides[(ek[r] >> 32) as usize] += 1;
+                self.border_sides[ek[r] as u32 as usize] += 1;
+            }
+            r = t;
+        }
         ek.dedup();
         self.edges.reserve(ek.len());
         for k in ek {
@@ -324,6 +367,10 @@ impl Complex {
         }
         self.fmark.resize(self.faces.len(), 0);
         self.vmark.resize(nv, 0);
+        self.border_lists.clear();
+        for v in 0..nv as u32 {
+            self.list_if_high_valence(v);
+        }
     }
 
     fn push_edge(&mut self, a: u32, b: u32, is_virtual: bool) -> u32 {
@@ -448,9 +495,30 @@ impl Complex {
         self.stamp
     }
 
+    /// Whether `v` has a side used by exactly one live face.
+    #[inline]
+    pub fn on_boundary(&self, v: u32) -> bool {
+        self.border_sides[v as usize] > 0
+    }
+
     /// Neighbors of `v` joined by an edge used by exactly one face: the
     /// boundary edges around `v`. Appends to `out`.
     pub fn boundary_neighbors(&self, v: u32, out: &mut Vec<u32>) {
+        if self.border_sides[v as usize] == 0 {
+            return;
+        }
+        if let Some(list) = self.border_lists.get(&v) {
+            let start = out.len();
+            out.extend_from_slice(list);
+            out[start..].sort_unstable();
+            return;
+        }
+        self.scan_boundary_neighbors(v, out);
+    }
+
+    /// [`Complex::boundary_neighbors`] found from `v`'s faces: the sides
+    /// of its star, sorted, those that occur once.
+    fn scan_boundary_neighbors(&self, v: u32, out: &mut Vec<u32>) {
         let start = out.len();
         for &f in &self.vert_faces[v as usize] {
             let face = self.face(f);
@@ -479,6 +547,39 @@ impl Complex {
             i = j;
         }
         out.truncate(w);
+    }
+
+    /// Gives `v` a kept list of boundary neighbours if its star has grown
+    /// past `high_valence` (once; the list is kept from then on).
+    fn list_if_high_valence(&mut self, v: u32) {
+        if self.vert_faces[v as usize].len() > self.high_valence
+            && !self.border_lists.contains_key(&v)
+        {
+            let mut out = Vec::new();
+            self.scan_boundary_neighbors(v, &mut out);
+            self.border_lists.insert(v, out.into_iter().collect());
+        }
+    }
+
+    /// Side `a`–`b` stops (`gone`) or starts being a boundary side: the
+    /// counts at both ends and their lists follow.
+    fn flip_border_side(&mut self, a: u32, b: u32, gone: bool) {
+        for (v, w) in [(a, b), (b, a)] {
+            if gone {
+                self.border_sides[v as usize] -= 1;
+            } else {
+                self.border_sides[v as usize] += 1;
+            }
+            if let Some(list) = self.border_lists.get_mut(&v) {
+                if gone {
+                    if let Some(p) = list.iter().position(|&x| x == w) {
+                        list.swap_remove(p);
+                    }
+                } else {
+                    list.push(w);
+                }
+            }
+        }
     }
 
     /// Number of live faces that use `a`–`b` as a side.
@@ -665,6 +766,7 @@ impl Complex {
         let mut out = CollapseOutcome::default();
         self.killed.clear();
         self.pos[i as usize] = x;
+        let border_before = self.border_sides_before(i, j);
 
         // Faces: move j's faces to i. Only a face that held both endpoints
         // can now repeat a vertex; the others just change a corner.
@@ -783,6 +885,7 @@ impl Complex {
         let faces = &self.faces;
         self.vert_faces[i as usize].retain(|f| faces[*f as usize].len > 0);
         self.triangles -= out.removed_triangles;
+        self.border_sides_after(i, j, border_before || out.irregular);
         self.touched = touched;
         self.j_corners = j_corners;
 
@@ -822,6 +925,81 @@ impl Complex {
         changed.clear();
         changed.extend_from_slice(&self.vert_edges[i as usize]);
         out
+    }
+
+    /// The first half of keeping `border_sides` through a collapse of `j`
+    /// into `i`, before anything moves: collects in `sides` every side the
+    /// collapse can change (the sides of `j`'s faces, with `j` read as `i`)
+    /// and takes the boundary ones out of the counts. Returns whether any
+    /// vertex around was on a border.
+    ///
+    /// When none was, no side had one face, and a regular collapse cannot
+    /// make one: a side `k`–`i` afterwards has the faces of `k`–`i` and
+    /// `k`–`j` (0 or at least 2 each) less two per face on the edge that
+    /// dies, and at most one such face holds `k`. Then the second half is
+    /// skipped, unless something irregular happened.
+    fn border_sides_before(&mut self, i: u32, j: u32) -> bool {
+        let mut sides = std::mem::take(&mut self.sides);
+        sides.clear();
+        let mut any = self.border_sides[i as usize] > 0;
+        let mut on_edge = false;
+        for &f in &self.vert_faces[j as usize] {
+            let face = self.face(f);
+            let n = face.len();
+            for k in 0..n {
+                let (a, b) = (face[k], face[if k + 1 == n { 0 } else { k + 1 }]);
+                any |= self.border_sides[a as usize] > 0;
+                let (a, b) = (if a == j { i } else { a }, if b == j { i } else { b });
+                if a != b {
+                    sides.push((a.min(b), a.max(b)));
+                } else {
+                    on_edge = true;
+                }
+            }
+        }
+        sides.sort_unstable();
+        sides.dedup();
+        if any {
+            // The collapsed edge itself is a side that goes.
+            if on_edge && self.edge_face_count(i, j) == 1 {
+                self.flip_border_side(i, j, true);
+            }
+            // The sides as they are now: those at j, and those at i they
+            // will merge into.
+            for &(a, b) in &sides {
+                let mut ends = SmallVec::<[(u32, u32); 2]>::new();
+                ends.push((a, b));
+                if a == i {
+                    ends.push((j, b));
+                } else if b == i {
+                    ends.push((a, j));
+                }
+                for (a, b) in ends {
+                    if self.edge_face_count(a, b) == 1 {
+                        self.flip_border_side(a, b, true);
+                    }
+                }
+            }
+        }
+        self.sides = sides;
+        any
+    }
+
+    /// The second half (see [`Complex::border_sides_before`]): counts the
+    /// collected sides that are boundary sides now; `j` is gone.
+    fn border_sides_after(&mut self, i: u32, j: u32, recount: bool) {
+        if recount {
+            for t in 0..self.sides.len() {
+                let (a, b) = self.sides[t];
+                if self.edge_face_count(a, b) == 1 {
+                    self.flip_border_side(a, b, false);
+                }
+            }
+        }
+        debug_assert_eq!(self.border_sides[j as usize], 0);
+        self.border_sides[j as usize] = 0;
+        self.border_lists.remove(&j);
+        self.list_if_high_valence(i);
     }
 
     /// Whether live faces `f` and `g`, both holding `v` once, are the same
@@ -915,6 +1093,41 @@ impl Complex {
             s.dedup();
             if s.len() != fs.len() {
                 return Err(format!("vertex {v} lists a face twice"));
+            }
+        }
+        for v in 0..self.pos.len() as u32 {
+            let mut sides = Vec::new();
+            for &f in &self.vert_faces[v as usize] {
+                let face = self.face(f);
+                let n = face.len();
+                for k in 0..n {
+                    if face[k] == v {
+                        sides.push(face[(k + n - 1) % n]);
+                        sides.push(face[(k + 1) % n]);
+                    }
+                }
+            }
+            sides.sort_unstable();
+            let once = sides
+                .iter()
+                .filter(|&&w| sides.iter().filter(|&&x| x == w).count() == 1)
+                .count();
+            if once != self.border_sides[v as usize] as usize {
+                return Err(format!(
+                    "vertex {v} counts {} boundary sides, has {once}",
+                    self.border_sides[v as usize]
+                ));
+            }
+            if let Some(list) = self.border_lists.get(&v) {
+                let mut kept = list.to_vec();
+                kept.sort_unstable();
+                let mut found = Vec::new();
+                self.scan_boundary_neighbors(v, &mut found);
+                if kept != found {
+                    return Err(format!(
+                        "vertex {v} keeps {kept:?} as border, has {found:?}"
+                    ));
+                }
             }
         }
         for (v, es) in self.vert_edges.iter().enumerate() {
@@ -1078,5 +1291,110 @@ mod tests {
         assert_eq!(c.face(0), &[0, 1, 2]);
         assert!(!c.vert_faces[4].contains(&0));
         c.check().unwrap();
+    }
+
+    /// A small generator for the stress test (no dependency for it).
+    struct Lcg(u64);
+    impl Lcg {
+        fn below(&mut self, n: usize) -> usize {
+            self.0 = self
+                .0
+                .wrapping_mul(6_364_136_223_846_793_005)
+                .wrapping_add(1_442_695_040_888_963_407);
+            ((self.0 >> 33) % n as u64) as usize
+        }
+    }
+
+    #[test]
+    fn border_counts_survive_random_collapses_on_wild_complexes() {
+        // Triangles and quads drawn at random from few vertices: edges with
+        // one, two and many faces, pinched vertices, faces that become
+        // duplicates or split, plus virtual edges. After every collapse the
+        // kept border counts must equal a recount from the faces.
+        for seed in 0..200u64 {
+            let mut rng = Lcg(seed);
+            let nv = 8 + rng.below(10);
+            let pos = (0..nv)
+                .map(|k| DVec3::new(k as f64, (k * k % 7) as f64, (k % 3) as f64))
+                .collect();
+            let (mut offsets, mut indices) = (vec![0u32], Vec::new());
+            for _ in 0..6 + rng.below(20) {
+                let arity = 3 + rng.below(2);
+                for _ in 0..arity {
+                    indices.push(rng.below(nv) as u32);
+                }
+                offsets.push(indices.len() as u32);
+            }
+            let (mut c, _) = Complex::new(pos, &offsets, &indices);
+            if seed % 2 == 1 {
+                // Kept border lists for nearly every vertex.
+                c.high_valence = 2;
+                c.build_adjacency();
+            }
+            for _ in 0..3 {
+                c.add_edge(rng.below(nv) as u32, rng.below(nv) as u32);
+            }
+            c.check()
+                .unwrap_or_else(|e| panic!("seed {seed}, built: {e}"));
+            let mut changed = Vec::new();
+            for step in 0.. {
+                let live: Vec<u32> = (0..c.edges.len() as u32)
+                    .filter(|&e| c.edges[e as usize].alive)
+                    .collect();
+                if live.is_empty() {
+                    break;
+                }
+                let e = live[rng.below(live.len())];
+                let keep = c.edges[e as usize].ends[rng.below(2)];
+                c.collapse(e, keep, DVec3::ZERO, rng.below(2) == 0, &mut changed);
+                c.check()
+                    .unwrap_or_else(|err| panic!("seed {seed}, collapse {step}: {err}"));
+            }
+        }
+    }
+
+    #[test]
+    fn a_fan_centre_keeps_its_two_border_neighbours() {
+        // An open fan of 100 triangles: above `HIGH_VALENCE`, so the centre
+        // keeps a list; closing the fan leaves no border there.
+        let n = 100u32;
+        let pos = (0..=n + 1)
+            .map(|k| {
+                let a = k as f64 * 0.03;
+                DVec3::new(a.cos(), a.sin(), 0.0)
+            })
+            .collect();
+        let mut idx = Vec::new();
+        for k in 1..=n {
+            idx.extend_from_slice(&[0, k, k + 1]);
+        }
+        let offsets: Vec<u32> = (0..=n).map(|f| 3 * f).collect();
+        let (c, _) = Complex::new(pos, &offsets, &idx);
+        let mut b = Vec::new();
+        c.boundary_neighbors(0, &mut b);
+        assert_eq!(b, vec![1, n + 1]);
+        assert!(c.on_boundary(0));
+        assert!(c.border_lists.contains_key(&0));
+        // Collapsing the first rim side moves the list's end to the kept
+        // vertex.
+        let mut c = c;
+        let e = c.edge_between(1, 2).unwrap();
+        c.collapse(e, 2, c.pos[2], false, &mut Vec::new());
+        c.check().unwrap();
+        b.clear();
+        c.boundary_neighbors(0, &mut b);
+        assert_eq!(b, vec![2, n + 1]);
+        // The same fan closed: rim vertex n + 1 is vertex 1 again.
+        let idx: Vec<u32> = idx
+            .iter()
+            .map(|&v| if v == n + 1 { 1 } else { v })
+            .collect();
+        let pos = (0..=n).map(|k| DVec3::new(k as f64, 1.0, 0.0)).collect();
+        let (c, _) = Complex::new(pos, &offsets, &idx);
+        b.clear();
+        c.boundary_neighbors(0, &mut b);
+        assert!(b.is_empty());
+        assert!(!c.on_boundary(0));
+        assert!(c.on_boundary(1));
     }
 }

@@ -220,7 +220,6 @@ pub(crate) struct Run<'o> {
     star: Vec<u32>,
     star_verts: Vec<u32>,
     changed: Vec<u32>,
-    nbrs: Vec<u32>,
 }
 
 impl<'o> Run<'o> {
@@ -323,7 +322,6 @@ impl<'o> Run<'o> {
             star: Vec::new(),
             star_verts: Vec::new(),
             changed: Vec::new(),
-            nbrs: Vec::new(),
         };
         run.progress_start = run.p.complex.triangles;
         run.area_vertices = area_vertices(&run.quadrics);
@@ -380,7 +378,6 @@ impl<'o> Run<'o> {
             star: Vec::new(),
             star_verts: Vec::new(),
             changed: Vec::new(),
-            nbrs: Vec::new(),
         };
         run.init_queue();
         run
@@ -438,14 +435,7 @@ impl<'o> Run<'o> {
         self.border = if self.track_border {
             (0..c.pos.len() as u32)
                 .into_par_iter()
-                .map_init(Vec::new, |buf, v| {
-                    if locked.get(v as usize).copied().unwrap_or(false) {
-                        return false;
-                    }
-                    buf.clear();
-                    c.boundary_neighbors(v, buf);
-                    !buf.is_empty()
-                })
+                .map(|v| !locked.get(v as usize).copied().unwrap_or(false) && c.on_boundary(v))
                 .collect()
         } else {
             Vec::new()
@@ -815,7 +805,7 @@ impl<'o> Run<'o> {
                 return false;
             }
         }
-        if self.options.guards.keep_topology && !keeps_topology(c, i, j, &mut self.nbrs) {
+        if self.options.guards.keep_topology && !keeps_topology(c, i, j) {
             self.report.rejected.topology += 1;
             return false;
         }
@@ -916,11 +906,9 @@ impl<'o> Run<'o> {
                 if v == j || self.locked.get(v as usize).copied().unwrap_or(false) {
                     continue;
                 }
-                self.nbrs.clear();
-                c.boundary_neighbors(v, &mut self.nbrs);
-                let now = !self.nbrs.is_empty();
+                let now = c.on_boundary(v);
                 // i moved: its border neighbours' area terms changed too.
-                let touches_i = v != i && self.nbrs.contains(&i);
+                let touches_i = v != i && now && c.edge_face_count(v, i) == 1;
                 if now != self.border[v as usize] || touches_i || (v == i && now) {
                     todo.extend_from_slice(&c.vert_edges[v as usize]);
                 }
@@ -1002,14 +990,7 @@ impl<'o> Run<'o> {
         let root = self.collapse_roots();
         let c = &self.p.complex;
         let fixed: Vec<bool> = if self.options.guards.lock_borders && c.has_adjacency() {
-            let mut buf = Vec::new();
-            (0..c.pos.len() as u32)
-                .map(|v| {
-                    buf.clear();
-                    c.boundary_neighbors(v, &mut buf);
-                    !buf.is_empty()
-                })
-                .collect()
+            (0..c.pos.len() as u32).map(|v| c.on_boundary(v)).collect()
         } else {
             Vec::new()
         };
