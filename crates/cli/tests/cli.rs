@@ -472,3 +472,38 @@ fn refit_sweeps_flag_reaches_the_simplifier() {
     ]);
     assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
 }
+
+#[test]
+fn hidden_twins_are_dropped_unless_kept_and_the_json_counts_them() {
+    // A closed torus written with every face twice, once each way, as
+    // exporters make double-sided surfaces.
+    let dir = tempfile::tempdir().unwrap();
+    let torus = std::fs::read_to_string(torus_obj(dir.path())).unwrap();
+    let mut doubled = torus.clone();
+    for l in torus.lines().filter(|l| l.starts_with("f ")) {
+        let corners: Vec<&str> = l[2..].split_whitespace().rev().collect();
+        doubled.push_str(&format!("f {}\n", corners.join(" ")));
+    }
+    let input = dir.path().join("doubled.obj");
+    std::fs::write(&input, doubled).unwrap();
+    let run = |name: &str, extra: &[&str]| {
+        let out = dir.path().join(name);
+        let mut args = vec!["simplify", s(&input), "-o", s(&out), "--ratio", "0.5"];
+        args.extend_from_slice(extra);
+        let o = wildlod(&args);
+        assert!(o.status.success(), "{}", stderr(&o));
+        (stdout(&o), std::fs::read_to_string(&out).unwrap())
+    };
+    let faces = |obj: &str| obj.lines().filter(|l| l.starts_with("f ")).count();
+    // Half of the doubled file is the whole torus once: kept as it is.
+    let (line, out) = run("default.obj", &[]);
+    assert!(line.contains("1152 hidden twin faces dropped"), "{line}");
+    assert_eq!(faces(&out), 1152);
+    let (line, out) = run("kept.obj", &["--keep-hidden-twins"]);
+    assert!(!line.contains("hidden twin"), "{line}");
+    assert_eq!(faces(&out) % 2, 0);
+    assert!(faces(&out) < 2 * 1152);
+    let (json, _) = run("j.obj", &["--json"]);
+    let v: serde_json::Value = serde_json::from_str(&json).unwrap();
+    assert_eq!(v["meshes"][0]["hidden_twins"], 1152, "{json}");
+}

@@ -31,6 +31,9 @@ pub struct MeshJson {
     /// Polygons of more than `wildlod_simplify::MAX_POLYGON_CORNERS`
     /// corners simplified and written as pieces.
     pub split_polygons: usize,
+    /// Reversed copies of the faces of closed surfaces, which look into the
+    /// solid, dropped before simplifying (`--keep-hidden-twins` keeps them).
+    pub hidden_twins: usize,
     /// Wall time.
     pub seconds: f64,
 }
@@ -48,6 +51,7 @@ impl MeshJson {
             stop: r.report.stop.map(|s| stop_key(s).to_string()),
             collapses: r.report.collapses,
             split_polygons: r.report.split_polygons,
+            hidden_twins: r.report.hidden_twins,
             seconds: r.seconds,
         }
     }

@@ -56,6 +56,11 @@ pub fn simplify_scene<P: MeshProgress>(
     progress: &dyn Fn(&str) -> P,
 ) -> Result<Vec<MeshRun>, Error> {
     let mut runs = Vec::new();
+    let see_through = if options.see_through_materials.is_empty() {
+        wildlod_simplify::see_through_materials(scene)
+    } else {
+        options.see_through_materials.clone()
+    };
     for (m, target) in targets.iter().enumerate() {
         let Some(mesh) = scene.meshes.get(m) else {
             continue;
@@ -66,6 +71,7 @@ pub fn simplify_scene<P: MeshProgress>(
         let name = mesh_name(scene, m, stem);
         let options = Options {
             target: *target,
+            see_through_materials: see_through.clone(),
             ..options.clone()
         };
         let bar = progress(&name);

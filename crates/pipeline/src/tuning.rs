@@ -86,6 +86,9 @@ pub struct Tuning {
     /// Sweeps of the final refit to the input (`Options::refit_sweeps`);
     /// 0 is off, and `classic` turns it off.
     pub refit_sweeps: u32,
+    /// Keep the reversed copies of the faces of closed surfaces, which look
+    /// into the solid (`Options::drop_hidden_twins` off).
+    pub keep_hidden_twins: bool,
 }
 
 impl Default for Tuning {
@@ -115,6 +118,7 @@ impl Default for Tuning {
             seam_weight: attributes.seam_weight,
             normals: NormalSetting::Fit,
             refit_sweeps: options.refit_sweeps,
+            keep_hidden_twins: !options.drop_hidden_twins,
         }
     }
 }
@@ -185,6 +189,7 @@ impl Tuning {
         options.metric.face_weight_floor = self.face_weight_floor;
         // Classic QEM is the plain algorithm, for comparisons.
         options.refit_sweeps = if self.classic { 0 } else { self.refit_sweeps };
+        options.drop_hidden_twins = !self.keep_hidden_twins;
         options.attributes = AttributeOptions {
             tex_coord_weight: self.uv_weight,
             normal_weight: self.normal_weight,
@@ -273,6 +278,23 @@ mod tests {
                 ..
             })
         ));
+    }
+
+    #[test]
+    fn keep_hidden_twins_turns_the_drop_off() {
+        assert!(
+            Tuning::default()
+                .options()
+                .expect("valid")
+                .drop_hidden_twins
+        );
+        let o = Tuning {
+            keep_hidden_twins: true,
+            ..Tuning::default()
+        }
+        .options()
+        .expect("valid");
+        assert!(!o.drop_hidden_twins);
     }
 
     #[test]

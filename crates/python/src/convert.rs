@@ -8,7 +8,7 @@ use wildlod_pipeline::{NormalSetting, SeamSetting, Tuning};
 
 /// The names `**options` accepts: the fields of [`Tuning`], and
 /// `normal_mode` for `normals` (in `simplify`, `normals` is the stream).
-pub const OPTION_NAMES: [&str; 22] = [
+pub const OPTION_NAMES: [&str; 23] = [
     "virtual_radius",
     "keep_topology",
     "lock_borders",
@@ -22,6 +22,7 @@ pub const OPTION_NAMES: [&str; 22] = [
     "area_exponent",
     "face_weight_floor",
     "refit_sweeps",
+    "keep_hidden_twins",
     "classic",
     "uv_weight",
     "normal_weight",
@@ -98,6 +99,7 @@ pub fn tuning(py: Python<'_>, options: Option<&Bound<'_, PyDict>>) -> PyResult<T
             "area_exponent" => t.area_exponent = value.extract()?,
             "face_weight_floor" => t.face_weight_floor = value.extract()?,
             "refit_sweeps" => t.refit_sweeps = value.extract()?,
+            "keep_hidden_twins" => t.keep_hidden_twins = value.extract()?,
             "classic" => t.classic = value.extract()?,
             "uv_weight" => t.uv_weight = value.extract()?,
             "normal_weight" => t.normal_weight = value.extract()?,

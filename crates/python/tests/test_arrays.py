@@ -237,3 +237,15 @@ def test_refit_moves_vertices_not_faces():
     assert np.array_equal(fitted["indices"], plain["indices"])
     assert not np.array_equal(fitted["positions"], plain["positions"])
     assert "refit_sweeps" in wildlod.option_names()
+
+
+def test_hidden_twins_of_a_closed_surface_are_dropped_unless_kept():
+    pos, tris, _, _ = torus()
+    doubled = np.concatenate([tris, tris[:, ::-1]])
+    out = wildlod.simplify(pos, doubled, ratio=0.5)
+    # Half of the doubled count is the torus once: every face kept once.
+    assert len(out["indices"]) == len(tris)
+    assert out["report"]["hidden_twins"] == len(tris)
+    kept = wildlod.simplify(pos, doubled, ratio=0.5, keep_hidden_twins=True)
+    assert kept["report"]["hidden_twins"] == 0
+    assert "keep_hidden_twins" in wildlod.option_names()

@@ -147,6 +147,7 @@ impl Complex {
     /// vertices after dropping repeats) and exact duplicates (the same
     /// vertex cycle with the same orientation; opposite copies are kept:
     /// they are how wild meshes make a sheet double-sided).
+    #[cfg(test)]
     pub fn new(pos: Vec<DVec3>, offsets: &[u32], indices: &[u32]) -> (Complex, Cleaned) {
         let (mut c, cleaned) = Complex::faces_only(pos, offsets, indices);
         c.build_adjacency();

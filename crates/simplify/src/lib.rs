@@ -45,6 +45,7 @@ mod scene;
 mod simplify;
 mod symmetry;
 mod tangent;
+mod twins;
 mod virtual_edges;
 
 pub use attributes::{
@@ -61,7 +62,8 @@ pub use options::{
 pub use quadric::{place, place_exact, Placement, Quadric, FREE_DIRECTION};
 pub use report::{Rejections, Report, StopReason};
 pub use scene::{
-    simplify_scene, simplify_scene_with_progress, GroupReport, GroupSpace, MeshOutcome, SceneReport,
+    see_through_materials, simplify_scene, simplify_scene_with_progress, GroupReport, GroupSpace,
+    MeshOutcome, SceneReport,
 };
 pub use simplify::{
     simplify_polygons, simplify_polygons_with_progress, simplify_triangles,

@@ -48,16 +48,27 @@ pub fn simplify_mesh_with_progress(
     mesh.validate()
         .map_err(|e| Error::InvalidMesh(e.to_string()))?;
     let joints = vertex_joints(mesh);
+    let see_through = see_through_faces(mesh, options);
     let with_joints;
-    let options = if joints.is_empty() || !options.vertex_joints.is_empty() {
-        options
-    } else {
-        with_joints = Options {
-            vertex_joints: joints,
-            ..options.clone()
+    let options =
+        if (joints.is_empty() || !options.vertex_joints.is_empty()) && see_through.is_empty() {
+            options
+        } else {
+            with_joints = Options {
+                vertex_joints: if options.vertex_joints.is_empty() {
+                    joints
+                } else {
+                    options.vertex_joints.clone()
+                },
+                see_through_faces: if see_through.is_empty() {
+                    options.see_through_faces.clone()
+                } else {
+                    see_through
+                },
+                ..options.clone()
+            };
+            &with_joints
         };
-        &with_joints
-    };
     let streams: Vec<AttributeStream<'_>> = mesh
         .attributes
         .iter()
@@ -152,6 +163,29 @@ pub fn simplify_mesh_with_progress(
     }
     out.compact();
     Ok((out, s.report))
+}
+
+/// The faces of [`Options::see_through_materials`], when the caller named
+/// some and gave no per-face flags; empty otherwise.
+fn see_through_faces(mesh: &Mesh, options: &Options) -> Vec<bool> {
+    if options.see_through_materials.is_empty() || !options.see_through_faces.is_empty() {
+        return Vec::new();
+    }
+    let part_sees: Vec<bool> = mesh
+        .parts
+        .iter()
+        .map(|p| {
+            p.material
+                .is_some_and(|m| options.see_through_materials.contains(&m))
+        })
+        .collect();
+    if !part_sees.contains(&true) {
+        return Vec::new();
+    }
+    mesh.face_parts
+        .iter()
+        .map(|&p| part_sees.get(p as usize).copied().unwrap_or(false))
+        .collect()
 }
 
 /// A material id per face when the mesh has faces of at least two

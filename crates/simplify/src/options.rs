@@ -520,6 +520,25 @@ pub struct Options {
     /// peer, Chamfer 1.30 → 1.13×; a second sweep gets 1.34× and 1.13× for
     /// twice the time.
     pub refit_sweeps: u32,
+    /// Drop the twins of closed surfaces before simplifying. A twin is a
+    /// face's reversed copy, how exporters make a sheet double-sided. On a
+    /// component with no border, one copy of each face looks into the solid
+    /// and is never seen with an opaque material; the copy facing out (by
+    /// the sign of the enclosed volume) is kept. Twins on open sheets are
+    /// always kept. The ratio of [`Target`] still counts the dropped twins,
+    /// so their share of the budget buys visible detail (Blender drops the
+    /// same copies when it imports a file). Default true.
+    pub drop_hidden_twins: bool,
+    /// Input faces that are seen through (a blended material), one flag per
+    /// input face: their twins stay even on closed surfaces, since the
+    /// inside shows. Empty: none. [`crate::simplify_mesh`] fills it from
+    /// [`Options::see_through_materials`].
+    pub see_through_faces: Vec<bool>,
+    /// Materials (ids into the scene's materials) that are seen through:
+    /// [`crate::simplify_mesh`] marks their faces in
+    /// [`Options::see_through_faces`]. Empty: none. The pipeline fills it
+    /// from the file's materials (alpha mode blend).
+    pub see_through_materials: Vec<u32>,
 }
 
 impl Default for Options {
@@ -541,6 +560,9 @@ impl Default for Options {
             partition: Partition::default(),
             attributes: AttributeOptions::default(),
             refit_sweeps: 1,
+            drop_hidden_twins: true,
+            see_through_faces: Vec::new(),
+            see_through_materials: Vec::new(),
         }
     }
 }

@@ -53,6 +53,10 @@ pub struct Report {
     /// Faces removed before simplifying because they were degenerate (fewer
     /// than three distinct vertices) or duplicates of another face.
     pub cleaned_faces: usize,
+    /// Reversed copies of the faces of closed surfaces, dropped before
+    /// simplifying: they look into the solid and are never seen (see
+    /// [`crate::Options::drop_hidden_twins`]).
+    pub hidden_twins: usize,
     /// Collapses made.
     pub collapses: usize,
     /// Of those, the ones the parallel first phase made (see

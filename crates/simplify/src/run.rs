@@ -255,9 +255,9 @@ impl<'o> Run<'o> {
         };
         // A ratio is of the triangles that are surface: degenerate faces and
         // exact repeats are cleaned away first (as Blender validates a mesh
-        // before decimating), twins count (the output keeps them). A mesh
-        // and the same mesh with every face doubled then simplify alike.
-        let target = options.target.triangles_for(p.complex.triangles);
+        // before decimating), twins count, even those dropped as hidden
+        // (their share of the budget goes to what can be seen).
+        let target = options.target.triangles_for(p.ratio_base);
         // An error-only target has no budget to share: every part counts
         // as large enough to keep.
         let budget = if target > 0 {
@@ -285,6 +285,7 @@ impl<'o> Run<'o> {
             input_triangles: p.input_triangles,
             target_triangles: target,
             cleaned_faces: p.cleaned,
+            hidden_twins: p.hidden_twins,
             virtual_edges: virtual_pairs.len(),
             symmetry_truncated,
             ..Report::default()
@@ -984,7 +985,12 @@ impl<'o> Run<'o> {
         // Soft symmetry asks for a mirror-symmetric result: vertices on the
         // mirror plane stay on it, which a fit to the input points around
         // them, never quite symmetric, would undo.
-        if sweeps == 0 || self.p.input.is_empty() || self.options.quad.symmetry > 0.0 {
+        // Nothing collapsed: the output is the input, already on itself.
+        if sweeps == 0
+            || self.p.input.is_empty()
+            || self.options.quad.symmetry > 0.0
+            || self.report.collapses == 0
+        {
             return;
         }
         let root = self.collapse_roots();

@@ -176,6 +176,12 @@ pub fn simplify_scene_with_progress(
         vertex_weights: Vec::new(),
         vertex_joints: Vec::new(),
         record_history: false,
+        see_through_materials: if options.see_through_materials.is_empty() {
+            see_through_materials(scene)
+        } else {
+            options.see_through_materials.clone()
+        },
+        see_through_faces: Vec::new(),
         ..options.clone()
     };
     let placements = placements(scene);
@@ -753,6 +759,18 @@ fn common_shares(curves: &[Curve], budget: usize) -> Vec<usize> {
 }
 
 /// Bounding-box diagonal of everything the scene shows, in world space.
+/// The scene's materials that are seen through (alpha blended): their
+/// twins stay (see [`Options::see_through_materials`]).
+pub fn see_through_materials(scene: &Scene) -> Vec<u32> {
+    scene
+        .materials
+        .iter()
+        .enumerate()
+        .filter(|(_, m)| m.alpha_mode == wildlod_mesh::AlphaMode::Blend)
+        .map(|(i, _)| i as u32)
+        .collect()
+}
+
 pub(crate) fn world_diagonal(scene: &Scene) -> f64 {
     let mut lo = [f64::INFINITY; 3];
     let mut hi = [f64::NEG_INFINITY; 3];

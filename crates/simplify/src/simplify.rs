@@ -304,6 +304,10 @@ fn check_input(positions: &[[f32; 3]], faces: &Faces, options: &Options) -> Resu
 pub(crate) struct Prepared {
     pub complex: Complex,
     pub cleaned: usize,
+    /// Twins dropped as hidden (see `twins.rs`).
+    pub hidden_twins: usize,
+    /// Triangles a ratio is of: the cleaned surface with every twin.
+    pub ratio_base: usize,
     /// Input vertex → welded vertex.
     pub weld: Vec<u32>,
     pub center: DVec3,
@@ -349,11 +353,21 @@ pub(crate) fn prepare(
     // The partitioned path works on faces alone until its last pass: the
     // star lists would be built for nothing.
     // Attribute wedges live on the global complex: no partitioned phase.
-    let (complex, cleaned) = if !with_attributes && crate::run::may_partition(faces, options) {
-        Complex::faces_only(pos, &faces.offsets, &indices)
+    let (mut complex, cleaned) = Complex::faces_only(pos, &faces.offsets, &indices);
+    // The ratio is of the surface before hidden twins go: they cost
+    // nothing to drop, and the budget then buys visible detail.
+    let ratio_base = complex.triangles;
+    let hidden_twins = if options.drop_hidden_twins {
+        let see = &options.see_through_faces;
+        crate::twins::drop_hidden_twins(&mut complex, &|f| {
+            see.get(f as usize).copied().unwrap_or(false)
+        })
     } else {
-        Complex::new(pos, &faces.offsets, &indices)
+        0
     };
+    if with_attributes || !crate::run::may_partition(faces, options) {
+        complex.build_adjacency();
+    }
     let mut weights = Vec::new();
     if !options.vertex_weights.is_empty() {
         // A welded vertex is as important as its most important copy.
@@ -368,6 +382,8 @@ pub(crate) fn prepare(
         input,
         complex,
         cleaned: cleaned.degenerate + cleaned.duplicate,
+        hidden_twins,
+        ratio_base,
         weld,
         center,
         scale,

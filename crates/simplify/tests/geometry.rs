@@ -5,10 +5,10 @@
 
 mod common;
 
-use common::ratio;
+use common::{bumpy_sphere, ratio};
 use glam::DVec3;
 use wildlod_mesh::{shapes, Faces, Mesh};
-use wildlod_simplify::{simplify_mesh, simplify_polygons};
+use wildlod_simplify::{simplify_mesh, simplify_polygons, Options, Target};
 
 /// A small deterministic generator (SplitMix64), so meshes are irregular
 /// but the same on every run.
@@ -257,6 +257,12 @@ fn geometry(m: &Mesh) -> Vec<Vec<[u32; 3]>> {
 
 #[test]
 fn doubled_faces_simplify_like_the_single_copy() {
+    // With every twin riding along (the chair's boxes are closed: by
+    // default their twins go, see the hidden-twin tests below).
+    let ratio = |r| Options {
+        drop_hidden_twins: false,
+        ..ratio(r)
+    };
     let single = chair();
     let t = single.triangle_count();
     for r in [0.5, 0.2, 0.05] {
@@ -277,6 +283,101 @@ fn doubled_faces_simplify_like_the_single_copy() {
             assert_eq!(b.faces.len(), copies * a.faces.len());
         }
     }
+}
+
+/// Six times the volume `m`'s faces enclose (positive when they face out).
+fn enclosed_volume(m: &Mesh) -> f64 {
+    let p = |v: u32| DVec3::from(m.positions[v as usize].map(f64::from));
+    m.faces
+        .iter()
+        .map(|f| {
+            (1..f.len() - 1)
+                .map(|k| p(f[0]).dot(p(f[k]).cross(p(f[k + 1]))))
+                .sum::<f64>()
+        })
+        .sum()
+}
+
+/// `m` with every face reversed.
+fn reversed(m: &Mesh) -> Mesh {
+    let mut faces = Faces::default();
+    for f in m.faces.iter() {
+        let g: Vec<u32> = f.iter().rev().copied().collect();
+        faces.push(&g);
+    }
+    Mesh::from_polygons(m.positions.clone(), faces)
+}
+
+fn faces_target(n: usize) -> Options {
+    Options {
+        target: Target {
+            triangles: Some(n),
+            ..Target::default()
+        },
+        ..Options::default()
+    }
+}
+
+#[test]
+fn hidden_twins_of_a_closed_surface_are_dropped_and_their_budget_buys_detail() {
+    let single = bumpy_sphere(6);
+    let t = single.triangle_count();
+    let want = geometry(&single);
+    for inward_first in [false, true] {
+        // The exporter's first copy faces out, or in.
+        let first = if inward_first {
+            reversed(&single)
+        } else {
+            single.clone()
+        };
+        let double = doubled(&first, true);
+        // Half of the doubled count is the whole visible surface: nothing
+        // to collapse, every face kept once, facing out.
+        let (out, report) = simplify_mesh(&double, &ratio(0.5)).unwrap();
+        assert_eq!(report.hidden_twins, t, "inward first {inward_first}");
+        assert_eq!(out.triangle_count(), t);
+        let got = geometry(&out);
+        let same = got.iter().zip(&want).filter(|(a, b)| a == b).count();
+        assert!(
+            got == want,
+            "{same} of {} faces as input, stop {:?}",
+            want.len(),
+            report.stop
+        );
+        assert!(enclosed_volume(&out) > 0.0, "inward first {inward_first}");
+        // A smaller budget: the same faces as the single copy gets.
+        let (a, _) = simplify_mesh(&single, &faces_target(t / 4)).unwrap();
+        let (b, rb) = simplify_mesh(&double, &faces_target(t / 4)).unwrap();
+        assert_eq!(rb.output_triangles, t / 4);
+        assert_eq!(geometry(&b), geometry(&a), "inward first {inward_first}");
+        assert!(enclosed_volume(&b) > 0.0);
+    }
+}
+
+#[test]
+fn twins_stay_on_open_sheets_and_on_see_through_faces() {
+    // An open sheet: both sides show.
+    let sheet = shapes::triangulate(&shapes::quad_grid(8, 8));
+    let (out, report) = simplify_mesh(&doubled(&sheet, true), &ratio(1.0)).unwrap();
+    assert_eq!(report.hidden_twins, 0);
+    assert_eq!(out.faces.len(), 2 * sheet.faces.len());
+    // A closed surface seen through (a blended material): the inside shows.
+    let single = bumpy_sphere(4);
+    let double = doubled(&single, true);
+    let options = Options {
+        see_through_faces: vec![true; double.faces.len()],
+        ..ratio(1.0)
+    };
+    let (out, report) = simplify_mesh(&double, &options).unwrap();
+    assert_eq!(report.hidden_twins, 0);
+    assert_eq!(out.faces.len(), double.faces.len());
+    // And with the option off.
+    let options = Options {
+        drop_hidden_twins: false,
+        ..ratio(1.0)
+    };
+    let (out, _) = simplify_mesh(&double, &options).unwrap();
+    assert_eq!(out.faces.len(), double.faces.len());
 }
 
 /// A gently curved square sheet `n × n` (triangles) with a long thin spur

@@ -152,6 +152,7 @@ pub(crate) fn tuning(t: &TuningArgs) -> Tuning {
         area_exponent: t.area_exponent,
         face_weight_floor: t.face_weight_floor,
         refit_sweeps: t.refit_sweeps,
+        keep_hidden_twins: t.keep_hidden_twins,
         classic: t.classic,
         uv_weight: t.uv_weight,
         normal_weight: t.normal_weight,
@@ -283,6 +284,7 @@ fn whole_report(r: &SceneReport) -> Report {
         stop: r.stop(),
         rejected,
         split_polygons: r.groups.iter().map(|g| g.report.split_polygons).sum(),
+        hidden_twins: r.groups.iter().map(|g| g.report.hidden_twins).sum(),
         collapses: r.groups.iter().map(|g| g.report.collapses).sum(),
         ..Report::default()
     }
@@ -380,6 +382,13 @@ pub fn summary(name: &str, r: &Report, seconds: f64) -> String {
             r.split_polygons,
             if r.split_polygons == 1 { "" } else { "s" },
             wildlod_simplify::MAX_POLYGON_CORNERS
+        ));
+    }
+    if r.hidden_twins > 0 {
+        s.push_str(&format!(
+            "; {} hidden twin face{} dropped (reversed copies inside closed surfaces; --keep-hidden-twins keeps them)",
+            r.hidden_twins,
+            if r.hidden_twins == 1 { "" } else { "s" },
         ));
     }
     s

@@ -417,6 +417,8 @@ fn build_chunk<'a>(
     let prepared = Prepared {
         complex,
         cleaned: 0,
+        hidden_twins: 0,
+        ratio_base: triangles,
         weld: Vec::new(),
         center: run.p.center,
         scale: run.p.scale,
