@@ -256,13 +256,13 @@ pub struct TuningArgs {
     /// not refit (it would move vertices off the mirror plane)
     #[arg(long, value_name = "N", default_value_t = wildlod_simplify::Options::default().refit_sweeps)]
     pub refit_sweeps: u32,
-    /// Keep the reversed copies of the faces of closed surfaces. Exporters
-    /// make surfaces double-sided by writing every face twice, once each
-    /// way; on a closed part (cracks along T-junctions count as closed)
-    /// one copy looks into the solid and is never seen, so by default it is
-    /// dropped before simplifying and its share of the budget buys visible
-    /// detail. Open sheets and blended (see-through) materials always keep
-    /// both sides
+    /// Keep the reversed copies of faces that cannot be seen. Exporters make
+    /// surfaces double-sided by writing every face twice, once each way; on
+    /// a closed part one copy looks into the solid, and elsewhere a copy
+    /// from which no ray escapes the mesh is enclosed too. By default such
+    /// copies are dropped before simplifying and their share of the budget
+    /// buys visible detail. Open sheets and blended (see-through) materials
+    /// keep both sides
     #[arg(long)]
     pub keep_hidden_twins: bool,
     /// Classic quadric error simplification (Garland & Heckbert 1997):

@@ -7,7 +7,8 @@
 //!   that W §4.1.1 uses to find virtual edges between touching components;
 //! - [`Bvh`]: a flat bounding volume hierarchy with nearest-primitive and
 //!   pairs-within-a-margin queries;
-//! - [`TriangleSet`]: the closest point on a whole triangle set.
+//! - [`TriangleSet`]: the closest point on a whole triangle set;
+//! - [`ray_triangle`] and [`Bvh::any_hit`]: ray casts, for visibility.
 //!
 //! ```
 //! use glam::DVec3;
@@ -33,6 +34,7 @@
 mod aabb;
 mod bvh;
 mod closest;
+mod ray;
 #[cfg(test)]
 mod testing;
 mod triangle_distance;
@@ -44,6 +46,7 @@ pub use closest::{
     closest_point_on_segment, closest_point_on_triangle, point_triangle_distance2,
     segment_segment_closest,
 };
+pub use ray::ray_triangle;
 pub use triangle_distance::{
     triangle_triangle_closest, triangle_triangle_distance, triangles_intersect, ClosestPair,
 };

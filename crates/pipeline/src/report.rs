@@ -31,8 +31,9 @@ pub struct MeshJson {
     /// Polygons of more than `wildlod_simplify::MAX_POLYGON_CORNERS`
     /// corners simplified and written as pieces.
     pub split_polygons: usize,
-    /// Reversed copies of the faces of closed surfaces, which look into the
-    /// solid, dropped before simplifying (`--keep-hidden-twins` keeps them).
+    /// Reversed copies of faces that cannot be seen (inside a closed or
+    /// almost closed surface), dropped before simplifying
+    /// (`--keep-hidden-twins` keeps them).
     pub hidden_twins: usize,
     /// Wall time.
     pub seconds: f64,

@@ -86,8 +86,8 @@ pub struct Tuning {
     /// Sweeps of the final refit to the input (`Options::refit_sweeps`);
     /// 0 is off, and `classic` turns it off.
     pub refit_sweeps: u32,
-    /// Keep the reversed copies of the faces of closed surfaces, which look
-    /// into the solid (`Options::drop_hidden_twins` off).
+    /// Keep the reversed copies of faces that cannot be seen
+    /// (`Options::drop_hidden_twins` off).
     pub keep_hidden_twins: bool,
 }
 

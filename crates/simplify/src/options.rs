@@ -520,14 +520,15 @@ pub struct Options {
     /// peer, Chamfer 1.30 → 1.13×; a second sweep gets 1.34× and 1.13× for
     /// twice the time.
     pub refit_sweeps: u32,
-    /// Drop the twins of closed surfaces before simplifying. A twin is a
+    /// Drop the twins that cannot be seen before simplifying. A twin is a
     /// face's reversed copy, how exporters make a sheet double-sided. On a
-    /// component with no border, one copy of each face looks into the solid
-    /// and is never seen with an opaque material; the copy facing out (by
-    /// the sign of the enclosed volume) is kept. Twins on open sheets are
-    /// always kept. The ratio of [`Target`] still counts the dropped twins,
-    /// so their share of the budget buys visible detail (Blender drops the
-    /// same copies when it imports a file). Default true.
+    /// closed part one copy of each face looks into the solid and is never
+    /// seen with an opaque material; elsewhere a copy goes when no ray from
+    /// its middle escapes the mesh (the inside of an almost closed shell, a
+    /// sheet's side lying on another surface). The copy that can be seen is
+    /// kept; open sheets keep both. The ratio of [`Target`] still counts the
+    /// dropped twins, so their share of the budget buys visible detail
+    /// (Blender drops such copies when it imports a file). Default true.
     pub drop_hidden_twins: bool,
     /// Input faces that are seen through (a blended material), one flag per
     /// input face: their twins stay even on closed surfaces, since the

@@ -53,8 +53,8 @@ pub struct Report {
     /// Faces removed before simplifying because they were degenerate (fewer
     /// than three distinct vertices) or duplicates of another face.
     pub cleaned_faces: usize,
-    /// Reversed copies of the faces of closed surfaces, dropped before
-    /// simplifying: they look into the solid and are never seen (see
+    /// Reversed copies of faces that cannot be seen (inside a closed or
+    /// almost closed surface), dropped before simplifying (see
     /// [`crate::Options::drop_hidden_twins`]).
     pub hidden_twins: usize,
     /// Collapses made.

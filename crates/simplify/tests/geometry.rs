@@ -354,6 +354,45 @@ fn hidden_twins_of_a_closed_surface_are_dropped_and_their_budget_buys_detail() {
     }
 }
 
+/// `m` without the faces `drop` picks (by their middle).
+fn without(m: &Mesh, drop: impl Fn(DVec3) -> bool) -> Mesh {
+    let mut faces = Faces::default();
+    for f in m.faces.iter() {
+        let middle = f
+            .iter()
+            .map(|&v| DVec3::from(m.positions[v as usize].map(f64::from)))
+            .sum::<DVec3>()
+            / f.len() as f64;
+        if !drop(middle) {
+            faces.push(f);
+        }
+    }
+    Mesh::from_polygons(m.positions.clone(), faces)
+}
+
+#[test]
+fn twins_inside_an_almost_closed_shell_go_and_the_inside_of_a_bowl_stays() {
+    let sphere = bumpy_sphere(6);
+    // One face missing: open by topology, closed to sight.
+    let first = sphere.faces.iter().next().unwrap().to_vec();
+    let p0 = first
+        .iter()
+        .map(|&v| DVec3::from(sphere.positions[v as usize].map(f64::from)))
+        .sum::<DVec3>()
+        / first.len() as f64;
+    let holed = without(&sphere, |m| m.distance(p0) < 1e-6);
+    let n = holed.faces.len();
+    assert_eq!(n + 1, sphere.faces.len());
+    let (out, report) = simplify_mesh(&doubled(&holed, true), &ratio(0.5)).unwrap();
+    assert!(report.hidden_twins * 100 >= n * 95, "{} of {n}", report.hidden_twins);
+    assert!(enclosed_volume(&out) > 0.0);
+    // Half a sphere: every inside face sees out of the bowl.
+    let bowl = without(&sphere, |m| m.z > 0.0);
+    let (out, report) = simplify_mesh(&doubled(&bowl, true), &ratio(1.0)).unwrap();
+    assert_eq!(report.hidden_twins, 0);
+    assert_eq!(out.faces.len(), 2 * bowl.faces.len());
+}
+
 #[test]
 fn twins_stay_on_open_sheets_and_on_see_through_faces() {
     // An open sheet: both sides show.

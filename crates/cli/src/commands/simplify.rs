@@ -386,7 +386,7 @@ pub fn summary(name: &str, r: &Report, seconds: f64) -> String {
     }
     if r.hidden_twins > 0 {
         s.push_str(&format!(
-            "; {} hidden twin face{} dropped (reversed copies inside closed surfaces; --keep-hidden-twins keeps them)",
+            "; {} hidden twin face{} dropped (reversed copies that cannot be seen; --keep-hidden-twins keeps them)",
             r.hidden_twins,
             if r.hidden_twins == 1 { "" } else { "s" },
         ));

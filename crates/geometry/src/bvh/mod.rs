@@ -1,5 +1,6 @@
 //! A bounding volume hierarchy over axis-aligned boxes: flat node array,
-//! binned-SAH build, nearest-primitive and pairs-within-a-margin queries.
+//! binned-SAH build, nearest-primitive, pairs-within-a-margin and
+//! any-hit ray queries.
 //!
 //! The tree knows only boxes; what a primitive is (a triangle, a point, a
 //! whole component) and its exact distance belong to the caller, who passes
@@ -9,6 +10,7 @@
 mod build;
 mod nearest;
 mod pairs;
+mod ray;
 #[cfg(test)]
 mod tests;
 

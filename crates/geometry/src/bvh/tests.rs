@@ -352,3 +352,63 @@ fn small_sets_are_well_formed() {
         }
     }
 }
+
+#[test]
+fn any_hit_agrees_with_brute_force_on_random_triangles_and_rays() {
+    let mut rng = Rng::new(7);
+    let tris: Vec<[DVec3; 3]> = (0..600)
+        .map(|_| {
+            let c = DVec3::new(
+                rng.range(-1.0, 1.0),
+                rng.range(-1.0, 1.0),
+                rng.range(-1.0, 1.0),
+            );
+            let mut corner = || {
+                c + DVec3::new(
+                    rng.range(-0.3, 0.3),
+                    rng.range(-0.3, 0.3),
+                    rng.range(-0.3, 0.3),
+                )
+            };
+            [corner(), corner(), corner()]
+        })
+        .collect();
+    let bvh = Bvh::build(
+        &tris
+            .iter()
+            .map(|t| Aabb::from_triangle(t[0], t[1], t[2]))
+            .collect::<Vec<_>>(),
+    );
+    let hits = |o: DVec3, d: DVec3, max_t: f64, i: u32| {
+        let t = &tris[i as usize];
+        crate::ray_triangle(o, d, t[0], t[1], t[2]).is_some_and(|x| x <= max_t)
+    };
+    let (mut some, mut none) = (0, 0);
+    for k in 0..2000 {
+        let o = DVec3::new(
+            rng.range(-1.5, 1.5),
+            rng.range(-1.5, 1.5),
+            rng.range(-1.5, 1.5),
+        );
+        let mut d = DVec3::new(
+            rng.range(-1.0, 1.0),
+            rng.range(-1.0, 1.0),
+            rng.range(-1.0, 1.0),
+        );
+        // Some rays run along an axis: infinite slab parameters.
+        if k % 5 == 0 {
+            d = DVec3::new(d.x, 0.0, 0.0);
+        }
+        let max_t = rng.range(0.0, 2.0);
+        let brute = (0..tris.len() as u32).any(|i| hits(o, d, max_t, i));
+        let fast = bvh.any_hit(o, d, max_t, |i| hits(o, d, max_t, i));
+        assert_eq!(fast, brute, "ray {k}");
+        if brute {
+            some += 1;
+        } else {
+            none += 1;
+        }
+    }
+    // Both answers occur often enough for the comparison to mean something.
+    assert!(some > 200 && none > 200, "{some} hits, {none} misses");
+}
