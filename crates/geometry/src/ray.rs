@@ -12,7 +12,8 @@ pub fn ray_triangle(origin: DVec3, dir: DVec3, a: DVec3, b: DVec3, c: DVec3) -> 
     let det = e1.dot(p);
     // Relative to the sizes involved, so the test is scale-free.
     let scale = e1.length() * e2.length() * dir.length();
-    if !(det.abs() > 1e-12 * scale) {
+    // NaN (a non-finite corner) fails the comparison too.
+    if det.abs().partial_cmp(&(1e-12 * scale)) != Some(std::cmp::Ordering::Greater) {
         return None;
     }
     let inv = 1.0 / det;
