@@ -48,6 +48,14 @@ pub enum Error {
         /// Vertices.
         vertices: usize,
     },
+    /// See-through flags given, but not one per input face.
+    #[error("{flags} see-through flags for {faces} faces")]
+    SeeThroughCount {
+        /// Flags given.
+        flags: usize,
+        /// Input faces.
+        faces: usize,
+    },
     /// A negative or non-finite vertex weight.
     #[error("vertex {vertex} has weight {weight}; weights must be finite and non-negative")]
     BadWeight {

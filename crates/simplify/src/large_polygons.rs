@@ -153,6 +153,11 @@ impl Split {
         }
     }
 
+    /// The input face a piece comes from.
+    pub fn input_face(&self, piece: u32) -> u32 {
+        self.face_origin[piece as usize]
+    }
+
     /// Points the result's face and corner maps (and its history's face
     /// ids) back at the input faces, and counts the split in the report.
     pub fn map_back(&self, s: &mut Simplified) {

@@ -154,7 +154,13 @@ pub fn simplify_with_attributes_and_progress(
         });
     }
     let with_attributes = !attributes.is_empty();
-    let prepared = prepare(positions, faces, options, with_attributes);
+    // `see_through_faces` names input faces; the complex sees the pieces.
+    let see = &options.see_through_faces;
+    let see_through = |f: u32| {
+        let input = split.as_ref().map_or(f, |s| s.input_face(f));
+        see.get(input as usize).copied().unwrap_or(false)
+    };
+    let prepared = prepare(positions, faces, options, with_attributes, &see_through);
     let attrs = if with_attributes {
         let corner_vertex: Vec<u32> = faces
             .indices
@@ -277,6 +283,12 @@ fn check_input(positions: &[[f32; 3]], faces: &Faces, options: &Options) -> Resu
     if !(o.quad.symmetry_distance > 0.0 && o.quad.symmetry_distance.is_finite()) {
         return bad("quad.symmetry_distance", o.quad.symmetry_distance);
     }
+    if !o.see_through_faces.is_empty() && o.see_through_faces.len() != faces.len() {
+        return Err(Error::SeeThroughCount {
+            flags: o.see_through_faces.len(),
+            faces: faces.len(),
+        });
+    }
     if !o.vertex_weights.is_empty() {
         if o.vertex_weights.len() != n {
             return Err(Error::WeightCount {
@@ -324,6 +336,7 @@ pub(crate) fn prepare(
     faces: &Faces,
     options: &Options,
     with_attributes: bool,
+    see_through: &dyn Fn(u32) -> bool,
 ) -> Prepared {
     let (weld, nw) = weld_positions(positions);
     let mut rep = vec![u32::MAX; nw];
@@ -358,10 +371,7 @@ pub(crate) fn prepare(
     // nothing to drop, and the budget then buys visible detail.
     let ratio_base = complex.triangles;
     let hidden_twins = if options.drop_hidden_twins {
-        let see = &options.see_through_faces;
-        crate::twins::drop_hidden_twins(&mut complex, &|f| {
-            see.get(f as usize).copied().unwrap_or(false)
-        })
+        crate::twins::drop_hidden_twins(&mut complex, see_through)
     } else {
         0
     };

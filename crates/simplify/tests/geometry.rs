@@ -384,7 +384,11 @@ fn twins_inside_an_almost_closed_shell_go_and_the_inside_of_a_bowl_stays() {
     let n = holed.faces.len();
     assert_eq!(n + 1, sphere.faces.len());
     let (out, report) = simplify_mesh(&doubled(&holed, true), &ratio(0.5)).unwrap();
-    assert!(report.hidden_twins * 100 >= n * 95, "{} of {n}", report.hidden_twins);
+    assert!(
+        report.hidden_twins * 100 >= n * 95,
+        "{} of {n}",
+        report.hidden_twins
+    );
     assert!(enclosed_volume(&out) > 0.0);
     // Half a sphere: every inside face sees out of the bowl.
     let bowl = without(&sphere, |m| m.z > 0.0);
@@ -410,6 +414,16 @@ fn twins_stay_on_open_sheets_and_on_see_through_faces() {
     let (out, report) = simplify_mesh(&double, &options).unwrap();
     assert_eq!(report.hidden_twins, 0);
     assert_eq!(out.faces.len(), double.faces.len());
+    // One flag per input face, or an error naming both counts.
+    let short = Options {
+        see_through_faces: vec![true; 3],
+        ..ratio(1.0)
+    };
+    let err = simplify_mesh(&double, &short).unwrap_err();
+    assert!(
+        matches!(err, wildlod_simplify::Error::SeeThroughCount { flags: 3, faces } if faces == double.faces.len()),
+        "{err}"
+    );
     // And with the option off.
     let options = Options {
         drop_hidden_twins: false,

@@ -240,3 +240,31 @@ fn error_target_is_relative_to_the_whole_scene() {
         report.error
     );
 }
+
+#[test]
+fn twins_of_a_blended_material_stay_those_of_an_opaque_one_go() {
+    // A closed sphere written with every face twice, once each way, with
+    // its material opaque or alpha-blended (its inside shows through).
+    let single = bumpy_sphere(4);
+    let n = single.faces.len();
+    let mut faces = single.faces.clone();
+    for f in single.faces.iter() {
+        let back: Vec<u32> = f.iter().rev().copied().collect();
+        faces.push(&back);
+    }
+    let mut double = Mesh::from_polygons(single.positions.clone(), faces);
+    double.parts[0].material = Some(0);
+    for (mode, dropped) in [
+        (wildlod_mesh::AlphaMode::Opaque, n),
+        (wildlod_mesh::AlphaMode::Blend, 0),
+    ] {
+        let mut s = Scene::from_mesh(double.clone());
+        s.materials = vec![wildlod_mesh::Material {
+            alpha_mode: mode,
+            ..wildlod_mesh::Material::default()
+        }];
+        let (_, report) = simplify_scene(&s, &Options::default()).unwrap();
+        let hidden: usize = report.groups.iter().map(|g| g.report.hidden_twins).sum();
+        assert_eq!(hidden, dropped, "{mode:?}");
+    }
+}
