@@ -11,7 +11,7 @@ import wildlod
 from conftest import grid, torus
 
 REPORT_KEYS = {"name", "mesh", "input_triangles", "target_triangles", "output_triangles",
-               "error", "stop", "collapses", "split_polygons", "seconds"}
+               "error", "stop", "collapses", "split_polygons", "hidden_twins", "seconds"}
 
 
 def check_faces(out, sizes=None):
@@ -244,7 +244,7 @@ def test_hidden_twins_of_a_closed_surface_are_dropped_unless_kept():
     doubled = np.concatenate([tris, tris[:, ::-1]])
     out = wildlod.simplify(pos, doubled, ratio=0.5)
     # Half of the doubled count is the torus once: every face kept once.
-    assert len(out["indices"]) == len(tris)
+    assert len(out["indices"]) == tris.size
     assert out["report"]["hidden_twins"] == len(tris)
     kept = wildlod.simplify(pos, doubled, ratio=0.5, keep_hidden_twins=True)
     assert kept["report"]["hidden_twins"] == 0
