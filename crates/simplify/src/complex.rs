@@ -340,7 +340,7 @@ impl Complex {
                 let a = self.slot_vertex[s + k];
                 self.vert_faces[a as usize].push(f);
                 let b = self.slot_vertex[if k + 1 == len { s } else { s + k + 1 }];
-                ek.push(((a.min(b) as u64) << 32) | a.max(b) as u64);
+                ek.push(side_key(a, b));
             }
         }
         // Physical edges: consecutive corners, deduplicated. A side that
@@ -348,17 +348,9 @@ impl Complex {
         ek.par_sort_unstable();
         self.border_sides.clear();
         self.border_sides.resize(nv, 0);
-        let mut r = 0;
-        while r < ek.len() {
-            let mut t = r + 1;
-            while t < ek.len() && ek[t] == ek[r] {
-                t += 1;
-            }
-            if t - r == 1 {
-                self.border_sides[(ek[r] >> 32) as usize] += 1;
-                self.border_sides[ek[r] as u32 as usize] += 1;
-            }
-            r = t;
+        for (a, b) in sides_used_once(&ek) {
+            self.border_sides[a as usize] += 1;
+            self.border_sides[b as usize] += 1;
         }
         ek.dedup();
         self.edges.reserve(ek.len());
@@ -1152,6 +1144,21 @@ impl Complex {
         }
         Ok(())
     }
+}
+
+/// The key of side `a`–`b` in a sorted list of sides: both orders alike.
+#[inline]
+pub(crate) fn side_key(a: u32, b: u32) -> u64 {
+    ((a.min(b) as u64) << 32) | a.max(b) as u64
+}
+
+/// The sides that occur exactly once in `sorted` (keys of [`side_key`],
+/// sorted): the boundary sides, as vertex pairs.
+pub(crate) fn sides_used_once(sorted: &[u64]) -> impl Iterator<Item = (u32, u32)> + '_ {
+    sorted
+        .chunk_by(|a, b| a == b)
+        .filter(|run| run.len() == 1)
+        .map(|run| ((run[0] >> 32) as u32, run[0] as u32))
 }
 
 /// Removes one occurrence of `x` from `v` (order not kept).

@@ -19,7 +19,7 @@
 //!
 //! Faces seen through (a blended material) keep both sides.
 
-use crate::complex::Complex;
+use crate::complex::{side_key, sides_used_once, Complex};
 use glam::DVec3;
 use rayon::prelude::*;
 use wildlod_geometry::{Aabb, Bvh};
@@ -55,24 +55,13 @@ pub(crate) fn drop_hidden_twins(c: &mut Complex, see_through: &dyn Fn(u32) -> bo
         let n = face.len();
         for k in 0..n {
             let (a, b) = (face[k], face[(k + 1) % n]);
-            sides.push(((a.min(b) as u64) << 32) | a.max(b) as u64);
+            sides.push(side_key(a, b));
         }
     }
     sides.par_sort_unstable();
     let (labels, parts) = c.part_labels();
     let mut closed = vec![true; parts];
-    let mut border: Vec<(u32, u32)> = Vec::new();
-    let mut r = 0;
-    while r < sides.len() {
-        let mut t = r + 1;
-        while t < sides.len() && sides[t] == sides[r] {
-            t += 1;
-        }
-        if t - r == 1 {
-            border.push(((sides[r] >> 32) as u32, sides[r] as u32));
-        }
-        r = t;
-    }
+    let mut border: Vec<(u32, u32)> = sides_used_once(&sides).collect();
     drop(sides);
     // A border whose every side lies along other border sides of its part
     // is a crack, not an opening: a T-junction (one long side facing a row
