@@ -41,8 +41,12 @@ fn every_corpus_mesh_reaches_every_ratio_within_one_triangle() {
                 }
                 assert_eq!(out.triangle_count(), rep.output_triangles);
                 let reached = rep.output_triangles.abs_diff(rep.target_triangles) <= 1;
-                let explained = rep.stop == Some(StopReason::NoCollapsibleEdges)
-                    && rep.output_triangles > rep.target_triangles;
+                // Stopped above the target with nothing left to collapse, or
+                // below it because the faces left all carry twins, which go
+                // with their face (the report says which).
+                let explained = (rep.stop == Some(StopReason::NoCollapsibleEdges)
+                    && rep.output_triangles > rep.target_triangles)
+                    || (rep.twin_slack && rep.output_triangles < rep.target_triangles);
                 if !reached && !explained {
                     failures.push(format!(
                         "{name} mesh {m} at {r}: {} -> {} for target {} ({:?})",

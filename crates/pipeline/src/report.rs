@@ -35,6 +35,9 @@ pub struct MeshJson {
     /// almost closed surface), dropped before simplifying
     /// (`--keep-hidden-twins` keeps them).
     pub hidden_twins: usize,
+    /// Went below the target by more than one triangle because the last
+    /// collapse took faces with their twins, which go together.
+    pub twin_slack: bool,
     /// Wall time.
     pub seconds: f64,
 }
@@ -53,6 +56,7 @@ impl MeshJson {
             collapses: r.report.collapses,
             split_polygons: r.report.split_polygons,
             hidden_twins: r.report.hidden_twins,
+            twin_slack: r.report.twin_slack,
             seconds: r.seconds,
         }
     }

@@ -11,7 +11,7 @@ import wildlod
 from conftest import grid, torus
 
 REPORT_KEYS = {"name", "mesh", "input_triangles", "target_triangles", "output_triangles",
-               "error", "stop", "collapses", "split_polygons", "hidden_twins", "seconds"}
+               "error", "stop", "collapses", "split_polygons", "hidden_twins", "twin_slack", "seconds"}
 
 
 def check_faces(out, sizes=None):

@@ -75,6 +75,10 @@ pub struct Report {
     pub symmetry_truncated: bool,
     /// Why the run stopped.
     pub stop: Option<StopReason>,
+    /// A collapse near the target removed faces with their twins, which go
+    /// together, and went past the target by more than one triangle (by at
+    /// most one face's copies).
+    pub twin_slack: bool,
     /// Collapses refused, by guard.
     pub rejected: Rejections,
     /// Input polygons of more than [`crate::MAX_POLYGON_CORNERS`] corners,

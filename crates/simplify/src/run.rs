@@ -517,6 +517,9 @@ impl<'o> Run<'o> {
             }
             if self.p.complex.triangles <= self.target {
                 self.report.stop = Some(StopReason::TargetReached);
+                // Past it by more than one triangle only where the last
+                // collapse took faces with their twins (see `allowed`).
+                self.report.twin_slack = self.p.complex.triangles + 1 < self.target;
                 break;
             }
             let (e, cost, known, recency) = match self.next_candidate(cap) {
@@ -797,8 +800,9 @@ impl<'o> Run<'o> {
         if left <= EXACT_COUNT_WINDOW {
             let removed = removed_triangles(c, &self.star, i, j);
             // Within one triangle of the target (one face's worth where
-            // faces have twins, which go in pairs), and never empty a mesh
-            // that was asked to keep something.
+            // faces have twins, which go together: a doubled mesh then
+            // simplifies exactly like its single copy), and never empty a
+            // mesh that was asked to keep something.
             let slack = self.star.iter().map(|&f| c.copies(f)).max().unwrap_or(1);
             let floor = if self.target > 0 { 1 } else { 0 };
             if removed > left + slack || c.triangles - removed.min(c.triangles) < floor {

@@ -354,6 +354,26 @@ fn hidden_twins_of_a_closed_surface_are_dropped_and_their_budget_buys_detail() {
     }
 }
 
+/// An open pipe of radius 1 and the given length along z: `around` quads
+/// per ring, `along` rings of quads.
+fn pipe(around: u32, along: u32, length: f32) -> Mesh {
+    let mut positions = Vec::new();
+    for r in 0..=along {
+        for k in 0..around {
+            let a = k as f32 * std::f32::consts::TAU / around as f32;
+            positions.push([a.cos(), a.sin(), length * r as f32 / along as f32]);
+        }
+    }
+    let mut faces = Faces::default();
+    let v = |r: u32, k: u32| r * around + k % around;
+    for r in 0..along {
+        for k in 0..around {
+            faces.push(&[v(r, k), v(r, k + 1), v(r + 1, k + 1), v(r + 1, k)]);
+        }
+    }
+    Mesh::from_polygons(positions, faces)
+}
+
 /// `m` without the faces `drop` picks (by their middle).
 fn without(m: &Mesh, drop: impl Fn(DVec3) -> bool) -> Mesh {
     let mut faces = Faces::default();
@@ -371,25 +391,53 @@ fn without(m: &Mesh, drop: impl Fn(DVec3) -> bool) -> Mesh {
 }
 
 #[test]
-fn twins_inside_an_almost_closed_shell_go_and_the_inside_of_a_bowl_stays() {
-    let sphere = bumpy_sphere(6);
-    // One face missing: open by topology, closed to sight.
-    let first = sphere.faces.iter().next().unwrap().to_vec();
-    let p0 = first
-        .iter()
-        .map(|&v| DVec3::from(sphere.positions[v as usize].map(f64::from)))
-        .sum::<DVec3>()
-        / first.len() as f64;
-    let holed = without(&sphere, |m| m.distance(p0) < 1e-6);
+fn twins_go_where_no_line_of_sight_reaches_them_and_stay_where_one_does() {
+    // A torus missing one face: open by topology, but the tube's inside
+    // curves away from the hole, so most of it cannot be seen through it.
+    let torus = shapes::triangulate(&shapes::torus(48, 12, 1.0, 0.3));
+    let first = torus.faces.iter().next().unwrap().to_vec();
+    let middle_of = |m: &Mesh, f: &[u32]| {
+        f.iter()
+            .map(|&v| DVec3::from(m.positions[v as usize].map(f64::from)))
+            .sum::<DVec3>()
+            / f.len() as f64
+    };
+    let p0 = middle_of(&torus, &first);
+    let holed = without(&torus, |m| m.distance(p0) < 1e-6);
     let n = holed.faces.len();
-    assert_eq!(n + 1, sphere.faces.len());
+    assert_eq!(n + 1, torus.faces.len());
     let (out, report) = simplify_mesh(&doubled(&holed, true), &ratio(0.5)).unwrap();
     assert!(
-        report.hidden_twins * 100 >= n * 95,
+        report.hidden_twins * 2 > n,
         "{} of {n}",
         report.hidden_twins
     );
+    assert!(
+        report.hidden_twins < n,
+        "the faces around the hole can be seen"
+    );
     assert!(enclosed_volume(&out) > 0.0);
+    // A sphere missing one face: its inside is convex, every inside face
+    // can be seen through the hole, and (nearly) every twin stays.
+    let sphere = bumpy_sphere(6);
+    let first = sphere.faces.iter().next().unwrap().to_vec();
+    let p0 = middle_of(&sphere, &first);
+    let holed = without(&sphere, |m| m.distance(p0) < 1e-6);
+    let n = holed.faces.len();
+    let (_, report) = simplify_mesh(&doubled(&holed, true), &ratio(1.0)).unwrap();
+    assert!(
+        report.hidden_twins * 50 <= n,
+        "{} of {n}",
+        report.hidden_twins
+    );
+    // A pipe ten times as long as it is wide, open at both ends: deep in
+    // it a face sees out only along the pipe, through the far end, which
+    // no fixed set of directions finds; the lines of sight to the
+    // openings do. Every twin stays.
+    let tube = pipe(24, 40, 20.0);
+    let (out, report) = simplify_mesh(&doubled(&tube, true), &ratio(1.0)).unwrap();
+    assert_eq!(report.hidden_twins, 0);
+    assert_eq!(out.faces.len(), 2 * tube.faces.len());
     // Half a sphere: every inside face sees out of the bowl.
     let bowl = without(&sphere, |m| m.z > 0.0);
     let (out, report) = simplify_mesh(&doubled(&bowl, true), &ratio(1.0)).unwrap();
@@ -630,4 +678,35 @@ fn pinch_cost_lets_parts_too_small_for_the_target_vanish() {
     assert_eq!(report.target_triangles, 36);
     assert!(report.output_triangles <= 36, "{}", report.output_triangles);
     assert!(!out.faces.is_empty());
+}
+
+#[test]
+fn faces_with_twins_reach_a_face_budget_within_one_face_and_say_so_when_below() {
+    // A closed sphere written twice, once each way, seen through (so every
+    // twin stays): a collapse removes two faces with their twins, four
+    // triangles, so some budgets cannot be met within one triangle.
+    let single = bumpy_sphere(4);
+    let double = doubled(&single, true);
+    let mut slack_seen = 0;
+    for t in 8..80 {
+        let options = Options {
+            see_through_faces: vec![true; double.faces.len()],
+            ..faces_target(t)
+        };
+        let (out, report) = simplify_mesh(&double, &options).unwrap();
+        let n = out.triangle_count();
+        assert_eq!(report.hidden_twins, 0);
+        if n.abs_diff(t) <= 1 {
+            assert!(!report.twin_slack || n < t, "target {t}: {n}");
+            continue;
+        }
+        // Otherwise below by at most one face with its twin, and reported.
+        assert!(
+            report.twin_slack && n < t && t - n <= 2,
+            "target {t}: {n}, {report:?}"
+        );
+        slack_seen += 1;
+    }
+    // Budgets two above a multiple of four need it.
+    assert!(slack_seen > 5, "{slack_seen}");
 }

@@ -282,6 +282,7 @@ fn whole_report(r: &SceneReport) -> Report {
         output_triangles: r.output_triangles,
         error: r.error,
         stop: r.stop(),
+        twin_slack: r.groups.iter().any(|g| g.report.twin_slack),
         rejected,
         split_polygons: r.groups.iter().map(|g| g.report.split_polygons).sum(),
         hidden_twins: r.groups.iter().map(|g| g.report.hidden_twins).sum(),
@@ -375,6 +376,12 @@ pub fn summary(name: &str, r: &Report, seconds: f64) -> String {
         ));
     } else if short && r.stop == Some(StopReason::ErrorLimit) {
         s.push_str(" (stopped at the error limit)");
+    }
+    if r.twin_slack && r.output_triangles + 1 < r.target_triangles {
+        s.push_str(&format!(
+            " (target {}: the last faces carry twins, which go with their face)",
+            r.target_triangles
+        ));
     }
     if r.split_polygons > 0 {
         s.push_str(&format!(
