@@ -259,7 +259,8 @@ pub struct TuningArgs {
     /// Keep the reversed copies of faces that cannot be seen. Exporters make
     /// surfaces double-sided by writing every face twice, once each way; on
     /// a closed part one copy looks into the solid, and elsewhere a copy
-    /// from which no ray escapes the mesh is enclosed too. By default such
+    /// from which no ray escapes the mesh and no line of sight reaches an
+    /// opening is enclosed too. By default such
     /// copies are dropped before simplifying and their share of the budget
     /// buys visible detail. Open sheets and blended (see-through) materials
     /// keep both sides

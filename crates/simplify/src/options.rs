@@ -524,8 +524,9 @@ pub struct Options {
     /// face's reversed copy, how exporters make a sheet double-sided. On a
     /// closed part one copy of each face looks into the solid and is never
     /// seen with an opaque material; elsewhere a copy goes when no ray from
-    /// its middle escapes the mesh (the inside of an almost closed shell, a
-    /// sheet's side lying on another surface). The copy that can be seen is
+    /// its middle escapes the mesh and no line of sight reaches an opening
+    /// of its part (the inside of an almost closed shell, away from its
+    /// openings). The copy that can be seen is
     /// kept; open sheets keep both. The ratio of [`Target`] still counts the
     /// dropped twins, so their share of the budget buys visible detail
     /// (Blender drops such copies when it imports a file). Default true.

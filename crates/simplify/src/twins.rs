@@ -13,9 +13,11 @@
 //! - on a closed part (no border side, or only cracks along T-junctions),
 //!   the copy that looks into the solid, by the sign of the part's volume;
 //! - elsewhere, a copy from whose middle no ray of a fixed hemisphere of
-//!   directions escapes the mesh (an almost closed shell, a sheet lying on
-//!   another surface): occlusion culling of the faces' own sides, the test
-//!   visibility-based LOD tools use for interior geometry.
+//!   directions escapes the mesh and no line of sight reaches an opening
+//!   of its part (points along its border): the inside of an almost closed
+//!   shell away from its openings. The lines of sight keep what a fixed
+//!   set of directions misses: deep in an open pipe a face sees out only
+//!   along the pipe, and through a hole in a sphere every inside face.
 //!
 //! Faces seen through (a blended material) keep both sides.
 
@@ -40,10 +42,10 @@ const CRACK_TOLERANCE: f64 = 1e-5;
 /// Returns the input faces dropped.
 ///
 /// Cost: sorting the sides, plus on parts that are not closed up to
-/// 2 × [`RAYS`] ray casts per twinned face (a doubled dragon of 1.7 M
-/// triangles with a hole: 21 s on two cores; a doubled jagged open grid of
-/// 2 M triangles 12 s; flat sheets and foliage cards far less, their first
-/// ray escapes).
+/// 2 × ([`RAYS`] + [`OPENING_POINTS`]) ray casts per twinned face (a
+/// doubled dragon of 1.7 M triangles with a hole: 30 s on two cores; a
+/// doubled jagged open grid of 2 M triangles 14 s; flat sheets and foliage
+/// cards far less, their first ray escapes).
 pub(crate) fn drop_hidden_twins(c: &mut Complex, see_through: &dyn Fn(u32) -> bool) -> usize {
     if c.riders.is_empty() {
         return 0;
