@@ -24,6 +24,7 @@
 use crate::complex::{side_key, sides_used_once, Complex};
 use glam::DVec3;
 use rayon::prelude::*;
+use std::collections::HashMap;
 use wildlod_geometry::{Aabb, Bvh};
 
 /// Border sides a closed part may have as cracks (checked pairwise, so the
@@ -124,26 +125,28 @@ pub(crate) fn drop_hidden_twins(c: &mut Complex, see_through: &dyn Fn(u32) -> bo
         .collect();
     if verdict.contains(&Verdict::Look) {
         // The openings of each part with faces to look at: points along
-        // its border sides (`border` is sorted by part).
-        let mut openings: Vec<Vec<DVec3>> = vec![Vec::new(); parts];
+        // its border sides (`border` is sorted by part). Only those parts:
+        // a soup has a part per face.
+        let mut openings: HashMap<usize, Vec<DVec3>> = HashMap::new();
         for (&f, _) in faces
             .iter()
             .zip(&verdict)
             .filter(|(_, v)| **v == Verdict::Look)
         {
             let Some(p) = part_of(f) else { continue };
-            if !openings[p].is_empty() {
+            if openings.contains_key(&p) {
                 continue;
             }
             let lo = border.partition_point(|&(a, _)| (labels[a as usize] as usize) < p);
             let hi = border.partition_point(|&(a, _)| (labels[a as usize] as usize) <= p);
             let sides = &border[lo..hi];
             let stride = sides.len().div_ceil(OPENING_POINTS).max(1);
-            openings[p] = sides
+            let points = sides
                 .iter()
                 .step_by(stride)
                 .map(|&(a, b)| 0.5 * (c.pos[a as usize] + c.pos[b as usize]))
                 .collect();
+            openings.insert(p, points);
         }
         let sight = Sight::new(c);
         verdict
@@ -151,7 +154,9 @@ pub(crate) fn drop_hidden_twins(c: &mut Complex, see_through: &dyn Fn(u32) -> bo
             .zip(&faces)
             .filter(|(v, _)| **v == Verdict::Look)
             .for_each(|(v, &f)| {
-                let open = part_of(f).map_or(&[][..], |p| &openings[p][..]);
+                let open = part_of(f)
+                    .and_then(|p| openings.get(&p))
+                    .map_or(&[][..], |v| &v[..]);
                 *v = sight.verdict(c, f, open);
             });
     }
