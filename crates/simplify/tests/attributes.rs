@@ -487,3 +487,72 @@ fn morph_deltas_follow_the_fit_and_stay_one_per_position() {
         );
     }
 }
+
+/// A triangulated torus with its exact normals, stored per corner: the
+/// corners of faces with x > 0 have their own copy of every normal with
+/// `noise` added to each component, as an exporter that splits vertices at
+/// a UV seam writes the normal once per copy. Positions are shared, so the
+/// meshes differ in their normals' seams only.
+fn torus_with_split_normals(noise: f32) -> Mesh {
+    let (big_r, r) = (1.0f32, 0.3f32);
+    let mut m = shapes::triangulate(&shapes::torus(48, 24, big_r, r));
+    let n = m.positions.len() as u32;
+    let normal = |p: [f32; 3]| {
+        let s = big_r / (p[0] * p[0] + p[1] * p[1]).sqrt();
+        [(p[0] - s * p[0]) / r, (p[1] - s * p[1]) / r, p[2] / r]
+    };
+    let mut values: Vec<f32> = m.positions.iter().flat_map(|&p| normal(p)).collect();
+    let copies: Vec<f32> = values.iter().map(|x| x + noise).collect();
+    values.extend(copies);
+    let mut indices = m.faces.indices.clone();
+    for f in 0..m.faces.len() {
+        let corners = m.faces.corner_range(f);
+        let x: f32 = corners
+            .clone()
+            .map(|c| m.positions[m.faces.indices[c] as usize][0])
+            .sum();
+        if x > 0.0 {
+            for c in corners {
+                indices[c] += n;
+            }
+        }
+    }
+    m.attributes.push(Attribute {
+        semantic: Semantic::Normal,
+        components: 3,
+        values,
+        indices,
+        format: ComponentFormat::F32,
+    });
+    m
+}
+
+#[test]
+fn normals_split_by_rounding_noise_are_not_a_hard_edge() {
+    // Exporters write a split vertex's normal twice a few ulps apart; that
+    // is no hard edge to keep, so the output is the one of exactly equal
+    // copies. A 3° split is one, and the control shows it changes the
+    // result (or the test could not tell).
+    let options = ratio(0.1);
+    // Output positions whose corners carry more than one normal.
+    let split = |m: &Mesh| {
+        let a = m.attribute(&Semantic::Normal).unwrap();
+        let mut seen: Vec<Option<u32>> = vec![None; m.positions.len()];
+        let mut split = vec![false; m.positions.len()];
+        for (c, &v) in m.faces.indices.iter().enumerate() {
+            let i = a.indices[c];
+            match seen[v as usize] {
+                None => seen[v as usize] = Some(i),
+                Some(j) if j != i => split[v as usize] = true,
+                _ => {}
+            }
+        }
+        split.iter().filter(|&&s| s).count()
+    };
+    let (exact, _) = simplify_mesh(&torus_with_split_normals(0.0), &options).unwrap();
+    let (noisy, _) = simplify_mesh(&torus_with_split_normals(2e-6), &options).unwrap();
+    let (hard, _) = simplify_mesh(&torus_with_split_normals(0.05), &options).unwrap();
+    assert_eq!(split(&exact), 0);
+    assert_eq!(split(&noisy), 0, "rounding noise kept as a hard edge");
+    assert!(split(&hard) > 0, "a 3° hard edge was merged away");
+}

@@ -14,7 +14,7 @@ use super::linear_fit::FaceFrame;
 use super::quadric::{accumulate, Layout};
 use super::seams::{plan_stream, StreamPlan};
 use super::skin::SkinQuadric;
-use super::wedges::{build_wedges, stream_key, Wedges};
+use super::wedges::{build_wedges, stream_key, value_tolerance, within, Wedges};
 use crate::complex::Complex;
 use crate::cost::newell;
 use crate::error::Error;
@@ -193,7 +193,6 @@ impl AttributeState {
                 continue;
             }
             let m = s.components;
-            let wedges = build_wedges(corner_vertex, |c| stream_key(s.values, s.indices, m, c));
             let (mut lo, mut hi) = ([f32::INFINITY; 4], [f32::NEG_INFINITY; 4]);
             for v in s.values.chunks_exact(m) {
                 for (x, &y) in v.iter().enumerate() {
@@ -201,16 +200,21 @@ impl AttributeState {
                     hi[x] = hi[x].max(y);
                 }
             }
+            let value_range = (0..m)
+                .map(|x| (hi[x] - lo[x]) as f64)
+                .fold(0.0f64, f64::max);
+            let wedges = build_wedges(
+                corner_vertex,
+                |c| stream_key(s.values, s.indices, m, c),
+                within(value_tolerance(s.kind, value_range)),
+            );
             // The factor that brings the stream to the diagonal's scale
             // (see `StreamKind`); texture coordinates get theirs once the
             // face loop has measured surface and UV areas.
             let unit = match s.kind {
                 StreamKind::Generic => {
-                    let range = (0..m)
-                        .map(|x| (hi[x] - lo[x]) as f64)
-                        .fold(0.0f64, f64::max);
-                    if range > 0.0 {
-                        1.0 / range
+                    if value_range > 0.0 {
+                        1.0 / value_range
                     } else {
                         1.0
                     }
@@ -258,9 +262,11 @@ impl AttributeState {
                 }
             }
             let g = input.face_groups;
-            Some(build_wedges(corner_vertex, |x| {
-                Some([g[corner_face[x] as usize], 0, 0, 0])
-            }))
+            Some(build_wedges(
+                corner_vertex,
+                |x| Some([g[corner_face[x] as usize], 0, 0, 0]),
+                |a, b| a == b,
+            ))
         };
         let mut state = AttributeState {
             streams,
@@ -573,9 +579,9 @@ impl AttributeState {
     /// The output streams, in the caller's order: for every output corner
     /// (`corner_origin`, its input corner; `corner_vertex_out`, the run's
     /// vertex it is at), the value of its wedge fitted at the vertex's final
-    /// position (normalized coordinates in `pos`) — or the input value,
-    /// bit for bit, for a wedge that was never merged at a vertex that
-    /// never moved. Carried streams keep every corner's input value.
+    /// position (normalized coordinates in `pos`) — or the input value of
+    /// the wedge's first corner, bit for bit, for a wedge that was never
+    /// merged at a vertex that never moved. Carried streams keep every corner's input value.
     pub fn output(
         &self,
         input: &AttributeInput<'_>,
