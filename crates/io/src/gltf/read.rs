@@ -16,7 +16,8 @@ use wildlod_mesh::{
 
 use super::accessor::Data;
 use super::load::{self, Loaded};
-use super::passthrough::{MeshSource, Passthrough};
+use super::passthrough::{MeshSource, Passthrough, SourceBuffer};
+use super::rewrite;
 use super::uri::{self, UriKind};
 use crate::ErrorKind;
 
@@ -91,6 +92,33 @@ pub(crate) fn read(
         ..scene.clone()
     };
     let Loaded { json, buffers, .. } = loaded;
+    // Only what a write copies byte for byte stays; the meshes are decoded.
+    let copied = rewrite::copied_views(&json, &sources);
+    let views = json
+        .get("bufferViews")
+        .and_then(Value::as_array)
+        .map(Vec::as_slice)
+        .unwrap_or(&[]);
+    let buffers = buffers
+        .iter()
+        .enumerate()
+        .map(|(b, bytes)| {
+            let spans = views
+                .iter()
+                .zip(&copied)
+                .filter(|(_, &c)| c)
+                .filter_map(|(v, _)| {
+                    let index = |k: &str| v.get(k).and_then(Value::as_u64).map(|x| x as usize);
+                    (index("buffer")? == b).then(|| {
+                        (
+                            index("byteOffset").unwrap_or(0),
+                            index("byteLength").unwrap_or(0),
+                        )
+                    })
+                });
+            SourceBuffer::keep(bytes, spans)
+        })
+        .collect();
     let pass = Passthrough {
         json,
         buffers,
@@ -1114,6 +1142,69 @@ fn read_image(
 mod tests {
     use super::*;
     use wildlod_mesh::transform::apply_point;
+
+    /// Bytes of the source buffers a document keeps for writing back, and
+    /// the buffers' full length.
+    fn kept(rel: &str) -> Option<(usize, usize, Value)> {
+        let c = wildlod_testkit::corpus("documents_keep_only_the_bytes_a_write_copies")?;
+        let doc = crate::read(c.join(rel)).unwrap_or_else(|e| panic!("{e}"));
+        let pass = doc.gltf.unwrap_or_else(|| panic!("{rel}: no passthrough"));
+        let total = pass.json["buffers"]
+            .as_array()
+            .map(|b| b.iter().filter_map(|b| b["byteLength"].as_u64()).sum::<u64>())
+            .unwrap_or(0) as usize;
+        let kept = pass.buffers.iter().map(SourceBuffer::kept_bytes).sum();
+        Some((kept, total, pass.json))
+    }
+
+    /// Total length of the views of images, animation curves and inverse
+    /// bind matrices: what a write copies from a file whose primitives are
+    /// all triangles.
+    fn copied_by_meaning(json: &Value) -> usize {
+        let list = |v: &Value| v.as_array().cloned().unwrap_or_default();
+        let view_of = |acc: &Value| {
+            acc.as_u64()
+                .and_then(|a| json["accessors"][a as usize]["bufferView"].as_u64())
+        };
+        let mut views: Vec<u64> = list(&json["images"])
+            .iter()
+            .filter_map(|i| i["bufferView"].as_u64())
+            .collect();
+        for a in list(&json["animations"]) {
+            for s in list(&a["samplers"]) {
+                views.extend(view_of(&s["input"]));
+                views.extend(view_of(&s["output"]));
+            }
+        }
+        for s in list(&json["skins"]) {
+            views.extend(view_of(&s["inverseBindMatrices"]));
+        }
+        views.sort_unstable();
+        views.dedup();
+        views
+            .iter()
+            .filter_map(|&v| json["bufferViews"][v as usize]["byteLength"].as_u64())
+            .sum::<u64>() as usize
+    }
+
+    #[test]
+    fn documents_keep_only_the_bytes_a_write_copies() {
+        // A mesh and nothing else: the decoded mesh is all a write needs.
+        let Some((dragon, total, _)) = kept("large/dragon_vrip.glb") else {
+            return;
+        };
+        assert!(total > 10_000_000);
+        assert_eq!(dragon, 0);
+        // The truck's embedded image and its wheels' animation curves, and
+        // CesiumMan's image, skin and walk are copied as they are; their
+        // meshes are not.
+        for rel in ["textured/CesiumMilkTruck.glb", "skinned/CesiumMan.glb"] {
+            let (kept, total, json) = kept(rel).unwrap_or_default();
+            let copied = copied_by_meaning(&json);
+            assert!(copied > 0 && copied < total, "{rel}: {copied} of {total}");
+            assert_eq!(kept, copied, "{rel}");
+        }
+    }
 
     #[test]
     fn trs_applies_scale_then_rotation_then_translation() {

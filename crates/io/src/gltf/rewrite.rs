@@ -159,10 +159,7 @@ fn source_view(p: &Passthrough, v: usize) -> Option<Vec<u8>> {
     let b = index(view.get("buffer"))?;
     let start = index(view.get("byteOffset")).unwrap_or(0);
     let len = index(view.get("byteLength"))?;
-    p.buffers
-        .get(b)?
-        .get(start..start.checked_add(len)?)
-        .map(<[u8]>::to_vec)
+    p.buffers.get(b)?.get(start, len).map(<[u8]>::to_vec)
 }
 
 /// Bytes per component of a JSON `componentType`.
@@ -174,26 +171,18 @@ fn component_size(v: Option<&Value>) -> usize {
     }
 }
 
-/// Copies the buffer views kept accessors use (their own and their sparse
-/// parts'), byte for byte. Each view starts where every accessor into it
-/// lands on a multiple of its component size: the source's offset modulo 4
-/// when that works (it does for any valid file), else the first that does,
-/// so a misaligned source does not make a misaligned output.
-fn copy_views(p: &Passthrough, keep: &[bool], bin: &mut Bin) -> Result<IndexMap, ErrorKind> {
-    let views = array(&p.json, "bufferViews");
-    // Per view: (byteOffset within the view, component size) of every use.
-    let mut uses: Vec<Option<Vec<(usize, usize)>>> = vec![None; views.len()];
+/// Per buffer view of `src`: (byteOffset within the view, component size)
+/// of every use by a kept accessor (its own data and its sparse parts), or
+/// `None` for a view no kept accessor uses.
+fn view_uses(src: &Value, keep: &[bool]) -> Vec<Option<Vec<(usize, usize)>>> {
+    let mut uses: Vec<Option<Vec<(usize, usize)>>> = vec![None; array(src, "bufferViews").len()];
     let mut need = |v: Option<&Value>, offset: Option<&Value>, size: usize| {
         if let Some(u) = index(v).and_then(|v| uses.get_mut(v)) {
             u.get_or_insert_with(Vec::new)
                 .push((index(offset).unwrap_or(0), size));
         }
     };
-    for (acc, _) in array(&p.json, "accessors")
-        .iter()
-        .zip(keep)
-        .filter(|(_, &k)| k)
-    {
+    for (acc, _) in array(src, "accessors").iter().zip(keep).filter(|(_, &k)| k) {
         let size = component_size(acc.get("componentType"));
         need(acc.get("bufferView"), acc.get("byteOffset"), size);
         if let Some(s) = acc.get("sparse") {
@@ -203,6 +192,34 @@ fn copy_views(p: &Passthrough, keep: &[bool], bin: &mut Bin) -> Result<IndexMap,
             need(v.get("bufferView"), v.get("byteOffset"), size);
         }
     }
+    uses
+}
+
+/// The buffer views a write may copy from the source, byte for byte: those
+/// of copied accessors ([`kept_accessors`]) and of images. Everything else
+/// in the source buffers (the triangle primitives' data, usually nearly
+/// all of it) is rebuilt from the scene, so the reader need not keep it.
+pub(super) fn copied_views(src: &Value, meshes: &[MeshSource]) -> Vec<bool> {
+    let mut out: Vec<bool> = view_uses(src, &kept_accessors(src, meshes))
+        .iter()
+        .map(Option::is_some)
+        .collect();
+    for img in array(src, "images") {
+        if let Some(f) = index(img.get("bufferView")).and_then(|v| out.get_mut(v)) {
+            *f = true;
+        }
+    }
+    out
+}
+
+/// Copies the buffer views kept accessors use (their own and their sparse
+/// parts'), byte for byte. Each view starts where every accessor into it
+/// lands on a multiple of its component size: the source's offset modulo 4
+/// when that works (it does for any valid file), else the first that does,
+/// so a misaligned source does not make a misaligned output.
+fn copy_views(p: &Passthrough, keep: &[bool], bin: &mut Bin) -> Result<IndexMap, ErrorKind> {
+    let views = array(&p.json, "bufferViews");
+    let uses = view_uses(&p.json, keep);
     let mut map = vec![None; views.len()];
     for (v, view) in views.iter().enumerate() {
         let Some(uses) = &uses[v] else {

@@ -189,10 +189,18 @@ mod tests {
         // ulps apart, (0,0.0009,1) within 1e-3 of the first, (0,0.002,1)
         // beyond it; corner 4 at vertex 1 equals corner 0.
         let values = [
-            0.0, 0.002, 1.0, // index 0
-            0.0, 0.0, 1.0, // 1
-            0.0, 0.0, 1.000_000_1, // 2
-            0.0, 0.0009, 1.0, // 3
+            0.0,
+            0.002,
+            1.0, // index 0
+            0.0,
+            0.0,
+            1.0, // 1
+            0.0,
+            0.0,
+            1.000_000_1, // 2
+            0.0,
+            0.0009,
+            1.0, // 3
         ];
         let indices = [1, 0, 2, 3, 1];
         let corner_vertex = [0, 0, 0, 0, 1];
