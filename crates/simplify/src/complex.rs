@@ -274,7 +274,8 @@ impl Complex {
         self.vert_edges = Vec::new();
         self.border_sides = Vec::new();
         self.border_lists = HashMap::new();
-        self.edges.clear();
+        // Freed, not cleared: callers drop the adjacency to make room.
+        self.edges = Vec::new();
     }
 
     /// Whether the star lists and edges are built.

@@ -979,6 +979,15 @@ impl<'o> Run<'o> {
         root
     }
 
+    /// Frees what only collapsing reads — the queue, the star lists and
+    /// edges (most of a run's memory) — so that what follows a run (the
+    /// refit, assembling, a chunk's write-back) fits under its peak.
+    pub(crate) fn release_adjacency(&mut self) {
+        self.queue = CollapseQueue::default();
+        self.refused_around = Vec::new();
+        self.p.complex.clear_adjacency();
+    }
+
     /// The final refit (see `refit.rs`) against the input `faces` (input
     /// vertex ids) that the complex kept (`kept`, per face; empty: all).
     /// With the history recorded too: successive mapping projects the final
@@ -1010,12 +1019,9 @@ impl<'o> Run<'o> {
             .guards
             .max_normal_turn_degrees
             .map_or(0.0, |d| d.to_radians().cos().max(0.0));
-        // What neither the refit nor `assemble` reads, freed first (the
-        // star lists and edges are most of it): the refit then fits under
-        // the run's earlier peak.
-        self.queue = CollapseQueue::default();
-        self.refused_around = Vec::new();
-        self.p.complex.clear_adjacency();
+        // What neither the refit nor `assemble` reads, freed first: the
+        // refit then fits under the run's earlier peak.
+        self.release_adjacency();
         let input = crate::refit::RefitInput {
             positions: &self.p.input,
             center: self.p.center,

@@ -474,6 +474,11 @@ fn one_pass(run: &mut Run, shift: DVec3, handoff: usize, progress: &dyn Fn(f64))
     let remove = start.saturating_sub(run.target);
     let layouts = layouts(&run.p.complex, chunks, &locked, &owner, &run.virtual_pairs);
     drop(owner);
+    // The layouts hold every live face now, and `write_back` rewrites the
+    // global corners from the chunks: freed before the chunks are built.
+    let corners = run.p.complex.slot_vertex.len();
+    run.p.complex.slot_vertex = Vec::new();
+    run.p.complex.slot_corner = Vec::new();
     let slots = Slots::new(&layouts, run.p.complex.pos.len());
     // Live vertices in no chunk keep their quadrics; a removed vertex's
     // are never read again.
@@ -522,7 +527,7 @@ fn one_pass(run: &mut Run, shift: DVec3, handoff: usize, progress: &dyn Fn(f64))
             p.active = p.run.collapse_until(cap, &|_| {});
         });
     }
-    write_back(run, parts);
+    write_back(run, parts, corners);
     slots.move_back(&mut quadrics);
     slots.move_back(&mut reg);
     for (v, q, r) in aside {
@@ -534,10 +539,19 @@ fn one_pass(run: &mut Run, shift: DVec3, handoff: usize, progress: &dyn Fn(f64))
 }
 
 /// Copies every chunk's faces, moved positions and merges back to the
-/// global complex (chunks in order: deterministic). Each chunk's quadrics
-/// stay where they are, in its ranges of the pass's arrays, summed by its
-/// own collapses.
-fn write_back(run: &mut Run, parts: Vec<Chunk>) {
+/// global complex (chunks in order: deterministic), whose corner arrays
+/// (`corners` slots, freed during the rounds) are rebuilt here; the slots
+/// of faces in no chunk (dead ones) are never read again. Each chunk's
+/// quadrics stay where they are, in its ranges of the pass's arrays,
+/// summed by its own collapses.
+fn write_back(run: &mut Run, mut parts: Vec<Chunk>, corners: usize) {
+    // The chunks' adjacency and queues first, or the global corners would
+    // be allocated on top of everything (the pass's peak).
+    for part in &mut parts {
+        part.run.release_adjacency();
+    }
+    run.p.complex.slot_vertex = vec![NONE; corners];
+    run.p.complex.slot_corner = vec![NONE; corners];
     for part in parts {
         let Chunk {
             run: local,
