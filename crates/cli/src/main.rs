@@ -3,6 +3,7 @@
 //! A thin binary: arguments are parsed ([`args`]) into validated settings,
 //! then each command runs a pipeline of the library crates.
 
+mod allocator;
 mod args;
 mod args_assets;
 mod commands;
@@ -14,6 +15,7 @@ use std::process::ExitCode;
 use clap::Parser;
 
 fn main() -> ExitCode {
+    allocator::configure();
     let cli = args::Cli::parse();
     match commands::run(cli) {
         Ok(()) => ExitCode::SUCCESS,

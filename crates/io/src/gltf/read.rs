@@ -1151,7 +1151,11 @@ mod tests {
         let pass = doc.gltf.unwrap_or_else(|| panic!("{rel}: no passthrough"));
         let total = pass.json["buffers"]
             .as_array()
-            .map(|b| b.iter().filter_map(|b| b["byteLength"].as_u64()).sum::<u64>())
+            .map(|b| {
+                b.iter()
+                    .filter_map(|b| b["byteLength"].as_u64())
+                    .sum::<u64>()
+            })
             .unwrap_or(0) as usize;
         let kept = pass.buffers.iter().map(SourceBuffer::kept_bytes).sum();
         Some((kept, total, pass.json))
