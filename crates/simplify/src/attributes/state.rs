@@ -212,13 +212,7 @@ impl AttributeState {
             // (see `StreamKind`); texture coordinates get theirs once the
             // face loop has measured surface and UV areas.
             let unit = match s.kind {
-                StreamKind::Generic => {
-                    if value_range > 0.0 {
-                        1.0 / value_range
-                    } else {
-                        1.0
-                    }
-                }
+                StreamKind::Generic if value_range > 0.0 => 1.0 / value_range,
                 // Normals and colors change by their gradient times the
                 // distance a collapse spans: an error in them is worth the
                 // surface displacement one edge away, not a diagonal, or
