@@ -378,9 +378,10 @@ fn split_ranges<'a, T>(mut s: &'a mut [T], start: &[usize]) -> Vec<&'a mut [T]> 
     out
 }
 
-/// A live vertex in no chunk (unused by the live faces) and its quadrics,
-/// set aside while the global arrays hold the chunks' values.
-type Aside = (u32, Quadric, Isotropic);
+/// A live vertex in no chunk (unused by the live faces), its quadrics and
+/// its position, set aside while the global arrays hold the chunks' values
+/// (and the global positions are freed).
+type Aside = (u32, Quadric, Isotropic, DVec3);
 /// Builds a chunk's run from its layout: its vertices' quadrics (its
 /// ranges of the pass's arrays, see [`Slots`]) and locks, its virtual
 /// edges, and a floor (see below) as its target.
@@ -484,7 +485,10 @@ fn one_pass(run: &mut Run, shift: DVec3, handoff: usize, progress: &dyn Fn(f64))
     // are never read again.
     let aside: Vec<Aside> = (0..slots.slot.len() as u32)
         .filter(|&v| slots.slot[v as usize] == NONE && run.merged_into[v as usize] == v)
-        .map(|v| (v, run.quadrics[v as usize], run.reg[v as usize]))
+        .map(|v| {
+            let v_ = v as usize;
+            (v, run.quadrics[v_], run.reg[v_], run.p.complex.pos[v_])
+        })
         .collect();
     let mut quadrics = std::mem::take(&mut run.quadrics).into_vec();
     let mut reg = std::mem::take(&mut run.reg).into_vec();
@@ -502,8 +506,10 @@ fn one_pass(run: &mut Run, shift: DVec3, handoff: usize, progress: &dyn Fn(f64))
             .map(|(layout, q)| build_chunk(this, layout, q, &locked))
             .collect()
     };
-    // Not needed in the rounds, the peak.
+    // Not needed in the rounds, the peak: every chunk has its vertices'
+    // positions, and `write_back` puts them back.
     drop(locked);
+    run.p.complex.pos = Vec::new();
     // Rounds: every chunk makes its collapses up to the cap, which then
     // doubles (or jumps to the cheapest collapse left). Within a round the
     // order is each chunk's greedy order; across rounds, the global one.
@@ -530,9 +536,10 @@ fn one_pass(run: &mut Run, shift: DVec3, handoff: usize, progress: &dyn Fn(f64))
     write_back(run, parts, corners);
     slots.move_back(&mut quadrics);
     slots.move_back(&mut reg);
-    for (v, q, r) in aside {
+    for (v, q, r, p) in aside {
         quadrics[v as usize] = q;
         reg[v as usize] = r;
+        run.p.complex.pos[v as usize] = p;
     }
     run.quadrics = PerVertex::Owned(quadrics);
     run.reg = PerVertex::Owned(reg);
@@ -552,6 +559,9 @@ fn write_back(run: &mut Run, mut parts: Vec<Chunk>, corners: usize) {
     }
     run.p.complex.slot_vertex = vec![NONE; corners];
     run.p.complex.slot_corner = vec![NONE; corners];
+    // Every vertex a chunk has gets its chunk's position (a vertex on a cut
+    // is locked, so all its copies agree); the caller restores the others.
+    run.p.complex.pos = vec![DVec3::ZERO; run.merged_into.len()];
     for part in parts {
         let Chunk {
             run: local,
@@ -572,9 +582,9 @@ fn write_back(run: &mut Run, mut parts: Vec<Chunk>, corners: usize) {
             }
         }
         for (lv, &gv) in vertex.iter().enumerate() {
+            gc.pos[gv as usize] = lc.pos[lv];
             if local.moved[lv] {
                 run.moved[gv as usize] = true;
-                gc.pos[gv as usize] = lc.pos[lv];
             }
             let into = local.merged_into[lv];
             if into != lv as u32 {
