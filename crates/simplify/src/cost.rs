@@ -17,7 +17,7 @@ use crate::attributes::{AttrScratch, AttributeState};
 use crate::complex::Complex;
 use crate::guards::too_small_for_budget;
 use crate::options::Metric;
-use crate::quadric::{place, place_exact, Isotropic, Quadric};
+use crate::quadric::{place, place_by_planes, place_exact, Isotropic, Quadric};
 use crate::tangent::tangent_quadrics;
 pub(crate) use crate::tangent::EdgeImportance;
 
@@ -471,16 +471,26 @@ impl CostModel {
             // the regularized solve.
             let joint = self.attributes_move_vertices || attributes.is_none();
             let placed = if joint { &total } else { &geometry };
-            let pl = match (reg.get(i as usize), reg.get(j as usize)) {
-                (Some(ri), Some(rj)) => place_exact(placed, &(*ri + *rj).quadric(), pi, pj, REACH),
-                _ => place(placed, pi, pj, REACH),
+            let r = match (reg.get(i as usize), reg.get(j as usize)) {
+                (Some(ri), Some(rj)) => Some((*ri + *rj).quadric()),
+                _ => None,
+            };
+            let pl = match &r {
+                Some(r) if self.metric.regularized_choice => place_exact(placed, r, pi, pj, REACH),
+                Some(r) => place_by_planes(placed, r, pi, pj, REACH),
+                None => place(placed, pi, pj, REACH),
             };
             if joint {
                 (pl.position, pl.error)
             } else {
                 // Attributes are fitted at the placed vertex and cost what
-                // they lose there.
-                (pl.position, total.eval(pl.position).max(0.0))
+                // they lose there (the regularization's share taken out
+                // unless it ranks too).
+                let cost = match &r {
+                    Some(r) if !self.metric.regularized_choice => total.minus(r).eval(pl.position),
+                    _ => total.eval(pl.position),
+                };
+                (pl.position, cost.max(0.0))
             }
         };
         // Knodt Eq. 5: what the collapse adds to the error the endpoints

@@ -59,7 +59,7 @@ pub use options::{
     AttributeOptions, Guards, Metric, NormalMode, Options, Partition, QuadMode, QuadSettings,
     Target,
 };
-pub use quadric::{place, place_exact, Placement, Quadric, FREE_DIRECTION};
+pub use quadric::{place, place_by_planes, place_exact, Placement, Quadric, FREE_DIRECTION};
 pub use report::{Rejections, Report, StopReason};
 pub use scene::{
     see_through_materials, simplify_scene, simplify_scene_with_progress, GroupReport, GroupSpace,

@@ -561,12 +561,99 @@ pub fn place_exact(e: &Quadric, reg: &Quadric, p: DVec3, q: DVec3, reach: f64) -
     place(e, p, q, reach)
 }
 
+/// Places a collapse's vertex by the planes alone (`e` minus the
+/// regularization `reg` it includes) wherever they determine a point
+/// within `reach` edge lengths of the edge's midpoint, as Garland &
+/// Heckbert do, and by [`place_exact`] where they do not. The
+/// returned error is the planes' alone (see
+/// [`crate::Metric::regularized_choice`]).
+pub fn place_by_planes(e: &Quadric, reg: &Quadric, p: DVec3, q: DVec3, reach: f64) -> Placement {
+    let plain = e.minus(reg);
+    let mid = 0.5 * (p + q);
+    // As in `place`: a point far beyond the edge comes from a nearly
+    // singular solve (a straight border's planes and its memoryless area
+    // term leave one direction almost free), whose error, evaluated there,
+    // is lost to cancellation; and only a numerically broken solve is
+    // worse than the midpoint.
+    let reach = reach * (q - p).length().max(f64::MIN_POSITIVE);
+    if let Some(x) = plain.minimizer().filter(|x| x.distance(mid) <= reach) {
+        let err = plain.eval(x);
+        if err.is_finite() && err <= plain.eval(mid) {
+            return Placement {
+                position: x,
+                error: err.max(0.0),
+                optimal: true,
+            };
+        }
+    }
+    let pl = place_exact(e, reg, p, q, reach);
+    Placement {
+        error: plain.eval(pl.position).max(0.0),
+        ..pl
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
 
     fn close(a: f64, b: f64) -> bool {
         (a - b).abs() <= 1e-12 * (1.0 + a.abs().max(b.abs()))
+    }
+
+    #[test]
+    fn placing_by_planes_ignores_the_regularization_where_the_planes_decide() {
+        // Planes x = 1 and y = 2 (weight 1) and a faint z = 3 (weight 1e-6),
+        // plus the regularization 1e-4·|x|² toward the origin.
+        let reg = Quadric::point(DVec3::ZERO, 1e-4);
+        let e = Quadric::plane(DVec3::X, DVec3::new(1.0, 0.0, 0.0), 1.0)
+            + Quadric::plane(DVec3::Y, DVec3::new(0.0, 2.0, 0.0), 1.0)
+            + Quadric::plane(DVec3::Z, DVec3::new(0.0, 0.0, 3.0), 1e-6)
+            + reg;
+        let (p, q) = (DVec3::ZERO, DVec3::new(2.0, 4.0, 6.0));
+        let by_planes = place_by_planes(&e, &reg, p, q, 4.0);
+        // The planes meet at (1, 2, 3), where their error is 0.
+        assert!(by_planes.position.distance(DVec3::new(1.0, 2.0, 3.0)) < 1e-9);
+        assert!(by_planes.error < 1e-15);
+        assert!(by_planes.optimal);
+        // The regularized choice keeps the faint direction near the
+        // origin: z = 3e-6 / (1e-6 + 1e-4) ≈ 0.0297.
+        let soft = place_exact(&e, &reg, p, q, 4.0);
+        assert!((soft.position.z - 3e-6 / 1.01e-4).abs() < 1e-6, "{soft:?}");
+    }
+
+    #[test]
+    fn placing_by_planes_distrusts_a_minimizer_far_beyond_the_edge() {
+        // Planes z = 0 and x = 0 hold a line; a faint y = 100 (weight 1e-9)
+        // makes the system solvable with its minimizer a hundred edge
+        // lengths away: the regularized solve (centred on the edge) places.
+        let reg = Quadric::point(DVec3::new(0.0, 0.5, 0.0), 1e-4);
+        let e = Quadric::plane(DVec3::Z, DVec3::ZERO, 1.0)
+            + Quadric::plane(DVec3::X, DVec3::ZERO, 1.0)
+            + Quadric::plane(DVec3::Y, DVec3::new(0.0, 100.0, 0.0), 1e-9)
+            + reg;
+        let (p, q) = (DVec3::ZERO, DVec3::Y);
+        assert!(e.minus(&reg).minimizer().is_some_and(|x| x.y > 99.0));
+        let by_planes = place_by_planes(&e, &reg, p, q, 4.0);
+        assert!(
+            by_planes.position.distance(0.5 * (p + q)) < 1.0,
+            "{by_planes:?}"
+        );
+    }
+
+    #[test]
+    fn placing_by_planes_falls_back_to_the_regularized_solve_on_a_flat_star() {
+        // One plane z = 0: no point is determined; the regularization
+        // (centred at (0.3, 0.4, 0)) decides, and the planes' error there
+        // is 0.
+        let reg = Quadric::point(DVec3::new(0.3, 0.4, 0.0), 1e-4);
+        let e = Quadric::plane(DVec3::Z, DVec3::ZERO, 1.0) + reg;
+        let (p, q) = (DVec3::new(0.0, 0.0, 0.0), DVec3::new(0.6, 0.8, 0.0));
+        let by_planes = place_by_planes(&e, &reg, p, q, 4.0);
+        let soft = place_exact(&e, &reg, p, q, 4.0);
+        assert_eq!(by_planes.position, soft.position);
+        assert!(by_planes.position.distance(DVec3::new(0.3, 0.4, 0.0)) < 1e-9);
+        assert!(by_planes.error < 1e-15);
     }
 
     #[test]

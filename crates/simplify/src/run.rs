@@ -275,8 +275,15 @@ impl<'o> Run<'o> {
         }
         let faces = p.complex.faces.iter().filter(|f| f.len > 0).count();
         let area: f64 = quadrics.iter().map(|q| q.weight).sum();
+        // Attributes keep the regularization choosing (see
+        // `AttributeOptions::regularized_choice`).
+        let steering = attrs.as_ref().is_some_and(AttributeState::steers);
         let model = CostModel {
-            metric,
+            metric: Metric {
+                regularized_choice: metric.regularized_choice
+                    || (steering && options.attributes.regularized_choice),
+                ..metric
+            },
             lock_borders: options.guards.lock_borders,
             attributes_move_vertices: options.attributes.attributes_move_vertices,
             area_floor: metric.area_floor.max(0.0) * area / faces.max(1) as f64,

@@ -9,7 +9,7 @@ mod common;
 
 use glam::DVec3;
 use wildlod_mesh::Mesh;
-use wildlod_simplify::{place_exact, simplify_mesh, Guards, Options, Quadric, Target};
+use wildlod_simplify::{place_by_planes, simplify_mesh, Guards, Options, Quadric, Target};
 
 fn no_flip_guard(mut o: Options) -> Options {
     o.guards = Guards {
@@ -110,8 +110,9 @@ fn reference_qem(mesh: &Mesh, target_triangles: usize, regularization: f64) -> V
             q[v] += plane;
         }
     }
-    // The regularization of each vertex, also kept apart: placement solves
-    // without it (see `place_exact`).
+    // The regularization of each vertex, also kept apart: the planes alone
+    // rank and place, the regularization only decides where they do not
+    // determine a point (see `place_by_planes`).
     let mut reg = vec![Quadric::ZERO; pos.len()];
     for v in 0..pos.len() {
         let area: f64 = tris
@@ -137,7 +138,7 @@ fn reference_qem(mesh: &Mesh, target_triangles: usize, regularization: f64) -> V
         let best = edges
             .iter()
             .map(|&(i, j)| {
-                let p = place_exact(&(q[i] + q[j]), &(reg[i] + reg[j]), pos[i], pos[j], 4.0);
+                let p = place_by_planes(&(q[i] + q[j]), &(reg[i] + reg[j]), pos[i], pos[j], 4.0);
                 (p.error, i, j, p.position)
             })
             .min_by(|a, b| a.0.total_cmp(&b.0))

@@ -290,6 +290,13 @@ impl AttributeState {
         Ok(state)
     }
 
+    /// Whether any attribute steers collapses: a stream of nonzero weight,
+    /// or skin weights of nonzero weight.
+    pub fn steers(&self) -> bool {
+        self.streams.iter().any(|s| s.scale > 0.0)
+            || self.skin.as_ref().is_some_and(|k| k.scale > 0.0)
+    }
+
     /// Adds every live face's linear functionals to the wedges of its
     /// corners (area share = area / arity, like the plane quadrics).
     fn fill_quadrics(&mut self, input: &AttributeInput<'_>, c: &Complex, weight: &[f64]) {
