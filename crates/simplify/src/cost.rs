@@ -497,7 +497,15 @@ impl CostModel {
         // already carry. Never negative: the quadric sum at the optimum is
         // at least each part's own minimum (up to rounding).
         let cost = if self.metric.introduced_error {
-            (cost - q[i as usize].eval(pi) - q[j as usize].eval(pj)).max(0.0)
+            // What the endpoints carry, measured as the cost is: without
+            // the regularization unless it ranks.
+            let carried = |v: u32, p: DVec3| match reg.get(v as usize) {
+                Some(rv) if !self.metric.regularized_choice => {
+                    q[v as usize].minus(&rv.quadric()).eval(p)
+                }
+                _ => q[v as usize].eval(p),
+            };
+            (cost - carried(i, pi) - carried(j, pj)).max(0.0)
         } else {
             cost
         };
