@@ -719,8 +719,14 @@ fn faces_with_twins_reach_a_face_budget_within_one_face_and_say_so_when_below() 
 /// collapse on the curved half deviates from its planes by about a
 /// thousandth of its length, and travels half as far as a flat one.
 fn half_flat_sheet(n: usize) -> Mesh {
-    let mut m = shapes::triangulate(&shapes::quad_grid(n, n / 2));
+    let mut m = half_flat_sheet_with_uvs(n);
     m.attributes.clear();
+    m
+}
+
+/// [`half_flat_sheet`] with the grid's UVs.
+fn half_flat_sheet_with_uvs(n: usize) -> Mesh {
+    let mut m = shapes::triangulate(&shapes::quad_grid(n, n / 2));
     for p in &mut m.positions {
         let u = p[0];
         let x = if u <= 1.0 / 3.0 {
@@ -766,4 +772,49 @@ fn free_collapses_go_first_where_the_planes_decide() {
         ranked_by_travel > 10.0 * free.max(1e-7),
         "the control ({ranked_by_travel}) shows no difference"
     );
+}
+
+#[test]
+fn steering_attributes_and_quad_mode_keep_the_regularization_choosing() {
+    // With UVs that steer, the default is the regularized choice
+    // (`AttributeOptions::regularized_choice`); turned off there, the
+    // planes choose, which changes the result. Without UVs the default is
+    // the planes' choice.
+    let uv = half_flat_sheet_with_uvs(40);
+    let run = |m: &Mesh, tune: &dyn Fn(&mut Options)| {
+        let mut o = ratio(0.3);
+        tune(&mut o);
+        simplify_mesh(m, &o).unwrap().0.positions
+    };
+    let default = run(&uv, &|_| {});
+    assert_eq!(default, run(&uv, &|o| o.metric.regularized_choice = true));
+    assert_ne!(
+        default,
+        run(&uv, &|o| o.attributes.regularized_choice = false)
+    );
+    let plain = half_flat_sheet(40);
+    let default = run(&plain, &|_| {});
+    assert_ne!(
+        default,
+        run(&plain, &|o| o.metric.regularized_choice = true)
+    );
+    // Quad mode: the same sheet as quads keeps the regularized choice
+    // unless `QuadSettings::regularized_choice` is off.
+    let mut quads = shapes::quad_grid(40, 20);
+    quads.attributes.clear();
+    for p in &mut quads.positions {
+        let x = 2.0 * p[0];
+        p[2] = if x > 1.0 {
+            0.16 * (x - 1.0) * (x - 1.0) * (1.0 + 4.0 * (p[1] - 0.5) * (p[1] - 0.5))
+        } else {
+            0.0
+        };
+        p[0] = x;
+    }
+    let default = run(&quads, &|_| {});
+    assert_eq!(
+        default,
+        run(&quads, &|o| o.metric.regularized_choice = true)
+    );
+    assert_ne!(default, run(&quads, &|o| o.quad.regularized_choice = false));
 }
