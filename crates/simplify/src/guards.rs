@@ -255,27 +255,50 @@ pub(crate) fn pinches(c: &Complex, i: u32, j: u32) -> bool {
 /// tetrahedron).
 const CLOSED_MINIMUM: f64 = 4.0;
 
-/// Vertices of parts too small to keep their topology at the target:
-/// connected parts whose share of `target` triangles, by area (`area` per
-/// vertex), is below what the smallest closed surface needs. Their pinches
-/// are W's ordinary topology changes, not the loss of a thin feature: at
-/// the target they could not stay closed surfaces anyway, and letting them
-/// pinch lets them vanish before larger parts lose detail.
-pub(crate) fn pinch_free_parts(c: &Complex, area: &[f64], target: usize) -> Vec<bool> {
-    let n = c.pos.len();
+/// What a pinch costs at each vertex (see `Metric::pinch_cost`): `pinch`
+/// on parts large enough to keep their topology at the target; on parts too
+/// small for it (their share of `target` triangles, by area, `area` per
+/// vertex, is below what the smallest closed surface needs), what their
+/// vanishing costs measured like an ordinary collapse at the target. Their
+/// pinches are W's ordinary topology changes, not the loss of a thin
+/// feature: at the target they could not stay closed surfaces anyway. But
+/// whether they should go is a matter of distance, not area: a side
+/// mirror has a thousandth of a truck's area and sticks out by a twentieth
+/// of its size. A collapse at the target moving the surface by `e` costs
+/// about `4 · (A / target) · e²` (both endpoints carry two target faces'
+/// area); a part of diagonal `d` vanishing moves its surface by about
+/// `d / 2`, so it pays `(A / target) · d²`, capped at `pinch`: it goes when
+/// it is smaller than the error the rest of the mesh reaches. Empty when
+/// every vertex pays `pinch`.
+pub(crate) fn pinch_prices(c: &Complex, area: &[f64], target: usize, pinch: f64) -> Vec<f32> {
     let (label, parts) = c.part_labels();
     let mut part_area = vec![0.0f64; parts];
+    let mut lo = vec![DVec3::splat(f64::INFINITY); parts];
+    let mut hi = vec![DVec3::splat(f64::NEG_INFINITY); parts];
     for (v, &l) in label.iter().enumerate() {
-        part_area[l as usize] += area.get(v).copied().unwrap_or(0.0);
+        let l = l as usize;
+        part_area[l] += area.get(v).copied().unwrap_or(0.0);
+        lo[l] = lo[l].min(c.pos[v]);
+        hi[l] = hi[l].max(c.pos[v]);
     }
     let total: f64 = part_area.iter().sum();
     if total.is_nan() || total <= 0.0 {
-        return vec![false; n];
+        return Vec::new();
     }
-    label
-        .iter()
-        .map(|&l| too_small_for_budget(part_area[l as usize], total, target))
-        .collect()
+    let face_area = total / target.max(1) as f64;
+    let price: Vec<f64> = (0..parts)
+        .map(|l| {
+            if !too_small_for_budget(part_area[l], total, target) {
+                return pinch;
+            }
+            let d2 = (hi[l] - lo[l]).length_squared();
+            (face_area * d2).min(pinch)
+        })
+        .collect();
+    if price.iter().all(|&p| p == pinch) {
+        return Vec::new();
+    }
+    label.iter().map(|&l| price[l as usize] as f32).collect()
 }
 
 /// Whether a part of `area`, out of `total`, gets less than the smallest
@@ -380,14 +403,17 @@ mod tests {
     }
 
     #[test]
-    fn parts_too_small_for_a_closed_shape_at_the_target_may_pinch() {
+    fn parts_too_small_for_a_closed_shape_pay_for_their_size() {
         // Two tetrahedra, one with 99 times the other's area (per-vertex
-        // areas given directly). At 100 triangles the small one's share is
-        // 1 triangle, below a tetrahedron's 4: free; the large one's 99 is
-        // not. At 1000 triangles the small one's 10 is enough to keep.
+        // areas given directly), the small one half as large. At 100
+        // triangles the small one's share is 1 triangle, below a
+        // tetrahedron's 4: it pays a target face's area (100 / 100 = 1)
+        // times its squared diagonal (3 / 4), the large one the full
+        // price. At 1000 triangles the small one's 10 is enough to keep:
+        // everyone pays the full price (no list).
         let t = tetra();
         let mut pos = t.pos.clone();
-        pos.extend(t.pos.iter().map(|p| *p + DVec3::splat(5.0)));
+        pos.extend(t.pos.iter().map(|p| *p * 0.5 + DVec3::splat(5.0)));
         let idx: Vec<u32> = [0, 2, 1, 0, 1, 3, 0, 3, 2, 1, 2, 3]
             .iter()
             .chain([4, 6, 5, 4, 5, 7, 4, 7, 6, 5, 6, 7].iter())
@@ -396,9 +422,12 @@ mod tests {
         let off: Vec<u32> = (0..=8).map(|k| 3 * k).collect();
         let c = Complex::new(pos, &off, &idx).0;
         let area = [24.75, 24.75, 24.75, 24.75, 0.25, 0.25, 0.25, 0.25];
-        let free = pinch_free_parts(&c, &area, 100);
-        assert_eq!(free, [false, false, false, false, true, true, true, true]);
-        assert!(pinch_free_parts(&c, &area, 1000).iter().all(|&f| !f));
+        let prices = pinch_prices(&c, &area, 100, 10.0);
+        assert_eq!(prices, [10.0, 10.0, 10.0, 10.0, 0.75, 0.75, 0.75, 0.75]);
+        // Never above the full price.
+        let capped = pinch_prices(&c, &area, 100, 0.5);
+        assert!(capped.is_empty(), "{capped:?}");
+        assert!(pinch_prices(&c, &area, 1000, 10.0).is_empty());
     }
 
     #[test]

@@ -9,7 +9,7 @@ use crate::attributes::{AttrScratch, AttributeInput, AttributeState};
 use crate::cost::{
     distance, face_plane, vertex_quadric_parts, CostModel, EdgeImportance, Evaluation, Scratch,
 };
-use crate::guards::{flips_a_face, keeps_topology, pinch_free_parts, pinches, removed_triangles};
+use crate::guards::{flips_a_face, keeps_topology, pinch_prices, pinches, removed_triangles};
 use crate::heap::{CollapseQueue, Entry};
 use crate::history::HistoryRecorder;
 use crate::options::Metric;
@@ -200,9 +200,9 @@ pub(crate) struct Run<'o> {
     /// vertices shared with other chunks, in the partitioned path.
     locked: Vec<bool>,
     track_border: bool,
-    /// Vertices of parts too small to keep their topology at the target
-    /// (see `guards::pinch_free_parts`); empty when pinches cost nothing.
-    pinch_free: Vec<bool>,
+    /// What a pinch costs at each vertex (see `guards::pinch_prices`);
+    /// empty when every vertex pays `Metric::pinch_cost`.
+    pinch_price: Vec<f32>,
     moved: Vec<bool>,
     /// The vertex each vertex was merged into (itself while alive).
     merged_into: Vec<u32>,
@@ -317,7 +317,7 @@ impl<'o> Run<'o> {
             border: Vec::new(),
             locked: Vec::new(),
             track_border: model.needs_border(),
-            pinch_free: Vec::new(),
+            pinch_price: Vec::new(),
             moved: vec![false; nv],
             merged_into: (0..nv as u32).collect(),
             target,
@@ -335,7 +335,8 @@ impl<'o> Run<'o> {
         run.area_vertices = area_vertices(&run.quadrics);
         if run.model.metric.pinch_cost > 0.0 {
             let area: Vec<f64> = run.quadrics.iter().map(|q| q.weight).collect();
-            run.pinch_free = pinch_free_parts(&run.p.complex, &area, budget);
+            let pinch = run.model.metric.pinch_cost;
+            run.pinch_price = pinch_prices(&run.p.complex, &area, budget, pinch);
         }
         run
     }
@@ -370,7 +371,7 @@ impl<'o> Run<'o> {
             border: Vec::new(),
             locked,
             track_border: parent.model.needs_border(),
-            pinch_free: Vec::new(),
+            pinch_price: Vec::new(),
             moved: vec![false; nv],
             merged_into: (0..nv as u32).collect(),
             target,
@@ -391,13 +392,13 @@ impl<'o> Run<'o> {
         run
     }
 
-    /// A chunk's share of its parent's small parts (see `pinch_free`),
+    /// A chunk's share of its parent's pinch prices (see `pinch_price`),
     /// `vertex` mapping its vertices to the parent's.
-    pub fn inherit_pinch_free(&mut self, parent: &Run<'o>, vertex: &[u32]) {
-        if !parent.pinch_free.is_empty() {
-            self.pinch_free = vertex
+    pub fn inherit_pinch_prices(&mut self, parent: &Run<'o>, vertex: &[u32]) {
+        if !parent.pinch_price.is_empty() {
+            self.pinch_price = vertex
                 .iter()
-                .map(|&v| parent.pinch_free[v as usize])
+                .map(|&v| parent.pinch_price[v as usize])
                 .collect();
         }
     }
@@ -547,20 +548,20 @@ impl<'o> Run<'o> {
             // A pinching collapse (see `Metric::pinch_cost`) goes back
             // with its penalty the first time it reaches the top: checked
             // here, once per pop, not at every evaluation.
-            let pinch = self.model.metric.pinch_cost;
-            if pinch > 0.0 && cost < pinch {
-                let [a, b] = self.p.complex.edges[e as usize].ends;
-                let free = self.pinch_free.get(a as usize).copied().unwrap_or(false);
-                if !free && pinches(&self.p.complex, a, b) {
-                    let edge = &mut self.p.complex.edges[e as usize];
-                    edge.queued = true;
-                    self.queue.push(Entry {
-                        cost: cost + pinch,
-                        edge: e,
-                        gen: edge.gen,
-                    });
-                    continue;
-                }
+            let [a, b] = self.p.complex.edges[e as usize].ends;
+            let pinch = self
+                .pinch_price
+                .get(a as usize)
+                .map_or(self.model.metric.pinch_cost, |&p| p as f64);
+            if pinch > 0.0 && cost < pinch && pinches(&self.p.complex, a, b) {
+                let edge = &mut self.p.complex.edges[e as usize];
+                edge.queued = true;
+                self.queue.push(Entry {
+                    cost: cost + pinch,
+                    edge: e,
+                    gen: edge.gen,
+                });
+                continue;
             }
             // Neighbours of this collapse are put back under this key to
             // be evaluated soon: without the penalty of a pinch.

@@ -428,7 +428,7 @@ fn build_chunk<'a>(
         input: Vec::new(),
     };
     let mut chunk_run = Run::chunk(run, prepared, quadrics, reg, chunk_locked, floor);
-    chunk_run.inherit_pinch_free(run, &vertex);
+    chunk_run.inherit_pinch_prices(run, &vertex);
     Chunk {
         run: chunk_run,
         vertex,
