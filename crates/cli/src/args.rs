@@ -25,8 +25,9 @@ pub enum Command {
     /// Simplify a mesh file to a target triangle count, ratio or error.
     ///
     /// The whole file is simplified under one budget, in world space (W §1,
-    /// Fig. 1): --ratio and --faces count the triangles of all stored
-    /// meshes, --error is relative to the whole file's size, and the
+    /// Fig. 1): --ratio and --faces count the triangles the file draws (a
+    /// mesh shown by several nodes once per node), --error is relative to
+    /// the whole file's size, and the
     /// triangles go where the error is smallest. A mesh whose every
     /// triangle goes is removed (nodes no longer show it; the summary names
     /// it). A mesh instanced several times is simplified once, as large as
@@ -150,7 +151,7 @@ pub struct SimplifyArgs {
     #[arg(long, value_name = "Q", default_value_t = 90)]
     pub jpeg_quality: u8,
     /// Simplify every stored mesh alone: each to --ratio, --faces shared in
-    /// proportion to triangle counts, --error converted to each mesh's
+    /// proportion to the triangles each mesh draws, --error converted to each mesh's
     /// size; every mesh keeps a triangle. Without it the whole file is
     /// simplified under one budget in world space (W §1, Fig. 1), so the
     /// triangles go where the error is smallest and a part too small to

@@ -110,7 +110,7 @@ pub struct Level {
     pub meshes: Vec<Mesh>,
     /// The simplifier's runs that made it from the level above.
     pub runs: Vec<MeshRun>,
-    /// Triangles of all meshes (each stored mesh once).
+    /// Triangles the level draws (each mesh once per node that shows it).
     pub triangles: usize,
     /// Accumulated error (the sum of the steps' errors: a bound on the
     /// distance to the input, as each step's is to its own input),
@@ -120,6 +120,17 @@ pub struct Level {
     pub mesh_errors: Vec<f64>,
     /// Wall time of this level.
     pub seconds: f64,
+}
+
+/// Triangles `scene` draws: each mesh's once per node that shows it (the
+/// count budgets are of).
+fn drawn_triangles(scene: &Scene) -> usize {
+    scene
+        .meshes
+        .iter()
+        .zip(scene.instance_counts())
+        .map(|(m, k)| m.triangle_count() * k)
+        .sum()
 }
 
 /// Diagonal of all of a mesh's positions, in its own frame.
@@ -223,7 +234,7 @@ pub fn build_chain<P: MeshProgress>(
         out.push(Level {
             level: k + 1,
             meshes: current.meshes.clone(),
-            triangles: current.meshes.iter().map(Mesh::triangle_count).sum(),
+            triangles: drawn_triangles(&current),
             error: accumulated
                 .iter()
                 .zip(&to_file)
@@ -334,7 +345,7 @@ pub fn chain_json(
     report: Option<&Path>,
     seconds: f64,
 ) -> ChainJson {
-    let input_tris: usize = scene.meshes.iter().map(Mesh::triangle_count).sum();
+    let input_tris = drawn_triangles(scene);
     let ratio = |t: usize| {
         if input_tris == 0 {
             1.0

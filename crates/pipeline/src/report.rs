@@ -111,7 +111,7 @@ impl RunJson {
 pub struct LevelJson {
     /// 0 for the input, 1 for the first level below it.
     pub level: usize,
-    /// Triangles of all meshes (each stored mesh once).
+    /// Triangles the level draws (each mesh once per node that shows it).
     pub triangles: usize,
     /// Triangles as a fraction of the input's.
     pub ratio: f64,

@@ -4,9 +4,11 @@ use wildlod_mesh::Scene;
 use wildlod_simplify::Target;
 
 /// The target of every stored mesh: the same ratio for all; a triangle
-/// budget (`faces`) shared in proportion to triangle counts (largest
-/// remainders, so the shares sum to the budget); an `error` limit relative
-/// to the file's diagonal converted to each mesh's own.
+/// budget (`faces`) of drawn triangles shared in proportion to the
+/// triangles each mesh draws (its own times the nodes that show it; largest
+/// remainders, so the shares sum to the budget), each share divided among
+/// the mesh's instances; an `error` limit relative to the file's diagonal
+/// converted to each mesh's own.
 ///
 /// Every mesh keeps at least one triangle, whatever the targets: a mesh
 /// simplified to nothing would leave its nodes, skins and instances
@@ -20,7 +22,15 @@ pub fn targets_for(
     error: Option<f64>,
 ) -> Vec<Target> {
     let tris: Vec<usize> = scene.meshes.iter().map(|m| m.triangle_count()).collect();
-    let shares = faces.map(|n| share_budget(n, &tris));
+    let instances = scene.instance_counts();
+    let drawn: Vec<usize> = tris.iter().zip(&instances).map(|(t, k)| t * k).collect();
+    let shares = faces.map(|n| {
+        share_budget(n, &drawn)
+            .into_iter()
+            .zip(&instances)
+            .map(|(s, &k)| s / k.max(1))
+            .collect::<Vec<usize>>()
+    });
     let file_diag = scene_diagonal(scene);
     tris.iter()
         .enumerate()
@@ -135,5 +145,24 @@ mod tests {
         assert_eq!(share_budget(10, &[1, 1, 1]), vec![1, 1, 1]);
         assert_eq!(share_budget(100, &[3, 4]), vec![3, 4]);
         assert_eq!(share_budget(5, &[0, 0]), vec![0, 0]);
+    }
+
+    #[test]
+    fn a_per_mesh_budget_is_of_drawn_triangles() {
+        // Two cubes of 12 triangles, the first shown by three nodes: the
+        // file draws 48. Of a budget of 24 drawn triangles the first gets
+        // 18 (three quarters), 6 per instance; the second 6.
+        let mut scene = Scene::from_mesh(wildlod_mesh::shapes::cube());
+        scene.meshes.push(wildlod_mesh::shapes::cube());
+        for m in [0, 0, 1] {
+            scene.nodes.push(wildlod_mesh::Node {
+                mesh: Some(m),
+                ..Default::default()
+            });
+            scene.roots.push(scene.nodes.len() as u32 - 1);
+        }
+        let t = targets_for(&scene, None, Some(24), None);
+        assert_eq!(t[0].triangles, Some(6));
+        assert_eq!(t[1].triangles, Some(6));
     }
 }

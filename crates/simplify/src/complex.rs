@@ -46,10 +46,14 @@ pub(crate) struct Complex {
     /// Triangles of the triangulated complex (Σ (arity − 2) · copies over
     /// live faces).
     pub triangles: usize,
-    /// How many input faces each face stands for (empty: one each): a face
+    /// How many drawn faces each face stands for (empty: one each): a face
     /// and its twins, the copies of it with the other orientation (see
-    /// [`Rider`]). They count in `triangles`, since the output has them.
+    /// [`Rider`]), each as many times as it is drawn (`instances`). They
+    /// count in `triangles`, since the output draws them.
     pub copies: Vec<u32>,
+    /// How many times each face is drawn (empty: once each; see
+    /// [`Options::face_instances`](crate::Options::face_instances)).
+    pub instances: Vec<u32>,
     /// The twins folded into a face, sorted by that face.
     pub riders: Vec<Rider>,
     /// Scratch marks for set operations, compared against `stamp`.
@@ -173,6 +177,7 @@ impl Complex {
             slot_corner: (0..indices.len() as u32).collect(),
             triangles: 0,
             copies: Vec::new(),
+            instances: Vec::new(),
             riders: Vec::new(),
             // The marks serve the star walks: `build_adjacency` sizes them.
             // The partitioned path keeps this complex without star lists
@@ -255,10 +260,33 @@ impl Complex {
         (c, cleaned)
     }
 
-    /// How many input faces face `f` stands for (itself and its twins).
+    /// How many drawn faces face `f` stands for (itself and its twins,
+    /// each times its instances).
     #[inline]
     pub fn copies(&self, f: u32) -> usize {
         self.copies.get(f as usize).map_or(1, |&n| n as usize)
+    }
+
+    /// How many times face `f` itself is drawn.
+    #[inline]
+    pub fn instances(&self, f: u32) -> u32 {
+        self.instances.get(f as usize).copied().unwrap_or(1)
+    }
+
+    /// Counts each face `instances[f]` times (one count per face; empty:
+    /// once each), its twins each by their own count, and recounts the
+    /// triangles.
+    pub fn set_instances(&mut self, instances: Vec<u32>) {
+        if instances.is_empty() || instances.len() != self.faces.len() {
+            return;
+        }
+        let mut copies = instances.clone();
+        for r in &self.riders {
+            copies[r.of as usize] += instances[r.face as usize];
+        }
+        self.copies = copies;
+        self.instances = instances;
+        self.triangles = self.count_triangles();
     }
 
     /// Σ (arity − 2) · copies over the live faces.
@@ -301,6 +329,7 @@ impl Complex {
             slot_corner,
             triangles: 0,
             copies: Vec::new(),
+            instances: Vec::new(),
             riders: Vec::new(),
             vmark: Vec::new(),
             fmark: Vec::new(),

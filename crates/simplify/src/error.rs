@@ -56,6 +56,14 @@ pub enum Error {
         /// Input faces.
         faces: usize,
     },
+    /// Instance counts given, but not one per input face.
+    #[error("{counts} instance counts for {faces} faces")]
+    InstanceCount {
+        /// Counts given.
+        counts: usize,
+        /// Input faces.
+        faces: usize,
+    },
     /// A negative or non-finite vertex weight.
     #[error("vertex {vertex} has weight {weight}; weights must be finite and non-negative")]
     BadWeight {

@@ -581,6 +581,14 @@ pub struct Options {
     /// [`Options::see_through_faces`]. Empty: none. The pipeline fills it
     /// from the file's materials (alpha mode blend).
     pub see_through_materials: Vec<u32>,
+    /// How many times a renderer draws each input face (one count per input
+    /// face): a mesh shown by several nodes is stored once and drawn once
+    /// per node. Each face counts that many times in the triangle budget
+    /// ([`Target::ratio`] and [`Target::triangles`]) and in the reported
+    /// counts, so a budget is one of drawn triangles, as gltfpack's ratio
+    /// and `wildlod info`'s instanced counts are. Empty: once each.
+    /// [`crate::simplify_scene`] fills it from the node graph.
+    pub face_instances: Vec<u32>,
 }
 
 impl Default for Options {
@@ -605,6 +613,7 @@ impl Default for Options {
             drop_hidden_twins: true,
             see_through_faces: Vec::new(),
             see_through_materials: Vec::new(),
+            face_instances: Vec::new(),
         }
     }
 }

@@ -44,11 +44,12 @@ pub struct Rejections {
 /// The outcome of a simplification run.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Report {
-    /// Triangles of the triangulated input (a quad counts 2).
+    /// Triangles of the triangulated input (a quad counts 2), each face as
+    /// many times as it is drawn ([`crate::Options::face_instances`]).
     pub input_triangles: usize,
     /// Triangles the run aimed for.
     pub target_triangles: usize,
-    /// Triangles of the triangulated output.
+    /// Triangles of the triangulated output, counted as the input's.
     pub output_triangles: usize,
     /// Faces removed before simplifying because they were degenerate (fewer
     /// than three distinct vertices) or duplicates of another face.

@@ -32,7 +32,10 @@
 //! recorded state).
 //!
 //! A mesh instanced several times is simplified once (the file stores it
-//! once), placed by its largest instance: its error counts at that size.
+//! once), placed by its largest instance: its error counts at that size,
+//! and its triangles count in the budget once per instance, since the
+//! renderer draws them that often (a budget is of drawn triangles, as
+//! gltfpack's per-mesh ratio and `wildlod info`'s instanced counts are).
 
 use std::collections::HashMap;
 
@@ -81,9 +84,10 @@ pub struct GroupReport {
 /// What became of one stored mesh.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct MeshOutcome {
-    /// Triangles before.
+    /// Triangles of the stored mesh before (once, however many nodes show
+    /// it).
     pub input_triangles: usize,
-    /// Triangles after.
+    /// Triangles of the stored mesh after.
     pub output_triangles: usize,
     /// Every triangle went: the mesh is empty (writers drop it, and the
     /// nodes that showed it no longer refer to it).
@@ -93,12 +97,13 @@ pub struct MeshOutcome {
 /// What [`simplify_scene`] reached.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct SceneReport {
-    /// Triangles of all stored meshes (an instanced mesh counts once, as the
-    /// file stores it once).
+    /// Triangles the scene draws: each stored mesh's as many times as nodes
+    /// show it (a mesh no node shows counts once).
     pub input_triangles: usize,
-    /// Triangles the run aimed for over the whole scene.
+    /// Triangles the run aimed for over the whole scene, counted the same
+    /// way.
     pub target_triangles: usize,
-    /// Triangles of all stored meshes after.
+    /// Triangles the scene draws after.
     pub output_triangles: usize,
     /// Largest collapse error in the scene, as a world-space distance.
     pub world_error: f64,
@@ -141,7 +146,8 @@ impl SceneReport {
 /// space (W §1, Fig. 1): see the module documentation.
 ///
 /// `options.target` refers to the whole scene: `ratio` and `triangles` to
-/// the triangles of all stored meshes, `error` to the scene's world
+/// the triangles the scene draws (each mesh once per node that shows it),
+/// `error` to the scene's world
 /// bounding-box diagonal. A mesh may lose every triangle (it is then empty;
 /// [`MeshOutcome::removed`]). Per-vertex options ([`Options::vertex_weights`],
 /// [`Options::vertex_joints`]) and the history do not apply to a scene and
@@ -191,7 +197,32 @@ pub fn simplify_scene_with_progress(
         .map(|g| merge(scene, g, &placements))
         .collect();
     let diagonal = world_diagonal(scene);
-    let input_triangles: usize = scene.meshes.iter().map(Mesh::triangle_count).sum();
+    // The budget is of drawn triangles: a mesh counts once per node that
+    // shows it, and each group's faces say so (`Options::face_instances`).
+    let instances = scene.instance_counts();
+    let drawn = |meshes: &[Mesh]| -> usize {
+        meshes
+            .iter()
+            .zip(&instances)
+            .map(|(m, &k)| m.triangle_count() * k)
+            .sum()
+    };
+    let face_instances: Vec<Vec<u32>> = merged
+        .iter()
+        .map(|m| {
+            if m.members.iter().all(|b| instances[b.mesh as usize] == 1) {
+                return Vec::new();
+            }
+            m.members
+                .iter()
+                .flat_map(|b| {
+                    let k = u32::try_from(instances[b.mesh as usize]).unwrap_or(u32::MAX);
+                    std::iter::repeat(k).take(scene.meshes[b.mesh as usize].faces.len())
+                })
+                .collect()
+        })
+        .collect();
+    let input_triangles = drawn(&scene.meshes);
     let counted = options.target.ratio.is_some() || options.target.triangles.is_some();
     let budget = options.target.triangles_for(input_triangles);
     // The user's error limit in each group's own units.
@@ -212,6 +243,10 @@ pub fn simplify_scene_with_progress(
     let mut step = |g: usize, options: &Options| -> Result<(Mesh, Report), Error> {
         let work = merged[g].mesh.triangle_count();
         let start = done;
+        let options = &Options {
+            face_instances: face_instances[g].clone(),
+            ..options.clone()
+        };
         let r = simplify_mesh_with_progress(&merged[g].mesh, options, &|f| {
             progress((start as f64 + f * work as f64) / (passes * total_work.max(1)) as f64)
         });
@@ -311,7 +346,7 @@ pub fn simplify_scene_with_progress(
             removed: !a.faces.is_empty() && b.faces.is_empty(),
         })
         .collect();
-    report.output_triangles = report.meshes.iter().map(|m| m.output_triangles).sum();
+    report.output_triangles = drawn(&out.meshes);
     Ok((out, report))
 }
 

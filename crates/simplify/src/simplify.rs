@@ -160,7 +160,25 @@ pub fn simplify_with_attributes_and_progress(
         let input = split.as_ref().map_or(f, |s| s.input_face(f));
         see.get(input as usize).copied().unwrap_or(false)
     };
-    let prepared = prepare(positions, faces, options, with_attributes, &see_through);
+    // So does `face_instances`.
+    let instances: Vec<u32> = if options.face_instances.is_empty() {
+        Vec::new()
+    } else {
+        (0..faces.len() as u32)
+            .map(|f| {
+                let input = split.as_ref().map_or(f, |s| s.input_face(f));
+                options.face_instances[input as usize].max(1)
+            })
+            .collect()
+    };
+    let prepared = prepare(
+        positions,
+        faces,
+        options,
+        with_attributes,
+        &see_through,
+        instances,
+    );
     let attrs = if with_attributes {
         let corner_vertex: Vec<u32> = faces
             .indices
@@ -289,6 +307,12 @@ fn check_input(positions: &[[f32; 3]], faces: &Faces, options: &Options) -> Resu
             faces: faces.len(),
         });
     }
+    if !o.face_instances.is_empty() && o.face_instances.len() != faces.len() {
+        return Err(Error::InstanceCount {
+            counts: o.face_instances.len(),
+            faces: faces.len(),
+        });
+    }
     if !o.vertex_weights.is_empty() {
         if o.vertex_weights.len() != n {
             return Err(Error::WeightCount {
@@ -337,6 +361,7 @@ pub(crate) fn prepare(
     options: &Options,
     with_attributes: bool,
     see_through: &dyn Fn(u32) -> bool,
+    instances: Vec<u32>,
 ) -> Prepared {
     let (weld, nw) = weld_positions(positions);
     let mut rep = vec![u32::MAX; nw];
@@ -366,7 +391,18 @@ pub(crate) fn prepare(
     // The partitioned path works on faces alone until its last pass: the
     // star lists would be built for nothing.
     // Attribute wedges live on the global complex: no partitioned phase.
+    // Drawn triangles: each face as many times as it is drawn.
+    let input_triangles = if instances.is_empty() {
+        faces.triangulated_count()
+    } else {
+        faces
+            .iter()
+            .zip(&instances)
+            .map(|(f, &k)| f.len().saturating_sub(2) * k as usize)
+            .sum()
+    };
     let (mut complex, cleaned) = Complex::faces_only(pos, &faces.offsets, &indices);
+    complex.set_instances(instances);
     // The ratio is of the surface before hidden twins go: they cost
     // nothing to drop, and the budget then buys visible detail.
     let ratio_base = complex.triangles;
@@ -397,7 +433,7 @@ pub(crate) fn prepare(
         weld,
         center,
         scale,
-        input_triangles: faces.triangulated_count(),
+        input_triangles,
         weights,
     }
 }

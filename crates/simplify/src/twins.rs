@@ -181,11 +181,11 @@ pub(crate) fn drop_hidden_twins(c: &mut Complex, see_through: &dyn Fn(u32) -> bo
                 if c.faces[of as usize].len > 0 {
                     c.faces[r.face as usize].len = c.faces[of as usize].len;
                     c.faces[of as usize].len = 0;
-                    c.copies[r.face as usize] = 1;
+                    c.copies[r.face as usize] = c.instances(r.face);
                 }
             }
         }
-        c.copies[of as usize] = 1;
+        c.copies[of as usize] = c.instances(of);
         dropped += 1;
     }
     c.riders = kept;

@@ -140,6 +140,48 @@ fn meshes_come_back_in_their_own_space() {
 }
 
 #[test]
+fn a_budget_counts_the_triangles_the_scene_draws() {
+    // A sphere shown by four nodes beside another shown once, both the
+    // same size: the scene draws five spheres. A budget of 1000 triangles
+    // is met by what a renderer draws, not by what the file stores (which
+    // let it draw 2.5 times the budget).
+    let sphere = bumpy_sphere(10);
+    let s = scene(
+        vec![sphere.clone(), sphere.clone()],
+        &[
+            (0, translate_scale([0.0, 0.0, 0.0], 1.0)),
+            (0, translate_scale([10.0, 0.0, 0.0], 1.0)),
+            (0, translate_scale([20.0, 0.0, 0.0], 1.0)),
+            (0, translate_scale([30.0, 0.0, 0.0], 1.0)),
+            (1, translate_scale([0.0, 10.0, 0.0], 1.0)),
+        ],
+    );
+    let options = Options {
+        target: Target {
+            ratio: None,
+            triangles: Some(1000),
+            error: None,
+        },
+        ..Options::default()
+    };
+    let (lod, report) = simplify_scene(&s, &options).unwrap();
+    assert_eq!(report.input_triangles, 5 * sphere.triangle_count());
+    let (a, b) = (
+        lod.meshes[0].triangle_count(),
+        lod.meshes[1].triangle_count(),
+    );
+    let drawn = 4 * a + b;
+    assert_eq!(report.output_triangles, drawn);
+    assert!(
+        (990..=1000).contains(&drawn),
+        "draws {drawn} triangles ({a} × 4 + {b}) for a budget of 1000"
+    );
+    // Per stored mesh, the counts stay the file's.
+    assert_eq!(report.meshes[0].output_triangles, a);
+    assert_eq!(report.meshes[0].input_triangles, sphere.triangle_count());
+}
+
+#[test]
 fn instanced_mesh_is_simplified_once_and_weighted_by_its_largest_instance() {
     // Mesh 0 is shown twice, mesh 1 (the same shape) once at scale 3, far
     // apart. With mesh 0's instances at scales 1 and 10, its largest
@@ -160,11 +202,15 @@ fn instanced_mesh_is_simplified_once_and_weighted_by_its_largest_instance() {
         assert_eq!(lod.meshes.len(), 2, "the instanced mesh is stored once");
         assert_eq!(lod.nodes[0].mesh, Some(0));
         assert_eq!(lod.nodes[1].mesh, Some(0));
-        assert_eq!(report.input_triangles, 2 * sphere.triangle_count());
-        (
+        // Drawn triangles: mesh 0 twice, mesh 1 once.
+        assert_eq!(report.input_triangles, 3 * sphere.triangle_count());
+        let (a, b) = (
             lod.meshes[0].triangle_count(),
             lod.meshes[1].triangle_count(),
-        )
+        );
+        assert_eq!(report.output_triangles, 2 * a + b);
+        assert!(report.output_triangles <= report.target_triangles + 2);
+        (a, b)
     };
     let (a, b) = run(1.0, 10.0);
     assert!(a > b, "largest instance 10 vs 3: {a} vs {b} triangles");
