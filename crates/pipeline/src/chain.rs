@@ -158,7 +158,14 @@ pub fn build_chain<P: MeshProgress>(
     stem: &str,
     progress: &dyn Fn(&str) -> P,
 ) -> Result<Vec<Level>, Error> {
-    let input_tris: Vec<usize> = scene.meshes.iter().map(Mesh::triangle_count).collect();
+    // Counts of drawn triangles, as targets are (see `simplify_scene`).
+    let instances = scene.instance_counts();
+    let input_tris: Vec<usize> = scene
+        .meshes
+        .iter()
+        .zip(&instances)
+        .map(|(m, k)| m.triangle_count() * k)
+        .collect();
     let input_diag: Vec<f64> = scene.meshes.iter().map(local_diagonal).collect();
     let file_diag = scene_diagonal(scene);
     // How a mesh's own relative error reads against the file's diagonal.
@@ -211,7 +218,7 @@ pub fn build_chain<P: MeshProgress>(
                         }
                     } else {
                         Target {
-                            triangles: Some(current.meshes[m].triangle_count()),
+                            triangles: Some(current.meshes[m].triangle_count() * instances[m]),
                             ..Target::default()
                         }
                     }

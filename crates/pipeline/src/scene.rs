@@ -43,7 +43,9 @@ pub fn file_stem(path: &Path) -> String {
 }
 
 /// Simplifies every mesh of `scene` in place to its target (keep-UV mode:
-/// every stream fitted, textures shared), one after the other; `progress`
+/// every stream fitted, textures shared), one after the other; targets and
+/// reports count the triangles a mesh draws (its own times the nodes that
+/// show it, see `Options::face_instances`); `progress`
 /// makes the display for a mesh's name. Meshes without faces and meshes
 /// without a target are left as they are. Errors name `input` and the
 /// mesh.
@@ -61,6 +63,7 @@ pub fn simplify_scene<P: MeshProgress>(
     } else {
         options.see_through_materials.clone()
     };
+    let instances = scene.instance_counts();
     for (m, target) in targets.iter().enumerate() {
         let Some(mesh) = scene.meshes.get(m) else {
             continue;
@@ -69,9 +72,16 @@ pub fn simplify_scene<P: MeshProgress>(
             continue;
         }
         let name = mesh_name(scene, m, stem);
+        // Targets and reports count drawn triangles, as the scene budget's.
+        let k = instances.get(m).copied().unwrap_or(1);
         let options = Options {
             target: *target,
             see_through_materials: see_through.clone(),
+            face_instances: if k > 1 {
+                vec![u32::try_from(k).unwrap_or(u32::MAX); mesh.faces.len()]
+            } else {
+                Vec::new()
+            },
             ..options.clone()
         };
         let bar = progress(&name);

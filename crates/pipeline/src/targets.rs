@@ -6,9 +6,9 @@ use wildlod_simplify::Target;
 /// The target of every stored mesh: the same ratio for all; a triangle
 /// budget (`faces`) of drawn triangles shared in proportion to the
 /// triangles each mesh draws (its own times the nodes that show it; largest
-/// remainders, so the shares sum to the budget), each share divided among
-/// the mesh's instances; an `error` limit relative to the file's diagonal
-/// converted to each mesh's own.
+/// remainders, so the shares sum to the budget), each a count of drawn
+/// triangles too (see `Options::face_instances`); an `error` limit
+/// relative to the file's diagonal converted to each mesh's own.
 ///
 /// Every mesh keeps at least one triangle, whatever the targets: a mesh
 /// simplified to nothing would leave its nodes, skins and instances
@@ -24,13 +24,7 @@ pub fn targets_for(
     let tris: Vec<usize> = scene.meshes.iter().map(|m| m.triangle_count()).collect();
     let instances = scene.instance_counts();
     let drawn: Vec<usize> = tris.iter().zip(&instances).map(|(t, k)| t * k).collect();
-    let shares = faces.map(|n| {
-        share_budget(n, &drawn)
-            .into_iter()
-            .zip(&instances)
-            .map(|(s, &k)| s / k.max(1))
-            .collect::<Vec<usize>>()
-    });
+    let shares = faces.map(|n| share_budget(n, &drawn));
     let file_diag = scene_diagonal(scene);
     tris.iter()
         .enumerate()
@@ -151,7 +145,7 @@ mod tests {
     fn a_per_mesh_budget_is_of_drawn_triangles() {
         // Two cubes of 12 triangles, the first shown by three nodes: the
         // file draws 48. Of a budget of 24 drawn triangles the first gets
-        // 18 (three quarters), 6 per instance; the second 6.
+        // 18 (three quarters: 6 per instance), the second 6.
         let mut scene = Scene::from_mesh(wildlod_mesh::shapes::cube());
         scene.meshes.push(wildlod_mesh::shapes::cube());
         for m in [0, 0, 1] {
@@ -162,7 +156,7 @@ mod tests {
             scene.roots.push(scene.nodes.len() as u32 - 1);
         }
         let t = targets_for(&scene, None, Some(24), None);
-        assert_eq!(t[0].triangles, Some(6));
+        assert_eq!(t[0].triangles, Some(18));
         assert_eq!(t[1].triangles, Some(6));
     }
 }

@@ -403,8 +403,8 @@ pub fn summary(name: &str, r: &Report, seconds: f64) -> String {
 
 /// The target of every stored mesh: the same ratio for all; a `--faces`
 /// budget of drawn triangles shared in proportion to the triangles each
-/// mesh draws (largest remainders, so the shares sum to the budget), each
-/// share divided among the mesh's instances; `--error` converted from the file's
+/// mesh draws (largest remainders, so the shares sum to the budget), each a
+/// count of drawn triangles too; `--error` converted from the file's
 /// diagonal to each mesh's own.
 ///
 /// Every mesh keeps at least one triangle, whatever the targets: a mesh
