@@ -236,10 +236,12 @@ pub(crate) fn pinches(c: &Complex, i: u32, j: u32) -> bool {
         }
         out
     };
+    // `j`'s far sides once, not once per face of `i`.
+    let far_j: smallvec::SmallVec<[(u32, u32); 16]> =
+        sj.iter().flat_map(|cj| far(j, i, cj)).collect();
     for ci in &si {
         for (a, b) in far(i, j, ci) {
-            let shared = sj.iter().any(|cj| far(j, i, cj).contains(&(a, b)));
-            if !shared {
+            if !far_j.contains(&(a, b)) {
                 continue;
             }
             let cap = (pi + pj + c.pos[a as usize] + c.pos[b as usize]) / 4.0;
