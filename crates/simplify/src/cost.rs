@@ -121,8 +121,14 @@ pub(crate) fn vertex_quadric_parts(
     } else {
         Vec::new()
     };
-    let border = if metric.border_weight > 0.0 {
-        border_planes(c, &planes, metric.border_weight)
+    let border = if metric.border_weight > 0.0 || metric.crease_weight > 0.0 {
+        border_planes(
+            c,
+            &planes,
+            metric.border_weight,
+            metric.crease_weight,
+            metric.crease_angle.to_radians().cos(),
+        )
     } else {
         Vec::new()
     };
@@ -268,6 +274,19 @@ pub(crate) fn plane_weight(area: f64, mean: f64, exponent: f64, lift: f64) -> f6
     weighted.max(lift)
 }
 
+/// The plane through `side` orthogonal to a face of `normal`, weighted by
+/// `weight · |side|²` and carrying no area (see [`border_planes`]); none
+/// for a side along the normal or of no length.
+fn side_plane((pa, pb): (DVec3, DVec3), normal: DVec3, weight: f64) -> Option<Quadric> {
+    let side = pb - pa;
+    let n = side.cross(normal);
+    let len = n.length();
+    (len > 0.0 && len.is_finite()).then(|| Quadric {
+        weight: 0.0,
+        ..Quadric::plane(n / len, pa, weight * side.length_squared())
+    })
+}
+
 /// Garland & Heckbert's boundary constraints (1997 §6; Blender's Decimate
 /// and meshoptimizer keep borders the same way): for every side of a face
 /// that no other face shares, the plane through that side orthogonal to
@@ -281,10 +300,16 @@ pub(crate) fn plane_weight(area: f64, mean: f64, exponent: f64, lift: f64) -> f6
 /// face quadrics (weight 1: a unit of border side weighs like a unit of
 /// area), so the balance is the same at every resolution. They carry no
 /// area (`weight` 0): reported distances stay per unit of surface.
+///
+/// Sharp creases (two faces whose normals' cosine is below `crease_cos`)
+/// are held the same way from both faces with `crease_weight` (see
+/// [`Metric::crease_weight`]); 0 holds none.
 pub(crate) fn border_planes(
     c: &Complex,
     planes: &[Option<(DVec3, f64, DVec3)>],
     weight: f64,
+    crease_weight: f64,
+    crease_cos: f64,
 ) -> Vec<Quadric> {
     // Every side of every live face, keyed by its ends; a key seen once is
     // a border side.
@@ -305,20 +330,37 @@ pub(crate) fn border_planes(
         while h < sides.len() && sides[h].0 == sides[g].0 {
             h += 1;
         }
-        if h - g == 1 {
+        if h - g == 2 && crease_weight > 0.0 {
+            let (_, f0, k0) = sides[g];
+            let (_, f1, k1) = sides[g + 1];
+            if let (Some((n0, _, _)), Some((n1, _, _))) = (planes[f0 as usize], planes[f1 as usize])
+            {
+                let face = c.face(f0);
+                let (a, b) = (face[k0 as usize], face[(k0 as usize + 1) % face.len()]);
+                // Faces wound against each other (a wild mesh's flipped
+                // face) walk their side the same way: the turn between
+                // them is measured with one normal reversed, or a flat
+                // sheet with a flipped face would be all creases.
+                let other = c.face(f1);
+                let n1 = if other[k1 as usize] == a { -n1 } else { n1 };
+                if n0.dot(n1) < crease_cos {
+                    let side = (c.pos[a as usize], c.pos[b as usize]);
+                    for normal in [n0, n1] {
+                        if let Some(q) = side_plane(side, normal, crease_weight) {
+                            out[a as usize] += q;
+                            out[b as usize] += q;
+                        }
+                    }
+                }
+            }
+        }
+        if h - g == 1 && weight > 0.0 {
             let (_, f, k) = sides[g];
             if let Some((normal, _, _)) = planes[f as usize] {
                 let face = c.face(f);
                 let (a, b) = (face[k as usize], face[(k as usize + 1) % face.len()]);
-                let (pa, pb) = (c.pos[a as usize], c.pos[b as usize]);
-                let side = pb - pa;
-                let n = side.cross(normal);
-                let len = n.length();
-                if len > 0.0 && len.is_finite() {
-                    let q = Quadric {
-                        weight: 0.0,
-                        ..Quadric::plane(n / len, pa, weight * side.length_squared())
-                    };
+                let side = (c.pos[a as usize], c.pos[b as usize]);
+                if let Some(q) = side_plane(side, normal, weight) {
                     out[a as usize] += q;
                     out[b as usize] += q;
                 }
@@ -712,9 +754,11 @@ mod tests {
     #[test]
     fn vertex_quadric_is_area_share_of_face_planes() {
         let c = hinge();
+        // Face planes alone: the hinge's fold is also a crease.
         let m = Metric {
             regularization: 0.0,
             border_weight: 0.0,
+            crease_weight: 0.0,
             ..Metric::default()
         };
         let q = vertex_quadrics(&c, &m, &[], EdgeImportance::default());
@@ -938,6 +982,46 @@ mod tests {
     }
 
     #[test]
+    fn crease_planes_hold_a_sharp_side_from_both_faces() {
+        // Two triangles sharing the side 0–1 along x, one in z = 0 (normal
+        // +z), one in y = 0 folded down (normal −y): a 90° crease.
+        // ```text
+        //   2 (0,1,0)        3 (0,0,-1)
+        //   |  \             |  \
+        //   0 -- 1 (1,0,0)   0 -- 1
+        // ```
+        let pos = vec![DVec3::ZERO, DVec3::X, DVec3::Y, DVec3::new(0.0, 0.0, -1.0)];
+        let (c, _) = Complex::new(pos.clone(), &[0, 3, 6], &[0, 1, 2, 1, 0, 3]);
+        let planes: Vec<_> = (0..2).map(|f| face_plane(&c, f)).collect();
+        // Crease planes only (no border weight): through the side,
+        // orthogonal to each face, so y = 0 and z = 0, each weighing
+        // 3 · |side|² = 3 at both ends. At (0.5, 0.5, 0.3) from vertex 0:
+        // 3 · 0.25 + 3 · 0.09 = 1.02.
+        let b = border_planes(&c, &planes, 0.0, 3.0, 0.2);
+        let p = DVec3::new(0.5, 0.5, 0.3);
+        assert!((b[0].eval(p) - 1.02).abs() < 1e-12, "{}", b[0].eval(p));
+        assert!((b[1].eval(p) - 1.02).abs() < 1e-12);
+        // Sliding along the crease is free; the far corners get nothing.
+        assert!(b[0].eval(DVec3::new(7.0, 0.0, 0.0)).abs() < 1e-12);
+        assert_eq!(b[2].eval(p), 0.0);
+        assert_eq!(b[0].weight, 0.0);
+        // Below the angle (90° is not above 95°) there is no crease.
+        let blunt = border_planes(&c, &planes, 0.0, 3.0, 95f64.to_radians().cos());
+        assert_eq!(blunt[0].eval(p), 0.0);
+        // A flat pair is no crease, even with one face wound the other
+        // way (a wild mesh's flipped face): its normal turns by 180°, the
+        // surface by nothing.
+        let mut flat = pos;
+        flat[3] = DVec3::new(0.0, -1.0, 0.0);
+        for idx in [[0, 1, 2, 1, 0, 3], [0, 1, 2, 0, 1, 3]] {
+            let (c, _) = Complex::new(flat.clone(), &[0, 3, 6], &idx);
+            let planes: Vec<_> = (0..2).map(|f| face_plane(&c, f)).collect();
+            let b = border_planes(&c, &planes, 0.0, 3.0, 0.2);
+            assert_eq!(b[0].eval(p), 0.0, "{idx:?}");
+        }
+    }
+
+    #[test]
     fn border_planes_stand_on_border_sides_orthogonal_to_their_face() {
         // Two triangles of the unit square in z = 0, sharing the diagonal
         // 0–2; the four sides of the square are border sides:
@@ -949,7 +1033,7 @@ mod tests {
         let pos = vec![DVec3::ZERO, DVec3::X, DVec3::new(1.0, 1.0, 0.0), DVec3::Y];
         let (c, _) = Complex::new(pos, &[0, 3, 6], &[0, 1, 2, 0, 2, 3]);
         let planes: Vec<_> = (0..2).map(|f| face_plane(&c, f)).collect();
-        let b = border_planes(&c, &planes, 2.0);
+        let b = border_planes(&c, &planes, 2.0, 0.0, -1.0);
         // Vertex 0 is on sides 0–1 (plane y = 0) and 3–0 (plane x = 0),
         // each of length 1, weight 2 · 1²: at (0.5, 3, 7),
         // 2 · 3² + 2 · 0.5² = 18.5; the face's own direction (z) is free.

@@ -265,8 +265,15 @@ impl<'o> Run<'o> {
         } else {
             p.complex.triangles
         };
+        // Attributes that steer hold their hard edges by seam planes (see
+        // `Metric::crease_weight`).
+        let steering = attrs.as_ref().is_some_and(AttributeState::steers);
+        let planes_metric = Metric {
+            crease_weight: if steering { 0.0 } else { metric.crease_weight },
+            ..metric
+        };
         let (mut quadrics, reg) =
-            vertex_quadric_parts(&p.complex, &metric, &p.weights, importance, budget);
+            vertex_quadric_parts(&p.complex, &planes_metric, &p.weights, importance, budget);
         if let Some(a) = &attrs {
             let planes = a.seam_planes(&p.complex, options.attributes.seam_weight);
             for (q, plane) in quadrics.iter_mut().zip(planes) {
@@ -277,7 +284,6 @@ impl<'o> Run<'o> {
         let area: f64 = quadrics.iter().map(|q| q.weight).sum();
         // Attributes keep the regularization choosing (see
         // `AttributeOptions::regularized_choice`).
-        let steering = attrs.as_ref().is_some_and(AttributeState::steers);
         let model = CostModel {
             metric: Metric {
                 regularized_choice: metric.regularized_choice
