@@ -282,7 +282,9 @@ impl Complex {
         }
         let mut copies = instances.clone();
         for r in &self.riders {
-            copies[r.of as usize] += instances[r.face as usize];
+            // Saturating: an absurd instance count must not wrap.
+            copies[r.of as usize] =
+                copies[r.of as usize].saturating_add(instances[r.face as usize]);
         }
         self.copies = copies;
         self.instances = instances;
