@@ -237,3 +237,50 @@ fn off_files_simplify_to_off() {
     let t = wildlod_io::read(&out).unwrap().scene.meshes[0].triangle_count();
     assert!(t.abs_diff(m.triangle_count() / 4) <= 1, "{t}");
 }
+
+#[test]
+fn faces_budget_counts_a_mesh_once_per_node_that_shows_it() {
+    // One sphere shown by three nodes beside another shown once: the file
+    // draws four spheres. `--faces 800` is met by what a renderer draws,
+    // in the whole-file budget and with `--per-mesh`, and `--json` says so.
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("instanced.glb");
+    let sphere = bumpy_sphere(10, "a");
+    let per = sphere.triangle_count();
+    let scene = Scene {
+        meshes: vec![sphere.clone(), bumpy_sphere(10, "b")],
+        nodes: [(0, 0.0), (0, 5.0), (0, 10.0), (1, 15.0)]
+            .iter()
+            .map(|&(m, x)| Node {
+                mesh: Some(m),
+                matrix: placed([x, 0.0, 0.0], 1.0),
+                ..Node::default()
+            })
+            .collect(),
+        roots: vec![0, 1, 2, 3],
+        ..Scene::default()
+    };
+    wildlod_io::write(
+        &Document::from_scene(scene),
+        &input,
+        &WriteOptions::default(),
+    )
+    .unwrap();
+    for extra in [None, Some("--per-mesh")] {
+        let out = dir.path().join("lod.glb");
+        let mut args = vec!["simplify", s(&input), "-o", s(&out), "--faces", "800"];
+        args.extend(extra);
+        args.extend(["--json", "--overwrite"]);
+        let o = wildlod(&args);
+        assert!(o.status.success(), "{extra:?}: {}", text(&o.stderr));
+        let j: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+        assert_eq!(j["input_triangles"], 4 * per, "{extra:?}");
+        let lod = wildlod_io::read(&out).unwrap().scene;
+        let drawn = 3 * lod.meshes[0].triangle_count() + lod.meshes[1].triangle_count();
+        assert_eq!(j["output_triangles"], drawn, "{extra:?}");
+        assert!(
+            (780..=800).contains(&drawn),
+            "{extra:?}: draws {drawn} for --faces 800"
+        );
+    }
+}
