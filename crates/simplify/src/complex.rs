@@ -14,10 +14,7 @@ use rayon::prelude::*;
 use smallvec::SmallVec;
 use std::collections::HashMap;
 
-/// A star list: faces or edges around a vertex. Inline up to 8 (valence is
-/// about 6 on most meshes), so walking a star touches one cache line
-/// instead of chasing a pointer per vertex.
-pub(crate) type Star = SmallVec<[u32; 8]>;
+use crate::star_lists::StarLists;
 
 /// Above this many faces, a vertex's boundary neighbours are found edge by
 /// edge rather than by sorting the sides of its star.
@@ -32,9 +29,9 @@ pub(crate) struct Complex {
     /// Vertex positions (normalized coordinates).
     pub pos: Vec<DVec3>,
     /// Faces around each vertex (each face listed once per vertex).
-    pub vert_faces: Vec<Star>,
+    pub vert_faces: StarLists,
     /// Edges around each vertex.
-    pub vert_edges: Vec<Star>,
+    pub vert_edges: StarLists,
     /// Every edge, physical or virtual.
     pub edges: Vec<Edge>,
     /// Every face's slot range.
@@ -77,6 +74,7 @@ pub(crate) struct Complex {
     /// Scratch of `collapse`.
     touched: Vec<u32>,
     j_corners: Vec<u32>,
+    j_star: Vec<u32>,
     sides: Vec<(u32, u32)>,
 }
 
@@ -164,8 +162,8 @@ impl Complex {
     pub fn faces_only(pos: Vec<DVec3>, offsets: &[u32], indices: &[u32]) -> (Complex, Cleaned) {
         let nf = offsets.len().saturating_sub(1);
         let mut c = Complex {
-            vert_faces: Vec::new(),
-            vert_edges: Vec::new(),
+            vert_faces: StarLists::default(),
+            vert_edges: StarLists::default(),
             edges: Vec::new(),
             faces: (0..nf)
                 .map(|f| FaceSlots {
@@ -191,6 +189,7 @@ impl Complex {
             high_valence: HIGH_VALENCE,
             touched: Vec::new(),
             j_corners: Vec::new(),
+            j_star: Vec::new(),
             sides: Vec::new(),
             pos,
         };
@@ -300,8 +299,8 @@ impl Complex {
 
     /// Drops the star lists and edges (they went stale).
     pub fn clear_adjacency(&mut self) {
-        self.vert_faces = Vec::new();
-        self.vert_edges = Vec::new();
+        self.vert_faces = StarLists::default();
+        self.vert_edges = StarLists::default();
         self.border_sides = Vec::new();
         self.border_lists = HashMap::new();
         // Freed, not cleared: callers drop the adjacency to make room.
@@ -323,8 +322,8 @@ impl Complex {
         slot_corner: Vec<u32>,
     ) -> Complex {
         let mut c = Complex {
-            vert_faces: Vec::new(),
-            vert_edges: Vec::new(),
+            vert_faces: StarLists::default(),
+            vert_edges: StarLists::default(),
             edges: Vec::new(),
             faces,
             slot_vertex,
@@ -342,6 +341,7 @@ impl Complex {
             high_valence: HIGH_VALENCE,
             touched: Vec::new(),
             j_corners: Vec::new(),
+            j_star: Vec::new(),
             sides: Vec::new(),
             pos,
         };
@@ -354,12 +354,9 @@ impl Complex {
     /// changed from outside (the partitioned path writes chunk results back).
     pub fn build_adjacency(&mut self) {
         let nv = self.pos.len();
-        self.vert_faces.iter_mut().for_each(|s| s.clear());
-        self.vert_edges.iter_mut().for_each(|s| s.clear());
-        self.vert_faces.resize(nv, Star::new());
-        self.vert_edges.resize(nv, Star::new());
-        self.edges.clear();
         self.triangles = 0;
+        // Counted first, so that every star gets exactly its room.
+        let mut count = vec![0u32; nv];
         let mut ek: Vec<u64> = Vec::with_capacity(self.slot_vertex.len());
         for f in 0..self.faces.len() as u32 {
             let len = self.faces[f as usize].len as usize;
@@ -370,9 +367,16 @@ impl Complex {
             let s = self.faces[f as usize].start as usize;
             for k in 0..len {
                 let a = self.slot_vertex[s + k];
-                self.vert_faces[a as usize].push(f);
+                count[a as usize] += 1;
                 let b = self.slot_vertex[if k + 1 == len { s } else { s + k + 1 }];
                 ek.push(side_key(a, b));
+            }
+        }
+        self.vert_faces = StarLists::with_capacities(count.iter().copied());
+        for f in 0..self.faces.len() as u32 {
+            let FaceSlots { start, len } = self.faces[f as usize];
+            for k in start..start + len {
+                self.vert_faces.push(self.slot_vertex[k as usize] as usize, f);
             }
         }
         // Physical edges: consecutive corners, deduplicated. A side that
@@ -385,7 +389,14 @@ impl Complex {
             self.border_sides[b as usize] += 1;
         }
         ek.dedup();
-        self.edges.reserve(ek.len());
+        count.iter_mut().for_each(|n| *n = 0);
+        for &k in &ek {
+            count[(k >> 32) as usize] += 1;
+            count[k as u32 as usize] += 1;
+        }
+        self.vert_edges = StarLists::with_capacities(count.into_iter());
+        self.edges.clear();
+        self.edges.reserve_exact(ek.len());
         for k in ek {
             let (a, b) = ((k >> 32) as u32, k as u32);
             self.push_edge(a, b, false);
@@ -408,8 +419,8 @@ impl Complex {
             refused: false,
             is_virtual,
         });
-        self.vert_edges[a as usize].push(e);
-        self.vert_edges[b as usize].push(e);
+        self.vert_edges.push(a as usize, e);
+        self.vert_edges.push(b as usize, e);
         e
     }
 
@@ -795,7 +806,8 @@ impl Complex {
 
         // Faces: move j's faces to i. Only a face that held both endpoints
         // can now repeat a vertex; the others just change a corner.
-        let j_faces = std::mem::take(&mut self.vert_faces[j as usize]);
+        let mut j_faces = std::mem::take(&mut self.j_star);
+        self.vert_faces.take(j as usize, &mut j_faces);
         let mut touched = std::mem::take(&mut self.touched);
         let mut j_corners = std::mem::take(&mut self.j_corners);
         touched.clear();
@@ -816,7 +828,7 @@ impl Complex {
             if had_i {
                 shared.push(f);
             } else {
-                self.vert_faces[i as usize].push(f);
+                self.vert_faces.push(i as usize, f);
             }
             touched.push(f);
         }
@@ -831,7 +843,7 @@ impl Complex {
                 for k in s..s + 3 {
                     let v = self.slot_vertex[k];
                     if v != i {
-                        remove_item(&mut self.vert_faces[v as usize], f);
+                        self.vert_faces.remove(v as usize, f);
                     }
                 }
                 self.faces[f as usize].len = 0;
@@ -855,7 +867,7 @@ impl Complex {
                     // face split at a repeated vertex.
                     out.irregular |= new > 0;
                 }
-                remove_item(&mut self.vert_faces[v as usize], f);
+                self.vert_faces.remove(v as usize, f);
             }
         }
 
@@ -901,14 +913,15 @@ impl Complex {
                 for k in s..s + len {
                     let v = self.slot_vertex[k];
                     if v != i {
-                        remove_item(&mut self.vert_faces[v as usize], dead);
+                        self.vert_faces.remove(v as usize, dead);
                     }
                 }
                 self.faces[dead as usize].len = 0;
             }
         }
         let faces = &self.faces;
-        self.vert_faces[i as usize].retain(|f| faces[*f as usize].len > 0);
+        self.vert_faces
+            .retain(i as usize, |f| faces[f as usize].len > 0);
         self.triangles -= out.removed_triangles;
         self.border_sides_after(i, j, border_before || out.irregular);
         self.touched = touched;
@@ -920,7 +933,8 @@ impl Complex {
             let k = self.other(ei, i);
             self.vmark[k as usize] = s;
         }
-        let j_edges = std::mem::take(&mut self.vert_edges[j as usize]);
+        let mut j_edges = j_faces;
+        self.vert_edges.take(j as usize, &mut j_edges);
         for &ej in &j_edges {
             if !self.edges[ej as usize].alive {
                 continue;
@@ -928,13 +942,13 @@ impl Complex {
             let k = self.other(ej, j);
             if k == i {
                 self.kill_edge(ej);
-                remove_item(&mut self.vert_edges[i as usize], ej);
+                self.vert_edges.remove(i as usize, ej);
                 continue;
             }
             if self.vmark[k as usize] == s {
                 // i already joins k: the j–k edge merges into it.
                 self.kill_edge(ej);
-                remove_item(&mut self.vert_edges[k as usize], ej);
+                self.vert_edges.remove(k as usize, ej);
             } else {
                 let ends = &mut self.edges[ej as usize].ends;
                 if ends[0] == j {
@@ -943,10 +957,11 @@ impl Complex {
                     ends[1] = i;
                 }
                 self.edges[ej as usize].gen = self.edges[ej as usize].gen.wrapping_add(1);
-                self.vert_edges[i as usize].push(ej);
+                self.vert_edges.push(i as usize, ej);
                 self.vmark[k as usize] = s;
             }
         }
+        self.j_star = j_edges;
         changed.clear();
         changed.extend_from_slice(&self.vert_edges[i as usize]);
         out
@@ -1193,13 +1208,6 @@ pub(crate) fn sides_used_once(sorted: &[u64]) -> impl Iterator<Item = (u32, u32)
         .map(|run| ((run[0] >> 32) as u32, run[0] as u32))
 }
 
-/// Removes one occurrence of `x` from `v` (order not kept).
-fn remove_item(v: &mut Star, x: u32) {
-    if let Some(p) = v.iter().position(|&y| y == x) {
-        v.swap_remove(p);
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -1220,7 +1228,7 @@ mod tests {
         let c = grid();
         assert_eq!(c.edges.len(), 7);
         assert_eq!(c.triangles, 4);
-        assert_eq!(c.vert_faces[1].as_slice(), &[0, 1]);
+        assert_eq!(&c.vert_faces[1], &[0, 1]);
         assert_eq!(c.edge_face_count(1, 4), 2);
         assert_eq!(c.edge_face_count(0, 1), 1);
         let mut b = Vec::new();

@@ -14,10 +14,11 @@ use glam::DVec3;
 use rayon::prelude::*;
 
 use crate::attributes::{AttrScratch, AttributeState};
-use crate::complex::Complex;
+use crate::complex::{Complex, NONE};
 use crate::guards::too_small_for_budget;
 use crate::options::Metric;
-use crate::quadric::{place, place_by_planes, place_exact, Isotropic, Quadric};
+use crate::quadric::{place, place_by_planes, place_exact, Quadric};
+use crate::stored::{Isotropic, StoredQuadric};
 use crate::tangent::tangent_quadrics;
 pub(crate) use crate::tangent::EdgeImportance;
 
@@ -84,10 +85,11 @@ pub(crate) fn vertex_quadrics(
     importance: EdgeImportance<'_>,
 ) -> Vec<Quadric> {
     // A budget no part is too small for.
-    vertex_quadric_parts(c, metric, weights, importance, usize::MAX).0
+    vertex_quadric_terms(c, metric, weights, importance, usize::MAX, |_, q| q).0
 }
 
-/// [`vertex_quadrics`], and the regularization part of each (already in
+/// [`vertex_quadrics`] as a run stores them (each about its vertex, see
+/// [`StoredQuadric`]), and the regularization part of each (already in
 /// the first), which the placement takes back out to solve exactly (see
 /// [`crate::quadric::place_exact`]). `budget` is the run's target in
 /// triangles (see [`Metric::face_weight_floor`]).
@@ -97,7 +99,22 @@ pub(crate) fn vertex_quadric_parts(
     weights: &[f64],
     importance: EdgeImportance<'_>,
     budget: usize,
-) -> (Vec<Quadric>, Vec<Isotropic>) {
+) -> (Vec<StoredQuadric>, Vec<Isotropic>) {
+    vertex_quadric_terms(c, metric, weights, importance, budget, |v, q| {
+        StoredQuadric::new(&q, c.pos[v])
+    })
+}
+
+/// The vertex quadrics, each handed to `store` with its vertex, and the
+/// regularization parts.
+fn vertex_quadric_terms<T: Send>(
+    c: &Complex,
+    metric: &Metric,
+    weights: &[f64],
+    importance: EdgeImportance<'_>,
+    budget: usize,
+    store: impl Fn(usize, Quadric) -> T + Sync,
+) -> (Vec<T>, Vec<Isotropic>) {
     let planes: Vec<Option<(DVec3, f64, DVec3)>> = (0..c.faces.len() as u32)
         .into_par_iter()
         .map(|f| {
@@ -130,7 +147,7 @@ pub(crate) fn vertex_quadric_parts(
             metric.crease_angle.to_radians().cos(),
         )
     } else {
-        Vec::new()
+        SidePlanes::none()
     };
     let finish = |v: usize, mut q: Quadric, area: f64| {
         let mut reg = Quadric::ZERO;
@@ -147,8 +164,8 @@ pub(crate) fn vertex_quadric_parts(
             q += *b;
         }
         match weights.get(v) {
-            Some(&w) if w != 1.0 => (q.scaled(w), Isotropic::of(&reg.scaled(w))),
-            _ => (q, Isotropic::of(&reg)),
+            Some(&w) if w != 1.0 => (store(v, q.scaled(w)), Isotropic::of(&reg.scaled(w))),
+            _ => (store(v, q), Isotropic::of(&reg)),
         }
     };
     if !c.has_adjacency() {
@@ -218,20 +235,19 @@ fn weigh_planes(
     } else {
         Vec::new()
     };
+    // In place: the planes are the largest array of this phase.
+    let mut planes = planes;
+    planes.par_iter_mut().enumerate().for_each(|(f, p)| {
+        if let Some((_, a, _)) = p {
+            let lift = if small.get(f).copied().unwrap_or(false) {
+                0.0
+            } else {
+                floor * mean
+            };
+            *a = plane_weight(*a, mean, exponent, lift);
+        }
+    });
     planes
-        .into_par_iter()
-        .enumerate()
-        .map(|(f, p)| {
-            p.map(|(n, a, centroid)| {
-                let lift = if small.get(f).copied().unwrap_or(false) {
-                    0.0
-                } else {
-                    floor * mean
-                };
-                (n, plane_weight(a, mean, exponent, lift), centroid)
-            })
-        })
-        .collect()
 }
 
 /// Whether each face lies in a connected part too small, by its share of
@@ -310,7 +326,7 @@ pub(crate) fn border_planes(
     weight: f64,
     crease_weight: f64,
     crease_cos: f64,
-) -> Vec<Quadric> {
+) -> SidePlanes {
     // Every side of every live face, keyed by its ends; a key seen once is
     // a border side.
     let mut sides: Vec<(u64, u32, u32)> = Vec::new();
@@ -323,7 +339,10 @@ pub(crate) fn border_planes(
         }
     }
     sides.par_sort_unstable();
-    let mut out = vec![Quadric::ZERO; c.pos.len()];
+    let mut out = SidePlanes {
+        slot: vec![NONE; c.pos.len()],
+        quadric: Vec::new(),
+    };
     let mut g = 0;
     while g < sides.len() {
         let mut h = g + 1;
@@ -347,8 +366,8 @@ pub(crate) fn border_planes(
                     let side = (c.pos[a as usize], c.pos[b as usize]);
                     for normal in [n0, n1] {
                         if let Some(q) = side_plane(side, normal, crease_weight) {
-                            out[a as usize] += q;
-                            out[b as usize] += q;
+                            out.add(a, q);
+                            out.add(b, q);
                         }
                     }
                 }
@@ -361,14 +380,56 @@ pub(crate) fn border_planes(
                 let (a, b) = (face[k as usize], face[(k as usize + 1) % face.len()]);
                 let side = (c.pos[a as usize], c.pos[b as usize]);
                 if let Some(q) = side_plane(side, normal, weight) {
-                    out[a as usize] += q;
-                    out[b as usize] += q;
+                    out.add(a, q);
+                    out.add(b, q);
                 }
             }
         }
         g = h;
     }
     out
+}
+
+/// The border and crease planes of the vertices that have any (most
+/// vertices of most meshes have none: a dense array of quadrics would
+/// double the memory of the phase that builds the vertex quadrics).
+pub(crate) struct SidePlanes {
+    /// Each vertex's index into `quadric`, or `NONE`.
+    slot: Vec<u32>,
+    quadric: Vec<Quadric>,
+}
+
+impl SidePlanes {
+    /// No planes at any vertex.
+    pub fn none() -> SidePlanes {
+        SidePlanes {
+            slot: Vec::new(),
+            quadric: Vec::new(),
+        }
+    }
+
+    fn add(&mut self, v: u32, q: Quadric) {
+        let s = &mut self.slot[v as usize];
+        if *s == NONE {
+            *s = self.quadric.len() as u32;
+            self.quadric.push(Quadric::ZERO);
+        }
+        self.quadric[*s as usize] += q;
+    }
+
+    /// The planes of vertex `v`, if it has any.
+    pub fn get(&self, v: usize) -> Option<&Quadric> {
+        match self.slot.get(v) {
+            Some(&s) if s != NONE => self.quadric.get(s as usize),
+            _ => None,
+        }
+    }
+
+    /// The planes of vertex `v` (zero if none).
+    #[cfg(test)]
+    pub fn at(&self, v: usize) -> Quadric {
+        self.get(v).copied().unwrap_or(Quadric::ZERO)
+    }
 }
 
 /// The result of evaluating a collapse.
@@ -383,8 +444,8 @@ pub(crate) struct Evaluation {
 /// Root-mean-square distance from `x` to the planes vertices `i` and `j`
 /// accumulated (relative to the unit diagonal): the error users see, and the
 /// one `--error` limits. Computed only for collapses actually considered.
-pub(crate) fn distance(q: &[Quadric], i: u32, j: u32, x: DVec3) -> f64 {
-    let m = q[i as usize] + q[j as usize];
+pub(crate) fn distance(q: &[StoredQuadric], i: u32, j: u32, x: DVec3) -> f64 {
+    let m = q[i as usize].quadric() + q[j as usize].quadric();
     (m.eval(x).max(0.0) / m.weight.max(f64::MIN_POSITIVE)).sqrt()
 }
 
@@ -437,7 +498,7 @@ impl CostModel {
     pub fn evaluate(
         &self,
         c: &Complex,
-        q: &[Quadric],
+        q: &[StoredQuadric],
         reg: &[Isotropic],
         border: &[bool],
         locked: &[bool],
@@ -447,7 +508,8 @@ impl CostModel {
     ) -> Option<Evaluation> {
         let [i, j] = c.edges[e as usize].ends;
         let (pi, pj) = (c.pos[i as usize], c.pos[j as usize]);
-        let mut total = q[i as usize] + q[j as usize];
+        let (qi, qj) = (q[i as usize].quadric(), q[j as usize].quadric());
+        let mut total = qi + qj;
         // `border` says which vertices have boundary edges at all; most
         // evaluations (interior edges) skip the scan.
         let (mut bi, mut bj) = (false, false);
@@ -482,8 +544,8 @@ impl CostModel {
             && c.edge_face_count(i, j) == 0
         {
             let g = self.metric.gluing_weight;
-            total += Quadric::point(pi, g * q[i as usize].weight);
-            total += Quadric::point(pj, g * q[j as usize].weight);
+            total += Quadric::point(pi, g * qi.weight);
+            total += Quadric::point(pj, g * qj.weight);
         }
         // A fixed vertex (a locked border, a chunk's edge in the partitioned
         // path, a seam the collapse must not move) does not move: the other
@@ -514,7 +576,7 @@ impl CostModel {
             let joint = self.attributes_move_vertices || attributes.is_none();
             let placed = if joint { &total } else { &geometry };
             let r = match (reg.get(i as usize), reg.get(j as usize)) {
-                (Some(ri), Some(rj)) => Some((*ri + *rj).quadric()),
+                (Some(ri), Some(rj)) => Some(ri.quadric() + rj.quadric()),
                 _ => None,
             };
             let pl = match &r {
@@ -541,19 +603,17 @@ impl CostModel {
         let cost = if self.metric.introduced_error {
             // What the endpoints carry, measured as the cost is: without
             // the regularization unless it ranks.
-            let carried = |v: u32, p: DVec3| match reg.get(v as usize) {
-                Some(rv) if !self.metric.regularized_choice => {
-                    q[v as usize].minus(&rv.quadric()).eval(p)
-                }
-                _ => q[v as usize].eval(p),
+            let carried = |v: u32, qv: &Quadric, p: DVec3| match reg.get(v as usize) {
+                Some(rv) if !self.metric.regularized_choice => qv.minus(&rv.quadric()).eval(p),
+                _ => qv.eval(p),
             };
-            (cost - carried(i, pi) - carried(j, pj)).max(0.0)
+            (cost - carried(i, &qi, pi) - carried(j, &qj, pj)).max(0.0)
         } else {
             cost
         };
         let cost = floored(
             cost,
-            q[i as usize].weight + q[j as usize].weight,
+            qi.weight + qj.weight,
             self.area_floor,
         );
         if !cost.is_finite() {
@@ -566,6 +626,11 @@ impl CostModel {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// `q` as a run stores it, each about its vertex.
+    fn stored(c: &Complex, q: &[Quadric]) -> Vec<StoredQuadric> {
+        q.iter().zip(&c.pos).map(|(q, &p)| StoredQuadric::new(q, p)).collect()
+    }
 
     #[test]
     fn area_floor_ranks_small_collapses_by_mean_squared_distance() {
@@ -635,7 +700,7 @@ mod tests {
             .unwrap();
         let eval = |joint, a: Option<&AttributeState>, s: &mut Scratch| {
             model(joint)
-                .evaluate(&c, &q, &[], &border, &[], a, e, s)
+                .evaluate(&c, &stored(&c, &q), &[], &border, &[], a, e, s)
                 .unwrap()
         };
         let surface = eval(false, None, &mut s);
@@ -718,7 +783,8 @@ mod tests {
             ..Metric::default()
         };
         let weights = |budget| {
-            vertex_quadric_parts(&apart, &metric, &[], EdgeImportance::default(), budget).0
+            let keep = |_, q| q;
+            vertex_quadric_terms(&apart, &metric, &[], EdgeImportance::default(), budget, keep).0
         };
         let q = weights(2);
         assert!((q[0].weight - 0.5 / 3.0).abs() < 1e-12, "{}", q[0].weight);
@@ -822,8 +888,8 @@ mod tests {
         let mut s = Scratch::default();
         for e in 0..c.edges.len() as u32 {
             assert_eq!(
-                with.evaluate(&c, &q, &[], &[], &[], None, e, &mut s),
-                without.evaluate(&c, &q, &[], &[], &[], None, e, &mut s)
+                with.evaluate(&c, &stored(&c, &q), &[], &[], &[], None, e, &mut s),
+                without.evaluate(&c, &stored(&c, &q), &[], &[], &[], None, e, &mut s)
             );
         }
     }
@@ -845,7 +911,7 @@ mod tests {
         };
         let mut s = Scratch::default();
         let e = c.edge_between(0, 2).unwrap();
-        let ev = m.evaluate(&c, &q, &[], &[], &[], None, e, &mut s).unwrap();
+        let ev = m.evaluate(&c, &stored(&c, &q), &[], &[], &[], None, e, &mut s).unwrap();
         let plain = CostModel {
             area_floor: 0.0,
             attributes_move_vertices: false,
@@ -855,7 +921,7 @@ mod tests {
             },
             lock_borders: false,
         }
-        .evaluate(&c, &q, &[], &[], &[], None, e, &mut s)
+        .evaluate(&c, &stored(&c, &q), &[], &[], &[], None, e, &mut s)
         .unwrap();
         assert!(ev.cost > plain.cost, "{ev:?} vs {plain:?}");
     }
@@ -886,7 +952,7 @@ mod tests {
             metric: base,
             lock_borders: false,
         }
-        .evaluate(&c, &q, &[], &[], &[], None, e, &mut Scratch::default())
+        .evaluate(&c, &stored(&c, &q), &[], &[], &[], None, e, &mut Scratch::default())
         .unwrap();
         let eq5 = CostModel {
             area_floor: 0.0,
@@ -897,7 +963,7 @@ mod tests {
             },
             lock_borders: false,
         }
-        .evaluate(&c, &q, &[], &[], &[], None, e, &mut Scratch::default())
+        .evaluate(&c, &stored(&c, &q), &[], &[], &[], None, e, &mut Scratch::default())
         .unwrap();
         // Same placement; the cost drops by exactly Q1(p1) + Q2(p2) = 0 + 1/16.
         assert_eq!(plain.position, eq5.position);
@@ -911,15 +977,15 @@ mod tests {
 
     #[test]
     fn gluing_charges_area_times_squared_travel_across_a_virtual_edge() {
-        // Two unit right triangles in the plane z = 0, apart along x; a
-        // virtual edge joins vertex 1 (1,0,0) and vertex 3 (3,0,0).
+        // Two right triangles of area 3/2 in the plane z = 0, apart along
+        // x; a virtual edge joins vertex 1 (1,0,0) and vertex 3 (3,0,0).
         let pos = vec![
             DVec3::ZERO,
             DVec3::X,
-            DVec3::Y,
+            DVec3::new(0.0, 3.0, 0.0),
             DVec3::new(3.0, 0.0, 0.0),
             DVec3::new(4.0, 0.0, 0.0),
-            DVec3::new(3.0, 1.0, 0.0),
+            DVec3::new(3.0, 3.0, 0.0),
         ];
         let (mut c, _) = Complex::new(pos, &[0, 3, 6], &[0, 1, 2, 3, 4, 5]);
         c.add_edge(1, 3);
@@ -939,13 +1005,13 @@ mod tests {
             lock_borders: false,
         };
         let ev = m
-            .evaluate(&c, &q, &[], &[], &[], None, e, &mut Scratch::default())
+            .evaluate(&c, &stored(&c, &q), &[], &[], &[], None, e, &mut Scratch::default())
             .unwrap();
-        // Each vertex has area share 1/6 and lies in z = 0: the planes are
-        // indifferent within the plane, the gluing term 2·(1/6)·|x−p|² per
-        // endpoint is least at the midpoint (2, 0, 0): 2·(1/6)·(1 + 1).
+        // Each vertex has area share 1/2 and lies in z = 0: the planes are
+        // indifferent within the plane, the gluing term 2·(1/2)·|x−p|² per
+        // endpoint is least at the midpoint (2, 0, 0): 2·(1/2)·(1 + 1).
         assert!(ev.position.distance(DVec3::new(2.0, 0.0, 0.0)) < 1e-9);
-        assert!((ev.cost - 2.0 / 3.0).abs() < 1e-9, "{}", ev.cost);
+        assert!((ev.cost - 2.0).abs() < 1e-9, "{}", ev.cost);
         // Without the term the collapse is free.
         let free = CostModel {
             area_floor: 0.0,
@@ -957,7 +1023,7 @@ mod tests {
             lock_borders: false,
         };
         assert!(
-            free.evaluate(&c, &q, &[], &[], &[], None, e, &mut Scratch::default())
+            free.evaluate(&c, &stored(&c, &q), &[], &[], &[], None, e, &mut Scratch::default())
                 .unwrap()
                 .cost
                 < 1e-12
@@ -977,7 +1043,7 @@ mod tests {
         let mut s = Scratch::default();
         // Every vertex of the hinge is on the border.
         for e in 0..c.edges.len() as u32 {
-            assert_eq!(m.evaluate(&c, &q, &[], &[], &[], None, e, &mut s), None);
+            assert_eq!(m.evaluate(&c, &stored(&c, &q), &[], &[], &[], None, e, &mut s), None);
         }
     }
 
@@ -999,15 +1065,15 @@ mod tests {
         // 3 · 0.25 + 3 · 0.09 = 1.02.
         let b = border_planes(&c, &planes, 0.0, 3.0, 0.2);
         let p = DVec3::new(0.5, 0.5, 0.3);
-        assert!((b[0].eval(p) - 1.02).abs() < 1e-12, "{}", b[0].eval(p));
-        assert!((b[1].eval(p) - 1.02).abs() < 1e-12);
+        assert!((b.at(0).eval(p) - 1.02).abs() < 1e-12, "{}", b.at(0).eval(p));
+        assert!((b.at(1).eval(p) - 1.02).abs() < 1e-12);
         // Sliding along the crease is free; the far corners get nothing.
-        assert!(b[0].eval(DVec3::new(7.0, 0.0, 0.0)).abs() < 1e-12);
-        assert_eq!(b[2].eval(p), 0.0);
-        assert_eq!(b[0].weight, 0.0);
+        assert!(b.at(0).eval(DVec3::new(7.0, 0.0, 0.0)).abs() < 1e-12);
+        assert_eq!(b.at(2).eval(p), 0.0);
+        assert_eq!(b.at(0).weight, 0.0);
         // Below the angle (90° is not above 95°) there is no crease.
         let blunt = border_planes(&c, &planes, 0.0, 3.0, 95f64.to_radians().cos());
-        assert_eq!(blunt[0].eval(p), 0.0);
+        assert_eq!(blunt.at(0).eval(p), 0.0);
         // A flat pair is no crease, even with one face wound the other
         // way (a wild mesh's flipped face): its normal turns by 180°, the
         // surface by nothing.
@@ -1017,7 +1083,7 @@ mod tests {
             let (c, _) = Complex::new(flat.clone(), &[0, 3, 6], &idx);
             let planes: Vec<_> = (0..2).map(|f| face_plane(&c, f)).collect();
             let b = border_planes(&c, &planes, 0.0, 3.0, 0.2);
-            assert_eq!(b[0].eval(p), 0.0, "{idx:?}");
+            assert_eq!(b.at(0).eval(p), 0.0, "{idx:?}");
         }
     }
 
@@ -1037,18 +1103,18 @@ mod tests {
         // Vertex 0 is on sides 0–1 (plane y = 0) and 3–0 (plane x = 0),
         // each of length 1, weight 2 · 1²: at (0.5, 3, 7),
         // 2 · 3² + 2 · 0.5² = 18.5; the face's own direction (z) is free.
-        assert!((b[0].eval(DVec3::new(0.5, 3.0, 7.0)) - 18.5).abs() < 1e-12);
+        assert!((b.at(0).eval(DVec3::new(0.5, 3.0, 7.0)) - 18.5).abs() < 1e-12);
         // Vertex 1: sides 0–1 (y = 0) and 1–2 (x = 1): at (0.5, 3, 0),
         // 2 · 9 + 2 · 0.25.
-        assert!((b[1].eval(DVec3::new(0.5, 3.0, 0.0)) - 18.5).abs() < 1e-12);
+        assert!((b.at(1).eval(DVec3::new(0.5, 3.0, 0.0)) - 18.5).abs() < 1e-12);
         // The shared diagonal adds nothing: on the square's corners the
         // planes vanish, and they carry no area.
         for (v, p) in c.pos.iter().enumerate() {
-            assert!(b[v].eval(*p).abs() < 1e-12);
-            assert_eq!(b[v].weight, 0.0);
+            assert!(b.at(v).eval(*p).abs() < 1e-12);
+            assert_eq!(b.at(v).weight, 0.0);
         }
         // Anywhere on the diagonal line beyond the square, only the two
         // border planes of vertex 0 see it: at (2, 2, 0), 2·4 + 2·4.
-        assert!((b[0].eval(DVec3::new(2.0, 2.0, 0.0)) - 16.0).abs() < 1e-12);
+        assert!((b.at(0).eval(DVec3::new(2.0, 2.0, 0.0)) - 16.0).abs() < 1e-12);
     }
 }

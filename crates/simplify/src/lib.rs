@@ -43,6 +43,8 @@ mod report;
 mod run;
 mod scene;
 mod simplify;
+mod star_lists;
+mod stored;
 mod symmetry;
 mod tangent;
 mod twins;

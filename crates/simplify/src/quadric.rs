@@ -301,7 +301,7 @@ fn rayleigh(a: &[f64; 6], v: DVec3) -> f64 {
 /// `A x` for the symmetric 3×3 matrix given by its upper triangle (xx, xy,
 /// xz, yy, yz, zz).
 #[inline]
-fn sym_mul(a: &[f64; 6], x: DVec3) -> DVec3 {
+pub(crate) fn sym_mul(a: &[f64; 6], x: DVec3) -> DVec3 {
     DVec3::new(
         a[0] * x.x + a[1] * x.y + a[2] * x.z,
         a[1] * x.x + a[3] * x.y + a[4] * x.z,
@@ -390,63 +390,6 @@ impl std::ops::Add for Quadric {
 impl std::ops::AddAssign for Quadric {
     #[inline]
     fn add_assign(&mut self, o: Quadric) {
-        *self = *self + o;
-    }
-}
-
-/// An isotropic quadric `s |x|² + 2 bᵀx + c`: a sum of point quadrics
-/// ([`Quadric::point`]), such as the regularization part the engine keeps
-/// per vertex, in 40 bytes where a [`Quadric`] takes 88. Converting back
-/// gives the same numbers as summing the point quadrics as quadrics.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub(crate) struct Isotropic {
-    /// The diagonal of A.
-    pub s: f64,
-    /// The linear term b.
-    pub b: DVec3,
-    /// The constant c.
-    pub c: f64,
-}
-
-impl Isotropic {
-    /// The isotropic part of `q`: exact when `q` is a sum of point
-    /// quadrics (off-diagonal zero, equal diagonal, no weight).
-    pub fn of(q: &Quadric) -> Isotropic {
-        debug_assert!(q.a[1] == 0.0 && q.a[2] == 0.0 && q.a[4] == 0.0);
-        debug_assert!(q.a[0] == q.a[3] && q.a[0] == q.a[5] && q.weight == 0.0);
-        Isotropic {
-            s: q.a[0],
-            b: q.b,
-            c: q.c,
-        }
-    }
-
-    /// As a full quadric.
-    pub fn quadric(&self) -> Quadric {
-        Quadric {
-            a: [self.s, 0.0, 0.0, self.s, 0.0, self.s],
-            b: self.b,
-            c: self.c,
-            weight: 0.0,
-        }
-    }
-}
-
-impl std::ops::Add for Isotropic {
-    type Output = Isotropic;
-    #[inline]
-    fn add(self, o: Isotropic) -> Isotropic {
-        Isotropic {
-            s: self.s + o.s,
-            b: self.b + o.b,
-            c: self.c + o.c,
-        }
-    }
-}
-
-impl std::ops::AddAssign for Isotropic {
-    #[inline]
-    fn add_assign(&mut self, o: Isotropic) {
         *self = *self + o;
     }
 }

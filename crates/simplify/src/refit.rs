@@ -48,7 +48,8 @@ use wildlod_geometry::closest_point_on_triangle;
 
 use crate::complex::Complex;
 use crate::cost::polygon_normal;
-use crate::quadric::{Isotropic, Quadric};
+use crate::quadric::Quadric;
+use crate::stored::{Isotropic, StoredQuadric};
 
 /// Damping λ of a vertex's step, relative to the weight it carries: small
 /// enough that a vertex goes nearly all the way to its minimizer, large
@@ -93,7 +94,7 @@ pub(crate) struct RefitInput<'a> {
     /// (taken back out: its pull toward the input vertices' centre would
     /// move a vertex off the planes that hold it; the damping steadies the
     /// solve instead).
-    pub quadrics: &'a [Quadric],
+    pub quadrics: &'a [StoredQuadric],
     pub regularization: &'a [Isotropic],
     /// Vertices that must not move (locked borders); empty: none.
     pub fixed: &'a [bool],
@@ -230,8 +231,7 @@ fn place(
     let q = input
         .quadrics
         .get(v as usize)
-        .copied()
-        .unwrap_or(Quadric::ZERO);
+        .map_or(Quadric::ZERO, StoredQuadric::quadric);
     let q = match input.regularization.get(v as usize) {
         Some(r) => q.minus(&r.quadric()),
         None => q,
@@ -562,6 +562,11 @@ mod tests {
     ) -> Vec<bool> {
         let (origin, offsets, _) = flat_input();
         let root = roots();
+        let quadrics: Vec<StoredQuadric> = quadrics
+            .iter()
+            .zip(&c.pos)
+            .map(|(q, &p)| StoredQuadric::new(q, p))
+            .collect();
         let input = RefitInput {
             positions: &origin,
             center: DVec3::ZERO,
@@ -571,7 +576,7 @@ mod tests {
             weld: &[],
             kept: &[],
             root: &root,
-            quadrics,
+            quadrics: &quadrics,
             regularization: &[],
             fixed,
             min_cos,

@@ -15,7 +15,7 @@ use crate::history::HistoryRecorder;
 use crate::options::Metric;
 use crate::options::Options;
 use crate::ordering::{tie_tolerance, TieOrder};
-use crate::quadric::{Isotropic, Quadric};
+use crate::stored::{Isotropic, StoredQuadric};
 use crate::report::{Report, StopReason};
 use crate::simplify::{Prepared, Simplified};
 use crate::symmetry::{edge_symmetry_weights, EdgeNormals, SymmetryInput, SymmetryOptions};
@@ -106,8 +106,8 @@ fn symmetry_importance(p: &Prepared, options: &Options, metric: &Metric) -> (Vec
 
 /// How many vertices carry area (a positive quadric weight): the vertices
 /// the reduction factor of the tie tolerance counts from.
-fn area_vertices(q: &[Quadric]) -> usize {
-    q.iter().filter(|q| q.weight > 0.0).count()
+fn area_vertices(q: &[StoredQuadric]) -> usize {
+    q.iter().filter(|q| q.weight() > 0.0).count()
 }
 
 /// Per-vertex values of a run: its own, or, in a chunk of the partitioned
@@ -172,7 +172,7 @@ pub(crate) struct Run<'o> {
     p: Prepared,
     options: &'o Options,
     model: CostModel,
-    quadrics: PerVertex<'o, Quadric>,
+    quadrics: PerVertex<'o, StoredQuadric>,
     /// The regularization part of each quadric (in `quadrics` too), kept
     /// apart so that placement can solve without it.
     reg: PerVertex<'o, Isotropic>,
@@ -276,12 +276,12 @@ impl<'o> Run<'o> {
             vertex_quadric_parts(&p.complex, &planes_metric, &p.weights, importance, budget);
         if let Some(a) = &attrs {
             let planes = a.seam_planes(&p.complex, options.attributes.seam_weight);
-            for (q, plane) in quadrics.iter_mut().zip(planes) {
-                *q += plane;
+            for (v, (q, plane)) in quadrics.iter_mut().zip(planes).enumerate() {
+                *q = StoredQuadric::new(&(q.quadric() + plane), p.complex.pos[v]);
             }
         }
         let faces = p.complex.faces.iter().filter(|f| f.len > 0).count();
-        let area: f64 = quadrics.iter().map(|q| q.weight).sum();
+        let area: f64 = quadrics.iter().map(StoredQuadric::weight).sum();
         // Attributes keep the regularization choosing (see
         // `AttributeOptions::regularized_choice`).
         let model = CostModel {
@@ -340,7 +340,7 @@ impl<'o> Run<'o> {
         run.progress_start = run.p.complex.triangles;
         run.area_vertices = area_vertices(&run.quadrics);
         if run.model.metric.pinch_cost > 0.0 {
-            let area: Vec<f64> = run.quadrics.iter().map(|q| q.weight).collect();
+            let area: Vec<f64> = run.quadrics.iter().map(StoredQuadric::weight).collect();
             let pinch = run.model.metric.pinch_cost;
             run.pinch_price = pinch_prices(&run.p.complex, &area, budget, pinch);
         }
@@ -354,7 +354,7 @@ impl<'o> Run<'o> {
     pub fn chunk(
         parent: &Run<'o>,
         p: Prepared,
-        quadrics: &'o mut [Quadric],
+        quadrics: &'o mut [StoredQuadric],
         reg: &'o mut [Isotropic],
         locked: Vec<bool>,
         target: usize,
@@ -697,7 +697,7 @@ impl<'o> Run<'o> {
     /// run (see [`tie_tolerance`]): the area is its endpoints' mean.
     fn tie_tolerance(&self, e: u32) -> f64 {
         let [a, b] = self.p.complex.edges[e as usize].ends;
-        let area = 0.5 * (self.quadrics[a as usize].weight + self.quadrics[b as usize].weight);
+        let area = 0.5 * (self.quadrics[a as usize].weight() + self.quadrics[b as usize].weight());
         let left = self.area_vertices.saturating_sub(self.report.collapses);
         tie_tolerance(self.options.quad.epsilon, area, self.area_vertices, left)
     }
@@ -884,7 +884,9 @@ impl<'o> Run<'o> {
         }
         self.moved[i as usize] = true;
         self.merged_into[j as usize] = i;
-        self.quadrics[i as usize] = self.quadrics[i as usize] + self.quadrics[j as usize];
+        // Summed in double precision, stored about where the vertex went.
+        let merged = self.quadrics[i as usize].quadric() + self.quadrics[j as usize].quadric();
+        self.quadrics[i as usize] = StoredQuadric::new(&merged, c.pos[i as usize]);
         if !self.reg.is_empty() {
             self.reg[i as usize] = self.reg[i as usize] + self.reg[j as usize];
         }

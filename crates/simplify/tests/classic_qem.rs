@@ -195,10 +195,32 @@ fn engine_matches_brute_force_garland_heckbert_on_a_closed_mesh() {
         let (ours, report) = simplify_mesh(&mesh, &options).unwrap();
         assert_eq!(report.output_triangles, target);
         let reference = reference_qem(&mesh, target, options.metric.regularization);
-        assert_eq!(
-            triangles_as_position_sets(&ours),
-            reference,
-            "target {target}"
-        );
+        assert_same_triangles(&triangles_as_position_sets(&ours), &reference, target);
+    }
+}
+
+/// Every triangle of `ours` matches one of `reference` (and the counts
+/// agree), vertex by vertex within 1e-5 of the unit sphere: the engine
+/// keeps its vertex quadrics in single precision between collapses
+/// (`stored.rs`), the reference in double, so the positions agree to about
+/// 1e-7, and a single collapse taken in another order moves vertices by
+/// the bumps' size (0.05) or more.
+fn assert_same_triangles(ours: &[[[u32; 3]; 3]], reference: &[[[u32; 3]; 3]], target: usize) {
+    assert_eq!(ours.len(), reference.len(), "target {target}");
+    let pos = |b: [u32; 3]| b.map(f32::from_bits);
+    let near = |a: [u32; 3], b: [u32; 3]| {
+        let (a, b) = (pos(a), pos(b));
+        (0..3).all(|k| (a[k] - b[k]).abs() <= 1e-5)
+    };
+    let mut taken = vec![false; reference.len()];
+    for t in ours {
+        let found = reference
+            .iter()
+            .enumerate()
+            .position(|(k, r)| !taken[k] && (0..3).all(|x| near(t[x], r[x])));
+        let Some(k) = found else {
+            panic!("target {target}: {:?} is not in the reference", t.map(pos));
+        };
+        taken[k] = true;
     }
 }

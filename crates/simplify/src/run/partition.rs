@@ -13,7 +13,7 @@ use rayon::prelude::*;
 use super::{PerVertex, Run};
 use crate::complex::{Complex, FaceSlots, NONE};
 use crate::options::Options;
-use crate::quadric::{Isotropic, Quadric};
+use crate::stored::{Isotropic, StoredQuadric};
 use crate::report::Report;
 use crate::simplify::Prepared;
 use wildlod_mesh::Faces;
@@ -189,6 +189,10 @@ struct Layout {
     slots: Vec<FaceSlots>,
     slot_vertex: Vec<u32>,
     slot_corner: Vec<u32>,
+    /// Position of each local vertex: taken here, so that the global
+    /// positions are freed before the chunks' adjacency is built (the
+    /// pass's peak).
+    pos: Vec<DVec3>,
     /// Virtual edges with both ends inside the chunk (local ids).
     pairs: Vec<(u32, u32)>,
     /// Triangles of the faces touching a locked vertex.
@@ -244,6 +248,7 @@ fn layouts(
             }
         }
         l.vertex.shrink_to_fit();
+        l.pos = l.vertex.iter().map(|&v| c.pos[v as usize]).collect();
         l.face = faces;
         out.push(l);
     }
@@ -381,27 +386,26 @@ fn split_ranges<'a, T>(mut s: &'a mut [T], start: &[usize]) -> Vec<&'a mut [T]> 
 /// A live vertex in no chunk (unused by the live faces), its quadrics and
 /// its position, set aside while the global arrays hold the chunks' values
 /// (and the global positions are freed).
-type Aside = (u32, Quadric, Isotropic, DVec3);
+type Aside = (u32, StoredQuadric, Isotropic, DVec3);
 /// Builds a chunk's run from its layout: its vertices' quadrics (its
 /// ranges of the pass's arrays, see [`Slots`]) and locks, its virtual
 /// edges, and a floor (see below) as its target.
 fn build_chunk<'a>(
     run: &Run<'a>,
     layout: Layout,
-    (quadrics, reg): (&'a mut [Quadric], &'a mut [Isotropic]),
+    (quadrics, reg): (&'a mut [StoredQuadric], &'a mut [Isotropic]),
     locked: &[bool],
 ) -> Chunk<'a> {
-    let c = &run.p.complex;
     let Layout {
         vertex,
         face,
         slots,
         slot_vertex,
         slot_corner,
+        pos,
         pairs,
         ring,
     } = layout;
-    let pos = vertex.iter().map(|&v| c.pos[v as usize]).collect();
     let mut complex = Complex::from_clean_faces(pos, slots, slot_vertex, slot_corner);
     for (a, b) in pairs {
         complex.add_edge(a, b);
@@ -490,6 +494,9 @@ fn one_pass(run: &mut Run, shift: DVec3, handoff: usize, progress: &dyn Fn(f64))
             (v, run.quadrics[v_], run.reg[v_], run.p.complex.pos[v_])
         })
         .collect();
+    // Every chunk has its vertices' positions, and `write_back` puts them
+    // back.
+    run.p.complex.pos = Vec::new();
     let mut quadrics = std::mem::take(&mut run.quadrics).into_vec();
     let mut reg = std::mem::take(&mut run.reg).into_vec();
     slots.move_to_chunks(&mut quadrics, &layouts);
@@ -506,10 +513,8 @@ fn one_pass(run: &mut Run, shift: DVec3, handoff: usize, progress: &dyn Fn(f64))
             .map(|(layout, q)| build_chunk(this, layout, q, &locked))
             .collect()
     };
-    // Not needed in the rounds, the peak: every chunk has its vertices'
-    // positions, and `write_back` puts them back.
+    // Not needed in the rounds.
     drop(locked);
-    run.p.complex.pos = Vec::new();
     // Rounds: every chunk makes its collapses up to the cap, which then
     // doubles (or jumps to the cheapest collapse left). Within a round the
     // order is each chunk's greedy order; across rounds, the global one.
