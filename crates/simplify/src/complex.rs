@@ -38,7 +38,8 @@ pub(crate) struct Complex {
     pub faces: Vec<FaceSlots>,
     /// Vertex of each slot.
     pub slot_vertex: Vec<u32>,
-    /// Input corner of each slot.
+    /// Input corner of each slot; empty when every slot's corner is its
+    /// own index (see [`Complex::corner`]).
     pub slot_corner: Vec<u32>,
     /// Triangles of the triangulated complex (Σ (arity − 2) · copies over
     /// live faces).
@@ -172,7 +173,12 @@ impl Complex {
                 })
                 .collect(),
             slot_vertex: indices.to_vec(),
-            slot_corner: (0..indices.len() as u32).collect(),
+            slot_corner: if offsets.windows(2).all(|w| w[1] - w[0] == 3) {
+                // Triangles: see `corner`.
+                Vec::new()
+            } else {
+                (0..indices.len() as u32).collect()
+            },
             triangles: 0,
             copies: Vec::new(),
             instances: Vec::new(),
@@ -233,10 +239,8 @@ impl Complex {
                         let v = c.slot_vertex[(so + k) as usize];
                         let at = (0..c.faces[fa as usize].len)
                             .find(|&t| c.slot_vertex[(sa + t) as usize] == v)
-                            .map_or(NONE, |t| c.slot_corner[(sa + t) as usize]);
-                        corners
-                            [(c.slot_corner[(so + k) as usize] - offsets[of as usize]) as usize] =
-                            at;
+                            .map_or(NONE, |t| c.corner((sa + t) as usize));
+                        corners[(c.corner((so + k) as usize) - offsets[of as usize]) as usize] = at;
                     }
                     c.riders.push(Rider {
                         face: fa,
@@ -458,6 +462,30 @@ impl Complex {
         }
     }
 
+    /// The input corner of slot `slot`. A complex built from triangles
+    /// keeps no list of them: a triangle never loses a corner but dies
+    /// (only a polygon shrinks in place, shifting its corners), so every
+    /// slot of such a complex stays at the corner it was made for, its
+    /// own index. That saves 12 bytes per triangle in the complex and in
+    /// every chunk of the partitioned path.
+    #[inline]
+    pub fn corner(&self, slot: usize) -> u32 {
+        if self.slot_corner.is_empty() {
+            slot as u32
+        } else {
+            self.slot_corner[slot]
+        }
+    }
+
+    /// Sets the input corner of `slot` (only a polygon shrinking does).
+    fn set_corner(&mut self, slot: usize, corner: u32) {
+        debug_assert!(!self.slot_corner.is_empty(), "a triangle moved a corner");
+        if self.slot_corner.is_empty() {
+            self.slot_corner = (0..self.slot_vertex.len() as u32).collect();
+        }
+        self.slot_corner[slot] = corner;
+    }
+
     /// The current corners of face `f` (vertex ids).
     #[inline]
     pub fn face(&self, f: u32) -> &[u32] {
@@ -675,8 +703,8 @@ impl Complex {
         let mut slots: Vec<(u32, u32, bool)> = Vec::with_capacity(n); // (vertex, corner, preferred)
         for k in 0..n {
             let v = self.slot_vertex[s + k];
-            let pref = prefer.map(|p| p(self.slot_corner[s + k])).unwrap_or(false);
-            slots.push((v, self.slot_corner[s + k], pref));
+            let pref = prefer.map(|p| p(self.corner(s + k))).unwrap_or(false);
+            slots.push((v, self.corner(s + k), pref));
         }
         let mut runs: Vec<(u32, u32, bool)> = Vec::with_capacity(n);
         for &sl in &slots {
@@ -718,7 +746,7 @@ impl Complex {
         let new_len = if kept.len() >= 3 { kept.len() } else { 0 };
         for (k, sl) in kept.iter().take(new_len).enumerate() {
             self.slot_vertex[s + k] = sl.0;
-            self.slot_corner[s + k] = sl.1;
+            self.set_corner(s + k, sl.1);
         }
         self.faces[f as usize].len = new_len as u32;
         let mut dropped: Vec<u32> = before
@@ -770,12 +798,12 @@ impl Complex {
         }
         // Keep the preferred slot of the pair; drop the other.
         let keep_second = prefer
-            .map(|p| p(self.slot_corner[s + second]) && !p(self.slot_corner[s + first]))
+            .map(|p| p(self.corner(s + second)) && !p(self.corner(s + first)))
             .unwrap_or(false);
         let drop = if keep_second { first } else { second };
         for k in drop..n - 1 {
             self.slot_vertex[s + k] = self.slot_vertex[s + k + 1];
-            self.slot_corner[s + k] = self.slot_corner[s + k + 1];
+            self.set_corner(s + k, self.corner(s + k + 1));
         }
         self.faces[f as usize].len = (n - 1) as u32;
         Some(Vec::new())
@@ -820,7 +848,7 @@ impl Complex {
             for k in s..s + n {
                 if self.slot_vertex[k] == j {
                     self.slot_vertex[k] = i;
-                    j_corners.push(self.slot_corner[k]);
+                    j_corners.push(self.corner(k));
                 } else if self.slot_vertex[k] == i {
                     had_i = true;
                 }
@@ -1221,6 +1249,49 @@ mod tests {
             .map(|i| DVec3::new((i % 3) as f64, (i / 3) as f64, 0.0))
             .collect();
         Complex::new(pos, &[0, 4, 8], &[0, 1, 4, 3, 1, 2, 5, 4]).0
+    }
+
+    #[test]
+    fn triangles_keep_no_corner_list_and_polygons_shift_theirs() {
+        // Quads: merging 4 into 1 shrinks both faces. Face 0 (0 1 4 3,
+        // corners 0–3) keeps 1's corner, not the merged one's: 0 1 3.
+        // Face 1 (1 2 5 4, corners 4–7) repeats 1 across its wrap and
+        // keeps slot 0: corners 4 5 6.
+        let mut c = grid();
+        assert_eq!(c.slot_corner, (0..8).collect::<Vec<u32>>());
+        let e = c.edge_between(1, 4).unwrap();
+        c.collapse(e, 1, DVec3::X, false, &mut Vec::new());
+        let corners = |c: &Complex, f: u32| {
+            let s = c.faces[f as usize].start as usize;
+            (s..s + c.faces[f as usize].len as usize)
+                .map(|k| c.corner(k))
+                .collect::<Vec<u32>>()
+        };
+        assert_eq!(c.face(0), &[0, 1, 3]);
+        assert_eq!(corners(&c, 0), vec![0, 1, 3]);
+        assert_eq!(c.face(1), &[1, 2, 5]);
+        assert_eq!(corners(&c, 1), vec![4, 5, 6]);
+        c.check().unwrap();
+        // Triangles: no list, and every slot stays its own corner through
+        // collapses (a triangle dies rather than shrink).
+        let pos = (0..6)
+            .map(|i| DVec3::new((i % 3) as f64, (i / 3) as f64, 0.0))
+            .collect();
+        let tris = [0, 1, 4, 0, 4, 3, 1, 2, 5, 1, 5, 4];
+        let mut t = Complex::new(pos, &[0, 3, 6, 9, 12], &tris).0;
+        assert!(t.slot_corner.is_empty());
+        let e = t.edge_between(1, 4).unwrap();
+        t.collapse(e, 1, DVec3::X, false, &mut Vec::new());
+        assert!(t.slot_corner.is_empty());
+        for f in t.live_faces() {
+            let s = t.faces[f as usize].start as usize;
+            assert_eq!(corners(&t, f), (s as u32..s as u32 + 3).collect::<Vec<u32>>());
+            for (k, &v) in t.face(f).iter().enumerate() {
+                let input = tris[s + k];
+                assert!(v == input || (input == 4 && v == 1), "{f} {k}");
+            }
+        }
+        t.check().unwrap();
     }
 
     #[test]

@@ -1088,6 +1088,7 @@ impl<'o> Run<'o> {
         let mut face_origin = Vec::new();
         let mut corner_origin = Vec::new();
         let mut buf = Vec::new();
+        let mut corners = Vec::new();
         let mut riders = c.riders.iter().peekable();
         for f in c.live_faces() {
             buf.clear();
@@ -1095,8 +1096,9 @@ impl<'o> Run<'o> {
             faces.push(&buf);
             face_origin.push(f);
             let s = c.faces[f as usize].start as usize;
-            let corners = &c.slot_corner[s..s + buf.len()];
-            corner_origin.extend_from_slice(corners);
+            corners.clear();
+            corners.extend((s..s + buf.len()).map(|k| c.corner(k)));
+            corner_origin.extend_from_slice(&corners);
             // Its twins, walked the other way round, each with its own
             // input corners where it has them.
             while riders.next_if(|r| r.of < f).is_some() {}

@@ -303,6 +303,7 @@ impl AttributeState {
         // Per stream: surface and UV area of the faces it covers.
         let mut areas = vec![(0.0f64, 0.0f64); self.streams.len()];
         let mut pos: Vec<DVec3> = Vec::new();
+        let mut corners: Vec<u32> = Vec::new();
         let mut g: Vec<DVec3> = Vec::new();
         let mut d: Vec<f64> = Vec::new();
         for f in c.live_faces() {
@@ -319,7 +320,8 @@ impl AttributeState {
                 continue;
             };
             let share = 0.5 * len / n as f64;
-            let corners = &c.slot_corner[s..s + n];
+            corners.clear();
+            corners.extend((s..s + n).map(|k| c.corner(k)));
             let verts = &c.slot_vertex[s..s + n];
             for (st, area) in self.streams.iter_mut().zip(&mut areas) {
                 let src = &input.streams[st.input];
@@ -361,7 +363,7 @@ impl AttributeState {
                 }
             }
             if let (Some(sk), Some(src)) = (&mut self.skin, &input.skin) {
-                add_skin_face(sk, src, &frame, &pos, corners, verts, share, weight);
+                add_skin_face(sk, src, &frame, &pos, &corners, verts, share, weight);
             }
         }
         for (st, (surface, uv)) in self.streams.iter_mut().zip(areas) {
@@ -413,9 +415,9 @@ impl AttributeState {
             for k in st..st + n {
                 let v = c.slot_vertex[k];
                 if v == i {
-                    ci = c.slot_corner[k];
+                    ci = c.corner(k);
                 } else if v == j {
-                    cj = c.slot_corner[k];
+                    cj = c.corner(k);
                 }
             }
             if ci != ABSENT {
@@ -430,7 +432,7 @@ impl AttributeState {
             let (st, n) = (fs.start as usize, fs.len as usize);
             for k in st..st + n {
                 if c.slot_vertex[k] == j {
-                    s.corners_j.push(c.slot_corner[k]);
+                    s.corners_j.push(c.corner(k));
                 }
             }
         }
@@ -563,7 +565,7 @@ impl AttributeState {
                         if c.slot_vertex[k] != i {
                             continue;
                         }
-                        let x = c.slot_corner[k] as usize;
+                        let x = c.corner(k) as usize;
                         if group[1..].contains(&st.wedges.corner_wedge[x]) {
                             st.wedges.corner_wedge[x] = lead as u32;
                         }
@@ -741,7 +743,7 @@ fn edge_sides(c: &Complex, a: u32, b: u32, out: &mut Vec<(u32, u32, u32)>) {
             let prev = if k == 0 { n - 1 } else { k - 1 };
             for other in [next, prev] {
                 if c.slot_vertex[s + other] == b {
-                    out.push((f, c.slot_corner[s + k], c.slot_corner[s + other]));
+                    out.push((f, c.corner(s + k), c.corner(s + other)));
                 }
             }
         }

@@ -222,7 +222,7 @@ fn layouts(
         let mut l = Layout {
             slots: Vec::with_capacity(faces.len()),
             slot_vertex: Vec::with_capacity(corners),
-            slot_corner: Vec::with_capacity(corners),
+            slot_corner: Vec::with_capacity(if c.slot_corner.is_empty() { 0 } else { corners }),
             ..Layout::default()
         };
         for &f in &faces {
@@ -242,7 +242,11 @@ fn layouts(
                 l.slot_vertex.push(local[v as usize]);
                 touches_lock |= locked[v as usize];
             }
-            l.slot_corner.extend_from_slice(&c.slot_corner[s..s + n]);
+            // Empty for triangles (see `Complex::corner`): the global
+            // corners stay valid through the pass.
+            if !c.slot_corner.is_empty() {
+                l.slot_corner.extend_from_slice(&c.slot_corner[s..s + n]);
+            }
             if touches_lock {
                 l.ring += n - 2;
             }
@@ -482,6 +486,8 @@ fn one_pass(run: &mut Run, shift: DVec3, handoff: usize, progress: &dyn Fn(f64))
     // The layouts hold every live face now, and `write_back` rewrites the
     // global corners from the chunks: freed before the chunks are built.
     let corners = run.p.complex.slot_vertex.len();
+    // A complex of triangles keeps no corner list (see `Complex::corner`).
+    let listed = !run.p.complex.slot_corner.is_empty();
     run.p.complex.slot_vertex = Vec::new();
     run.p.complex.slot_corner = Vec::new();
     let slots = Slots::new(&layouts, run.p.complex.pos.len());
@@ -538,7 +544,7 @@ fn one_pass(run: &mut Run, shift: DVec3, handoff: usize, progress: &dyn Fn(f64))
             p.active = p.run.collapse_until(cap, &|_| {});
         });
     }
-    write_back(run, parts, corners);
+    write_back(run, parts, corners, listed);
     slots.move_back(&mut quadrics);
     slots.move_back(&mut reg);
     for (v, q, r, p) in aside {
@@ -556,14 +562,16 @@ fn one_pass(run: &mut Run, shift: DVec3, handoff: usize, progress: &dyn Fn(f64))
 /// of faces in no chunk (dead ones) are never read again. Each chunk's
 /// quadrics stay where they are, in its ranges of the pass's arrays,
 /// summed by its own collapses.
-fn write_back(run: &mut Run, mut parts: Vec<Chunk>, corners: usize) {
+fn write_back(run: &mut Run, mut parts: Vec<Chunk>, corners: usize, listed: bool) {
     // The chunks' adjacency and queues first, or the global corners would
     // be allocated on top of everything (the pass's peak).
     for part in &mut parts {
         part.run.release_adjacency();
     }
     run.p.complex.slot_vertex = vec![NONE; corners];
-    run.p.complex.slot_corner = vec![NONE; corners];
+    if listed {
+        run.p.complex.slot_corner = vec![NONE; corners];
+    }
     // Every vertex a chunk has gets its chunk's position (a vertex on a cut
     // is locked, so all its copies agree); the caller restores the others.
     run.p.complex.pos = vec![DVec3::ZERO; run.merged_into.len()];
@@ -583,7 +591,10 @@ fn write_back(run: &mut Run, mut parts: Vec<Chunk>, corners: usize) {
             let (ls, gs) = (l.start as usize, g.start as usize);
             for k in 0..l.len as usize {
                 gc.slot_vertex[gs + k] = vertex[lc.slot_vertex[ls + k] as usize];
-                gc.slot_corner[gs + k] = lc.slot_corner[ls + k];
+            }
+            if listed {
+                gc.slot_corner[gs..gs + l.len as usize]
+                    .copy_from_slice(&lc.slot_corner[ls..ls + l.len as usize]);
             }
         }
         for (lv, &gv) in vertex.iter().enumerate() {
