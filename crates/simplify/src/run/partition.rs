@@ -13,9 +13,9 @@ use rayon::prelude::*;
 use super::{PerVertex, Run};
 use crate::complex::{Complex, FaceSlots, NONE};
 use crate::options::Options;
-use crate::stored::{Isotropic, StoredQuadric};
 use crate::report::Report;
 use crate::simplify::Prepared;
+use crate::stored::{Isotropic, StoredQuadric};
 use wildlod_mesh::Faces;
 
 /// A chunk stops at this many times the triangles around its locked
@@ -490,6 +490,20 @@ fn one_pass(run: &mut Run, shift: DVec3, handoff: usize, progress: &dyn Fn(f64))
     let listed = !run.p.complex.slot_corner.is_empty();
     run.p.complex.slot_vertex = Vec::new();
     run.p.complex.slot_corner = Vec::new();
+    // Faces laid out three slots each, in order (a complex built from
+    // triangles): `write_back` can rebuild their slot ranges, so they are
+    // freed too.
+    let face_count = run.p.complex.faces.len();
+    let regular = run
+        .p
+        .complex
+        .faces
+        .iter()
+        .enumerate()
+        .all(|(f, s)| s.start as usize == 3 * f);
+    if regular {
+        run.p.complex.faces = Vec::new();
+    }
     let slots = Slots::new(&layouts, run.p.complex.pos.len());
     // Live vertices in no chunk keep their quadrics; a removed vertex's
     // are never read again.
@@ -544,7 +558,7 @@ fn one_pass(run: &mut Run, shift: DVec3, handoff: usize, progress: &dyn Fn(f64))
             p.active = p.run.collapse_until(cap, &|_| {});
         });
     }
-    write_back(run, parts, corners, listed);
+    write_back(run, parts, corners, listed, regular.then_some(face_count));
     slots.move_back(&mut quadrics);
     slots.move_back(&mut reg);
     for (v, q, r, p) in aside {
@@ -558,15 +572,33 @@ fn one_pass(run: &mut Run, shift: DVec3, handoff: usize, progress: &dyn Fn(f64))
 
 /// Copies every chunk's faces, moved positions and merges back to the
 /// global complex (chunks in order: deterministic), whose corner arrays
-/// (`corners` slots, freed during the rounds) are rebuilt here; the slots
-/// of faces in no chunk (dead ones) are never read again. Each chunk's
+/// (`corners` slots, freed during the rounds; the corner list only if it
+/// was `listed`) are rebuilt here, and with them the faces' slot ranges
+/// when those were freed too (`regular`: that many faces, three slots
+/// each); the slots of faces in no chunk (dead ones) are never read
+/// again. Each chunk's
 /// quadrics stay where they are, in its ranges of the pass's arrays,
 /// summed by its own collapses.
-fn write_back(run: &mut Run, mut parts: Vec<Chunk>, corners: usize, listed: bool) {
+fn write_back(
+    run: &mut Run,
+    mut parts: Vec<Chunk>,
+    corners: usize,
+    listed: bool,
+    regular: Option<usize>,
+) {
     // The chunks' adjacency and queues first, or the global corners would
     // be allocated on top of everything (the pass's peak).
     for part in &mut parts {
         part.run.release_adjacency();
+    }
+    if let Some(n) = regular {
+        // Every face that is in no chunk is dead.
+        run.p.complex.faces = (0..n as u32)
+            .map(|f| FaceSlots {
+                start: 3 * f,
+                len: 0,
+            })
+            .collect();
     }
     run.p.complex.slot_vertex = vec![NONE; corners];
     if listed {
