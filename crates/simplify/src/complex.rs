@@ -79,24 +79,104 @@ pub(crate) struct Complex {
     sides: Vec<(u32, u32)>,
 }
 
-/// Per-edge state, packed in 16 bytes: the collapse loop touches an edge's
+/// Per-edge state, packed in 12 bytes: the collapse loop touches an edge's
 /// endpoints, generation and flags together, at random, so they share one
-/// cache line instead of an array's worth of misses each.
+/// cache line instead of an array's worth of misses each. The generation
+/// and the four flags share one word (`GEN_MASK` and the bits above it).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(crate) struct Edge {
     /// Endpoints.
     pub ends: [u32; 2],
-    /// Bumped whenever the edge changes; queue entries carry the value they
-    /// saw, so stale ones are recognized.
-    pub gen: u32,
+    /// Generation (low 28 bits) and flags.
+    state: u32,
+}
+
+/// The generation's bits of [`Edge`]'s state word. It only has to differ
+/// between a queue entry and its edge once the edge changed: it wraps
+/// after 2²⁸ changes of one edge.
+pub(crate) const GEN_MASK: u32 = (1 << 28) - 1;
+const ALIVE: u32 = 1 << 28;
+const QUEUED: u32 = 1 << 29;
+const REFUSED: u32 = 1 << 30;
+const VIRTUAL: u32 = 1 << 31;
+
+impl Edge {
+    /// A live edge of generation 0, in no queue.
+    pub fn new(ends: [u32; 2], is_virtual: bool) -> Edge {
+        Edge {
+            ends,
+            state: ALIVE | if is_virtual { VIRTUAL } else { 0 },
+        }
+    }
+
+    /// Bumped whenever the edge changes; queue entries carry the value
+    /// they saw, so stale ones are recognized.
+    #[inline]
+    pub fn gen(&self) -> u32 {
+        self.state & GEN_MASK
+    }
+
+    /// The edge changed: a new generation.
+    #[inline]
+    pub fn bump_gen(&mut self) {
+        self.state = (self.state & !GEN_MASK) | (self.state.wrapping_add(1) & GEN_MASK);
+    }
+
+    #[inline]
+    fn flag(&self, bit: u32) -> bool {
+        self.state & bit != 0
+    }
+
+    #[inline]
+    fn set_flag(&mut self, bit: u32, on: bool) {
+        if on {
+            self.state |= bit;
+        } else {
+            self.state &= !bit;
+        }
+    }
+
     /// False once the edge was collapsed or merged into another.
-    pub alive: bool,
+    #[inline]
+    pub fn alive(&self) -> bool {
+        self.flag(ALIVE)
+    }
+
+    /// See [`Edge::alive`].
+    #[inline]
+    pub fn set_alive(&mut self, on: bool) {
+        self.set_flag(ALIVE, on);
+    }
+
     /// The collapse loop's mark: the edge has an entry in a queue.
-    pub queued: bool,
+    #[inline]
+    pub fn queued(&self) -> bool {
+        self.flag(QUEUED)
+    }
+
+    /// See [`Edge::queued`].
+    #[inline]
+    pub fn set_queued(&mut self, on: bool) {
+        self.set_flag(QUEUED, on);
+    }
+
     /// The collapse loop's mark: a guard refused the edge.
-    pub refused: bool,
+    #[inline]
+    pub fn refused(&self) -> bool {
+        self.flag(REFUSED)
+    }
+
+    /// See [`Edge::refused`].
+    #[inline]
+    pub fn set_refused(&mut self, on: bool) {
+        self.set_flag(REFUSED, on);
+    }
+
     /// Created as a virtual edge (no face at the start).
-    pub is_virtual: bool,
+    #[inline]
+    pub fn is_virtual(&self) -> bool {
+        self.flag(VIRTUAL)
+    }
 }
 
 /// A face's slots: where its corners start and how many are left.
@@ -380,7 +460,8 @@ impl Complex {
         for f in 0..self.faces.len() as u32 {
             let FaceSlots { start, len } = self.faces[f as usize];
             for k in start..start + len {
-                self.vert_faces.push(self.slot_vertex[k as usize] as usize, f);
+                self.vert_faces
+                    .push(self.slot_vertex[k as usize] as usize, f);
             }
         }
         // Physical edges: consecutive corners, deduplicated. A side that
@@ -415,14 +496,7 @@ impl Complex {
 
     fn push_edge(&mut self, a: u32, b: u32, is_virtual: bool) -> u32 {
         let e = self.edges.len() as u32;
-        self.edges.push(Edge {
-            ends: [a, b],
-            gen: 0,
-            alive: true,
-            queued: false,
-            refused: false,
-            is_virtual,
-        });
+        self.edges.push(Edge::new([a, b], is_virtual));
         self.vert_edges.push(a as usize, e);
         self.vert_edges.push(b as usize, e);
         e
@@ -964,7 +1038,7 @@ impl Complex {
         let mut j_edges = j_faces;
         self.vert_edges.take(j as usize, &mut j_edges);
         for &ej in &j_edges {
-            if !self.edges[ej as usize].alive {
+            if !self.edges[ej as usize].alive() {
                 continue;
             }
             let k = self.other(ej, j);
@@ -984,7 +1058,7 @@ impl Complex {
                 } else {
                     ends[1] = i;
                 }
-                self.edges[ej as usize].gen = self.edges[ej as usize].gen.wrapping_add(1);
+                self.edges[ej as usize].bump_gen();
                 self.vert_edges.push(i as usize, ej);
                 self.vmark[k as usize] = s;
             }
@@ -1092,8 +1166,8 @@ impl Complex {
 
     fn kill_edge(&mut self, e: u32) {
         self.killed.push(e);
-        self.edges[e as usize].alive = false;
-        self.edges[e as usize].gen = self.edges[e as usize].gen.wrapping_add(1);
+        self.edges[e as usize].set_alive(false);
+        self.edges[e as usize].bump_gen();
     }
 
     /// The live faces of every vertex as one flat list in face order
@@ -1201,7 +1275,7 @@ impl Complex {
         for (v, es) in self.vert_edges.iter().enumerate() {
             let mut others = Vec::new();
             for &e in es {
-                if !self.edges[e as usize].alive {
+                if !self.edges[e as usize].alive() {
                     return Err(format!("vertex {v} lists dead edge {e}"));
                 }
                 let [a, b] = self.edges[e as usize].ends;
@@ -1252,6 +1326,27 @@ mod tests {
     }
 
     #[test]
+    fn an_edge_packs_its_generation_and_flags_in_one_word() {
+        assert_eq!(std::mem::size_of::<Edge>(), 12);
+        let mut e = Edge::new([3, 7], true);
+        assert!(e.alive() && e.is_virtual() && !e.queued() && !e.refused());
+        e.set_queued(true);
+        e.set_refused(true);
+        e.bump_gen();
+        assert_eq!(e.gen(), 1);
+        e.set_alive(false);
+        assert!(!e.alive() && e.queued() && e.refused() && e.is_virtual());
+        e.set_refused(false);
+        assert!(e.queued() && !e.refused());
+        // The generation wraps inside its bits, leaving the flags be.
+        e.state = (e.state & !GEN_MASK) | GEN_MASK;
+        e.bump_gen();
+        assert_eq!(e.gen(), 0);
+        assert!(!e.alive() && e.queued() && !e.refused() && e.is_virtual());
+        assert_eq!(e.ends, [3, 7]);
+    }
+
+    #[test]
     fn triangles_keep_no_corner_list_and_polygons_shift_theirs() {
         // Quads: merging 4 into 1 shrinks both faces. Face 0 (0 1 4 3,
         // corners 0–3) keeps 1's corner, not the merged one's: 0 1 3.
@@ -1285,7 +1380,10 @@ mod tests {
         assert!(t.slot_corner.is_empty());
         for f in t.live_faces() {
             let s = t.faces[f as usize].start as usize;
-            assert_eq!(corners(&t, f), (s as u32..s as u32 + 3).collect::<Vec<u32>>());
+            assert_eq!(
+                corners(&t, f),
+                (s as u32..s as u32 + 3).collect::<Vec<u32>>()
+            );
             for (k, &v) in t.face(f).iter().enumerate() {
                 let input = tris[s + k];
                 assert!(v == input || (input == 4 && v == 1), "{f} {k}");
@@ -1332,7 +1430,7 @@ mod tests {
         assert_eq!(out.removed_triangles, 2);
         assert_eq!(c.face(0).len(), 3);
         assert_eq!(c.face(1).len(), 3);
-        assert!(!c.vert_edges[1].iter().any(|&e| c.edges[e as usize].alive));
+        assert!(!c.vert_edges[1].iter().any(|&e| c.edges[e as usize].alive()));
         c.check().unwrap();
     }
 
@@ -1458,7 +1556,7 @@ mod tests {
             let mut changed = Vec::new();
             for step in 0.. {
                 let live: Vec<u32> = (0..c.edges.len() as u32)
-                    .filter(|&e| c.edges[e as usize].alive)
+                    .filter(|&e| c.edges[e as usize].alive())
                     .collect();
                 if live.is_empty() {
                     break;

@@ -540,7 +540,7 @@ impl CostModel {
             total += area.scaled(w);
         }
         if self.metric.gluing_weight > 0.0
-            && c.edges[e as usize].is_virtual
+            && c.edges[e as usize].is_virtual()
             && c.edge_face_count(i, j) == 0
         {
             let g = self.metric.gluing_weight;
@@ -611,11 +611,7 @@ impl CostModel {
         } else {
             cost
         };
-        let cost = floored(
-            cost,
-            qi.weight + qj.weight,
-            self.area_floor,
-        );
+        let cost = floored(cost, qi.weight + qj.weight, self.area_floor);
         if !cost.is_finite() {
             return None;
         }
@@ -629,7 +625,10 @@ mod tests {
 
     /// `q` as a run stores it, each about its vertex.
     fn stored(c: &Complex, q: &[Quadric]) -> Vec<StoredQuadric> {
-        q.iter().zip(&c.pos).map(|(q, &p)| StoredQuadric::new(q, p)).collect()
+        q.iter()
+            .zip(&c.pos)
+            .map(|(q, &p)| StoredQuadric::new(q, p))
+            .collect()
     }
 
     #[test]
@@ -784,7 +783,15 @@ mod tests {
         };
         let weights = |budget| {
             let keep = |_, q| q;
-            vertex_quadric_terms(&apart, &metric, &[], EdgeImportance::default(), budget, keep).0
+            vertex_quadric_terms(
+                &apart,
+                &metric,
+                &[],
+                EdgeImportance::default(),
+                budget,
+                keep,
+            )
+            .0
         };
         let q = weights(2);
         assert!((q[0].weight - 0.5 / 3.0).abs() < 1e-12, "{}", q[0].weight);
@@ -911,7 +918,9 @@ mod tests {
         };
         let mut s = Scratch::default();
         let e = c.edge_between(0, 2).unwrap();
-        let ev = m.evaluate(&c, &stored(&c, &q), &[], &[], &[], None, e, &mut s).unwrap();
+        let ev = m
+            .evaluate(&c, &stored(&c, &q), &[], &[], &[], None, e, &mut s)
+            .unwrap();
         let plain = CostModel {
             area_floor: 0.0,
             attributes_move_vertices: false,
@@ -952,7 +961,16 @@ mod tests {
             metric: base,
             lock_borders: false,
         }
-        .evaluate(&c, &stored(&c, &q), &[], &[], &[], None, e, &mut Scratch::default())
+        .evaluate(
+            &c,
+            &stored(&c, &q),
+            &[],
+            &[],
+            &[],
+            None,
+            e,
+            &mut Scratch::default(),
+        )
         .unwrap();
         let eq5 = CostModel {
             area_floor: 0.0,
@@ -963,7 +981,16 @@ mod tests {
             },
             lock_borders: false,
         }
-        .evaluate(&c, &stored(&c, &q), &[], &[], &[], None, e, &mut Scratch::default())
+        .evaluate(
+            &c,
+            &stored(&c, &q),
+            &[],
+            &[],
+            &[],
+            None,
+            e,
+            &mut Scratch::default(),
+        )
         .unwrap();
         // Same placement; the cost drops by exactly Q1(p1) + Q2(p2) = 0 + 1/16.
         assert_eq!(plain.position, eq5.position);
@@ -1005,7 +1032,16 @@ mod tests {
             lock_borders: false,
         };
         let ev = m
-            .evaluate(&c, &stored(&c, &q), &[], &[], &[], None, e, &mut Scratch::default())
+            .evaluate(
+                &c,
+                &stored(&c, &q),
+                &[],
+                &[],
+                &[],
+                None,
+                e,
+                &mut Scratch::default(),
+            )
             .unwrap();
         // Each vertex has area share 1/2 and lies in z = 0: the planes are
         // indifferent within the plane, the gluing term 2·(1/2)·|x−p|² per
@@ -1023,9 +1059,18 @@ mod tests {
             lock_borders: false,
         };
         assert!(
-            free.evaluate(&c, &stored(&c, &q), &[], &[], &[], None, e, &mut Scratch::default())
-                .unwrap()
-                .cost
+            free.evaluate(
+                &c,
+                &stored(&c, &q),
+                &[],
+                &[],
+                &[],
+                None,
+                e,
+                &mut Scratch::default()
+            )
+            .unwrap()
+            .cost
                 < 1e-12
         );
     }
@@ -1043,7 +1088,10 @@ mod tests {
         let mut s = Scratch::default();
         // Every vertex of the hinge is on the border.
         for e in 0..c.edges.len() as u32 {
-            assert_eq!(m.evaluate(&c, &stored(&c, &q), &[], &[], &[], None, e, &mut s), None);
+            assert_eq!(
+                m.evaluate(&c, &stored(&c, &q), &[], &[], &[], None, e, &mut s),
+                None
+            );
         }
     }
 
@@ -1065,7 +1113,11 @@ mod tests {
         // 3 · 0.25 + 3 · 0.09 = 1.02.
         let b = border_planes(&c, &planes, 0.0, 3.0, 0.2);
         let p = DVec3::new(0.5, 0.5, 0.3);
-        assert!((b.at(0).eval(p) - 1.02).abs() < 1e-12, "{}", b.at(0).eval(p));
+        assert!(
+            (b.at(0).eval(p) - 1.02).abs() < 1e-12,
+            "{}",
+            b.at(0).eval(p)
+        );
         assert!((b.at(1).eval(p) - 1.02).abs() < 1e-12);
         // Sliding along the crease is free; the far corners get nothing.
         assert!(b.at(0).eval(DVec3::new(7.0, 0.0, 0.0)).abs() < 1e-12);

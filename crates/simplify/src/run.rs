@@ -15,9 +15,9 @@ use crate::history::HistoryRecorder;
 use crate::options::Metric;
 use crate::options::Options;
 use crate::ordering::{tie_tolerance, TieOrder};
-use crate::stored::{Isotropic, StoredQuadric};
 use crate::report::{Report, StopReason};
 use crate::simplify::{Prepared, Simplified};
+use crate::stored::{Isotropic, StoredQuadric};
 use crate::symmetry::{edge_symmetry_weights, EdgeNormals, SymmetryInput, SymmetryOptions};
 use crate::tangent::{joint_difference, side_normals};
 use crate::virtual_edges::{add_virtual_edges, find_virtual_edges};
@@ -466,7 +466,7 @@ impl<'o> Run<'o> {
         let entries: Vec<Entry> = (0..c.edges.len() as u32)
             .into_par_iter()
             .map_init(Scratch::default, |s, e| {
-                if !c.edges[e as usize].alive {
+                if !c.edges[e as usize].alive() {
                     return None;
                 }
                 model
@@ -474,13 +474,13 @@ impl<'o> Run<'o> {
                     .map(|ev| Entry {
                         cost: ev.cost,
                         edge: e,
-                        gen: c.edges[e as usize].gen,
+                        gen: c.edges[e as usize].gen(),
                     })
             })
             .flatten_iter()
             .collect();
         for en in &entries {
-            self.p.complex.edges[en.edge as usize].queued = true;
+            self.p.complex.edges[en.edge as usize].set_queued(true);
         }
         self.queue = CollapseQueue::from_entries(entries);
         let options = self.options;
@@ -561,11 +561,11 @@ impl<'o> Run<'o> {
                 .map_or(self.model.metric.pinch_cost, |&p| p as f64);
             if pinch > 0.0 && cost < pinch && pinches(&self.p.complex, a, b) {
                 let edge = &mut self.p.complex.edges[e as usize];
-                edge.queued = true;
+                edge.set_queued(true);
                 self.queue.push(Entry {
                     cost: cost + pinch,
                     edge: e,
-                    gen: edge.gen,
+                    gen: edge.gen(),
                 });
                 continue;
             }
@@ -626,8 +626,8 @@ impl<'o> Run<'o> {
             };
             if !self.allowed(i, j, ev.position, min_cos) {
                 let edge = &mut self.p.complex.edges[e as usize];
-                if !edge.refused {
-                    edge.refused = true;
+                if !edge.refused() {
+                    edge.set_refused(true);
                     self.refused_around[a as usize] += 1;
                     self.refused_around[b as usize] += 1;
                 }
@@ -661,11 +661,11 @@ impl<'o> Run<'o> {
         if let Some(ties) = &mut self.ties {
             while let Some(t) = ties.pop() {
                 let edge = &mut self.p.complex.edges[t.edge as usize];
-                if !edge.alive {
-                    edge.queued = false;
+                if !edge.alive() {
+                    edge.set_queued(false);
                     continue;
                 }
-                if t.gen != edge.gen {
+                if t.gen != edge.gen() {
                     // Its cost changed since it joined: it leaves the class
                     // (Alg. 1 line 24) and waits, stale, in the main queue.
                     self.queue.push(Entry {
@@ -675,7 +675,7 @@ impl<'o> Run<'o> {
                     });
                     continue;
                 }
-                edge.queued = false;
+                edge.set_queued(false);
                 return Next::Edge(t.edge, t.cost, None, t.recency);
             }
         }
@@ -686,7 +686,7 @@ impl<'o> Run<'o> {
             return Next::AboveCap;
         }
         self.queue.pop();
-        self.p.complex.edges[e as usize].queued = false;
+        self.p.complex.edges[e as usize].set_queued(false);
         if let Some(ties) = &mut self.ties {
             ties.new_class(cost);
         }
@@ -712,14 +712,14 @@ impl<'o> Run<'o> {
             let top = self.queue.peek()?;
             let e = top.edge as usize;
             let edge = self.p.complex.edges[e];
-            if !edge.alive {
+            if !edge.alive() {
                 self.queue.pop();
-                self.p.complex.edges[e].queued = false;
+                self.p.complex.edges[e].set_queued(false);
                 continue;
             }
-            if top.gen == edge.gen {
+            if top.gen == edge.gen() {
                 let known = last
-                    .filter(|&(le, lg, _)| le == top.edge && lg == edge.gen)
+                    .filter(|&(le, lg, _)| le == top.edge && lg == edge.gen())
                     .map(|l| l.2);
                 return Some((top.edge, top.cost, known));
             }
@@ -736,16 +736,16 @@ impl<'o> Run<'o> {
             );
             match ev {
                 Some(ev) => {
-                    last = Some((top.edge, edge.gen, ev));
+                    last = Some((top.edge, edge.gen(), ev));
                     self.queue.replace_top(Entry {
                         cost: ev.cost,
                         edge: top.edge,
-                        gen: edge.gen,
+                        gen: edge.gen(),
                     })
                 }
                 None => {
                     self.queue.pop();
-                    self.p.complex.edges[e].queued = false;
+                    self.p.complex.edges[e].set_queued(false);
                 }
             }
         }
@@ -785,8 +785,8 @@ impl<'o> Run<'o> {
         if let Some(ties) = &mut self.ties {
             for &o in opposite {
                 let edge = &self.p.complex.edges[o as usize];
-                if edge.alive {
-                    ties.bump(o, recency + 1, edge.gen);
+                if edge.alive() {
+                    ties.bump(o, recency + 1, edge.gen());
                 }
             }
         }
@@ -799,7 +799,7 @@ impl<'o> Run<'o> {
                 break;
             }
             self.queue.pop();
-            let gen = self.p.complex.edges[e as usize].gen;
+            let gen = self.p.complex.edges[e as usize].gen();
             // Still `queued`: it waits in the tie queue now.
             ties.push(e, cost, gen);
         }
@@ -874,8 +874,8 @@ impl<'o> Run<'o> {
         self.refused_around[i as usize] += moved;
         for &k in &c.killed {
             let edge = &mut c.edges[k as usize];
-            if edge.refused {
-                edge.refused = false;
+            if edge.refused() {
+                edge.set_refused(false);
                 for v in edge.ends {
                     let n = &mut self.refused_around[v as usize];
                     *n = n.saturating_sub(1);
@@ -941,7 +941,7 @@ impl<'o> Run<'o> {
             let k = c.other(ei, i);
             if self.refused_around[k as usize] > 0 {
                 for &ek in &c.vert_edges[k as usize] {
-                    if c.edges[ek as usize].refused {
+                    if c.edges[ek as usize].refused() {
                         todo.push(ek);
                     }
                 }
@@ -952,27 +952,27 @@ impl<'o> Run<'o> {
         let c = &mut self.p.complex;
         for &ed in &todo {
             let k = ed as usize;
-            if !c.edges[k].alive {
+            if !c.edges[k].alive() {
                 continue;
             }
             let edge = &mut c.edges[k];
-            edge.gen = edge.gen.wrapping_add(1);
-            if edge.refused {
-                edge.refused = false;
+            edge.bump_gen();
+            if edge.refused() {
+                edge.set_refused(false);
                 for v in edge.ends {
                     let n = &mut self.refused_around[v as usize];
                     *n = n.saturating_sub(1);
                 }
             }
-            if !edge.queued {
+            if !edge.queued() {
                 // Not in the queue (refused, or not collapsible before): put
                 // it back, stale, under the cost of the last collapse so
                 // that it is evaluated again right away.
-                edge.queued = true;
+                edge.set_queued(true);
                 self.queue.push(Entry {
                     cost: self.last_cost,
                     edge: ed,
-                    gen: edge.gen.wrapping_sub(1),
+                    gen: edge.gen().wrapping_sub(1) & crate::complex::GEN_MASK,
                 });
             }
         }

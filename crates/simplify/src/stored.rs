@@ -181,7 +181,12 @@ mod tests {
         assert_eq!(back.eval(o), 0.03125);
         let q = plane + Quadric::boundary_area(DVec3::new(0.1, 0.0, 0.2), DVec3::ONE);
         let back = StoredQuadric::new(&q, o).quadric();
-        for x in [o, DVec3::ZERO, DVec3::new(0.3, -0.2, 0.9), DVec3::splat(2.0)] {
+        for x in [
+            o,
+            DVec3::ZERO,
+            DVec3::new(0.3, -0.2, 0.9),
+            DVec3::splat(2.0),
+        ] {
             assert!(close(back.eval(x), q.eval(x), 1e-6), "{x}");
         }
     }

@@ -695,7 +695,7 @@ impl AttributeState {
             .collect();
         let mut sides: Vec<(u32, u32, u32)> = Vec::new();
         for e in &c.edges {
-            if !e.alive {
+            if !e.alive() {
                 continue;
             }
             let [a, b] = e.ends;
@@ -768,7 +768,7 @@ fn splits(w: &Wedges, sides: &[(u32, u32, u32)]) -> bool {
 fn seam_share(c: &Complex, w: &Wedges) -> f64 {
     let (mut seams, mut inner) = (0usize, 0usize);
     let mut sides = Vec::new();
-    for e in c.edges.iter().filter(|e| e.alive) {
+    for e in c.edges.iter().filter(|e| e.alive()) {
         edge_sides(c, e.ends[0], e.ends[1], &mut sides);
         if sides.len() >= 2 {
             inner += 1;
@@ -804,7 +804,7 @@ fn finish(st: &StreamState, v: &mut [f64]) {
 /// 1 when it has none.
 fn mean_edge_length(c: &Complex) -> f64 {
     let (mut sum, mut n) = (0.0, 0usize);
-    for e in c.edges.iter().filter(|e| e.alive && !e.is_virtual) {
+    for e in c.edges.iter().filter(|e| e.alive() && !e.is_virtual()) {
         sum += c.pos[e.ends[0] as usize].distance(c.pos[e.ends[1] as usize]);
         n += 1;
     }
