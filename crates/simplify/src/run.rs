@@ -1004,19 +1004,19 @@ impl<'o> Run<'o> {
         self.p.complex.clear_adjacency();
     }
 
-    /// The final refit (see `refit.rs`) against the input `faces` (input
-    /// vertex ids) that the complex kept (`kept`, per face; empty: all).
+    /// The final refit (see `refit.rs`) against the input (`positions`,
+    /// and the `faces` over them) that the complex kept (`kept`, per face; empty: all).
     /// With the history recorded too: successive mapping projects the final
     /// mesh's points onto the recorded one-rings by closest point (W
     /// §4.3.1), which a surface moved closer to the input only helps.
-    pub fn refit(&mut self, faces: &Faces, kept: &[bool]) {
+    pub fn refit(&mut self, positions: &[[f32; 3]], faces: &Faces, kept: &[bool]) {
         let sweeps = self.options.refit_sweeps;
         // Soft symmetry asks for a mirror-symmetric result: vertices on the
         // mirror plane stay on it, which a fit to the input points around
         // them, never quite symmetric, would undo.
         // Nothing collapsed: the output is the input, already on itself.
         if sweeps == 0
-            || self.p.input.is_empty()
+            || self.p.rep.is_empty()
             || self.options.quad.symmetry > 0.0
             || self.report.collapses == 0
         {
@@ -1038,8 +1038,11 @@ impl<'o> Run<'o> {
         // What neither the refit nor `assemble` reads, freed first: the
         // refit then fits under the run's earlier peak.
         self.release_adjacency();
+        // The input's positions by welded vertex, made now that the run's
+        // adjacency is gone.
+        let welded: Vec<[f32; 3]> = self.p.rep.iter().map(|&v| positions[v as usize]).collect();
         let input = crate::refit::RefitInput {
-            positions: &self.p.input,
+            positions: &welded,
             center: self.p.center,
             scale: self.p.scale,
             offsets: &faces.offsets,
@@ -1059,8 +1062,9 @@ impl<'o> Run<'o> {
     }
 
     /// The live faces in input order, positions de-normalized (untouched
-    /// vertices keep their input bits), and the maps back to the input.
-    pub fn assemble(self, input: &AttributeInput<'_>) -> Simplified {
+    /// vertices keep their bits in `input_positions`, the input's), and the
+    /// maps back to the input.
+    pub fn assemble(self, input_positions: &[[f32; 3]], input: &AttributeInput<'_>) -> Simplified {
         let c = &self.p.complex;
         let nv = c.pos.len();
         let mut out_id = vec![u32::MAX; nv];
@@ -1081,7 +1085,7 @@ impl<'o> Run<'o> {
                 [p.x as f32, p.y as f32, p.z as f32]
             } else {
                 // Untouched vertices keep their input bits exactly.
-                self.p.input[v]
+                input_positions[self.p.rep[v] as usize]
             });
         }
         let mut faces = Faces::with_capacity(c.faces.len(), c.slot_vertex.len());

@@ -212,9 +212,9 @@ pub fn simplify_with_attributes_and_progress(
     let mut run = Run::new(prepared, options, attrs);
     run.start(progress);
     run.collapse_loop(progress);
-    run.refit(faces, &kept);
+    run.refit(positions, faces, &kept);
     progress(1.0);
-    let mut out = run.assemble(attributes);
+    let mut out = run.assemble(positions, attributes);
     if let Some(s) = &split {
         s.map_back(&mut out);
     }
@@ -351,8 +351,10 @@ pub(crate) struct Prepared {
     pub input_triangles: usize,
     /// Per welded vertex importance (empty: all 1).
     pub weights: Vec<f64>,
-    /// Input bits of each welded vertex's position.
-    pub input: Vec<[f32; 3]>,
+    /// The first input vertex of each welded vertex, whose position bits
+    /// an untouched vertex keeps (the input's positions are the caller's:
+    /// not copied).
+    pub rep: Vec<u32>,
 }
 
 pub(crate) fn prepare(
@@ -423,9 +425,8 @@ pub(crate) fn prepare(
             *x = x.max(options.vertex_weights[v] as f64);
         }
     }
-    let input = rep.iter().map(|&v| positions[v as usize]).collect();
     Prepared {
-        input,
+        rep,
         complex,
         cleaned: cleaned.degenerate + cleaned.duplicate,
         hidden_twins,

@@ -433,7 +433,7 @@ fn build_chunk<'a>(
         scale: run.p.scale,
         input_triangles: triangles,
         weights: Vec::new(),
-        input: Vec::new(),
+        rep: Vec::new(),
     };
     let mut chunk_run = Run::chunk(run, prepared, quadrics, reg, chunk_locked, floor);
     chunk_run.inherit_pinch_prices(run, &vertex);
