@@ -56,7 +56,6 @@ pub(crate) struct Complex {
     pub riders: Vec<Rider>,
     /// Scratch marks for set operations, compared against `stamp`.
     vmark: Vec<u32>,
-    fmark: Vec<u32>,
     stamp: u32,
     /// Edges the last collapse killed (collapsed or merged away).
     pub killed: Vec<u32>,
@@ -267,7 +266,6 @@ impl Complex {
             // The partitioned path keeps this complex without star lists
             // through every pass, beside the chunks: no room to spare.
             vmark: Vec::new(),
-            fmark: Vec::new(),
             stamp: 0,
             killed: Vec::new(),
             border_sides: Vec::new(),
@@ -417,7 +415,6 @@ impl Complex {
             instances: Vec::new(),
             riders: Vec::new(),
             vmark: Vec::new(),
-            fmark: Vec::new(),
             stamp: 0,
             killed: Vec::new(),
             border_sides: Vec::new(),
@@ -486,7 +483,6 @@ impl Complex {
             let (a, b) = ((k >> 32) as u32, k as u32);
             self.push_edge(a, b, false);
         }
-        self.fmark.resize(self.faces.len(), 0);
         self.vmark.resize(nv, 0);
         self.border_lists.clear();
         for v in 0..nv as u32 {
@@ -627,7 +623,6 @@ impl Complex {
         self.stamp = self.stamp.wrapping_add(1);
         if self.stamp == 0 {
             self.vmark.fill(0);
-            self.fmark.fill(0);
             self.stamp = 1;
         }
         self.stamp
@@ -740,16 +735,15 @@ impl Complex {
         count
     }
 
-    /// The faces around `i` or `j`, each once, in a deterministic order.
-    pub fn star_faces(&mut self, i: u32, j: u32, out: &mut Vec<u32>) {
-        let s = self.next_stamp();
+    /// The faces around `i` or `j`, each once, in a deterministic order:
+    /// `i`'s, then those of `j`'s that do not hold `i` (a star lists a face
+    /// once, and exactly the faces that hold its vertex).
+    pub fn star_faces(&self, i: u32, j: u32, out: &mut Vec<u32>) {
         out.clear();
-        for v in [i, j] {
-            for &f in &self.vert_faces[v as usize] {
-                if self.fmark[f as usize] != s {
-                    self.fmark[f as usize] = s;
-                    out.push(f);
-                }
+        out.extend_from_slice(&self.vert_faces[i as usize]);
+        for &f in &self.vert_faces[j as usize] {
+            if !self.face(f).contains(&i) {
+                out.push(f);
             }
         }
     }
