@@ -444,8 +444,9 @@ pub(crate) struct Evaluation {
 /// Root-mean-square distance from `x` to the planes vertices `i` and `j`
 /// accumulated (relative to the unit diagonal): the error users see, and the
 /// one `--error` limits. Computed only for collapses actually considered.
-pub(crate) fn distance(q: &[StoredQuadric], i: u32, j: u32, x: DVec3) -> f64 {
-    let m = q[i as usize].quadric() + q[j as usize].quadric();
+pub(crate) fn distance(c: &Complex, q: &[StoredQuadric], i: u32, j: u32, x: DVec3) -> f64 {
+    let at = |v: u32| q[v as usize].quadric(c.pos[v as usize]);
+    let m = at(i) + at(j);
     (m.eval(x).max(0.0) / m.weight.max(f64::MIN_POSITIVE)).sqrt()
 }
 
@@ -508,7 +509,7 @@ impl CostModel {
     ) -> Option<Evaluation> {
         let [i, j] = c.edges[e as usize].ends;
         let (pi, pj) = (c.pos[i as usize], c.pos[j as usize]);
-        let (qi, qj) = (q[i as usize].quadric(), q[j as usize].quadric());
+        let (qi, qj) = (q[i as usize].quadric(pi), q[j as usize].quadric(pj));
         let mut total = qi + qj;
         // `border` says which vertices have boundary edges at all; most
         // evaluations (interior edges) skip the scan.

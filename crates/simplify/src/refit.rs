@@ -95,6 +95,9 @@ pub(crate) struct RefitInput<'a> {
     /// move a vertex off the planes that hold it; the damping steadies the
     /// solve instead).
     pub quadrics: &'a [StoredQuadric],
+    /// The positions the quadrics were stored about (see `stored.rs`): the
+    /// vertices' before the refit moves them.
+    pub origins: &'a [DVec3],
     pub regularization: &'a [Isotropic],
     /// Vertices that must not move (locked borders); empty: none.
     pub fixed: &'a [bool],
@@ -231,7 +234,7 @@ fn place(
     let q = input
         .quadrics
         .get(v as usize)
-        .map_or(Quadric::ZERO, StoredQuadric::quadric);
+        .map_or(Quadric::ZERO, |q| q.quadric(input.origins[v as usize]));
     let q = match input.regularization.get(v as usize) {
         Some(r) => q.minus(&r.quadric()),
         None => q,
@@ -567,6 +570,7 @@ mod tests {
             .zip(&c.pos)
             .map(|(q, &p)| StoredQuadric::new(q, p))
             .collect();
+        let origins = c.pos.clone();
         let input = RefitInput {
             positions: &origin,
             center: DVec3::ZERO,
@@ -577,6 +581,7 @@ mod tests {
             kept: &[],
             root: &root,
             quadrics: &quadrics,
+            origins: &origins,
             regularization: &[],
             fixed,
             min_cos,

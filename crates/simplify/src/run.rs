@@ -277,7 +277,8 @@ impl<'o> Run<'o> {
         if let Some(a) = &attrs {
             let planes = a.seam_planes(&p.complex, options.attributes.seam_weight);
             for (v, (q, plane)) in quadrics.iter_mut().zip(planes).enumerate() {
-                *q = StoredQuadric::new(&(q.quadric() + plane), p.complex.pos[v]);
+                let at = p.complex.pos[v];
+                *q = StoredQuadric::new(&(q.quadric(at) + plane), at);
             }
         }
         let faces = p.complex.faces.iter().filter(|f| f.len > 0).count();
@@ -595,7 +596,7 @@ impl<'o> Run<'o> {
                 continue;
             };
             let [a, b] = c.edges[e as usize].ends;
-            let dist = distance(&self.quadrics, a, b, ev.position);
+            let dist = distance(c, &self.quadrics, a, b, ev.position);
             if let Some(limit) = max_error {
                 if dist > limit {
                     self.report.rejected.error_limit += 1;
@@ -885,7 +886,8 @@ impl<'o> Run<'o> {
         self.moved[i as usize] = true;
         self.merged_into[j as usize] = i;
         // Summed in double precision, stored about where the vertex went.
-        let merged = self.quadrics[i as usize].quadric() + self.quadrics[j as usize].quadric();
+        // About where the endpoints were when they were stored.
+        let merged = self.quadrics[i as usize].quadric(pi) + self.quadrics[j as usize].quadric(pj);
         self.quadrics[i as usize] = StoredQuadric::new(&merged, c.pos[i as usize]);
         if !self.reg.is_empty() {
             self.reg[i as usize] = self.reg[i as usize] + self.reg[j as usize];
@@ -1041,6 +1043,7 @@ impl<'o> Run<'o> {
         // The input's positions by welded vertex, made now that the run's
         // adjacency is gone.
         let welded: Vec<[f32; 3]> = self.p.rep.iter().map(|&v| positions[v as usize]).collect();
+        let origins = self.p.complex.pos.clone();
         let input = crate::refit::RefitInput {
             positions: &welded,
             center: self.p.center,
@@ -1051,6 +1054,7 @@ impl<'o> Run<'o> {
             kept,
             root: &root,
             quadrics: &self.quadrics,
+            origins: &origins,
             regularization: &self.reg,
             fixed: &fixed,
             min_cos,
