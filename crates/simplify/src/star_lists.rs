@@ -1,8 +1,8 @@
 //! Star lists (the faces or the edges around each vertex) kept in one
-//! shared pool: 12 bytes of span per vertex and 4 per entry, where a
-//! small vector per vertex took 40 bytes inline and a heap block for every
-//! star that outgrew it (issue 15: the chunks' star lists were the largest
-//! part of a large run's peak).
+//! shared pool: 8 bytes of span per vertex and 4 per entry, where a small
+//! vector per vertex took 40 bytes inline and a heap block for every star
+//! that outgrew it (issue 15: the chunks' star lists were the largest part
+//! of a large run's peak).
 //!
 //! A star that grows past its span moves to the end of the pool with room
 //! to spare; the space it leaves is garbage, reclaimed by sliding every
@@ -10,14 +10,25 @@
 //! the order of their entries exactly as a vector would (pushes append,
 //! removals swap the last entry in, `retain` keeps the order), so every
 //! walk over a star sees what it saw before.
+//!
+//! A span counts its entries in 16 bits. A star that outgrows that (a fan's
+//! centre, a vertex shared by a whole soup) lives in a vector of its own;
+//! its span then only points there.
 
-/// Where a star lives in the pool.
+/// Where a star lives in the pool, or (`cap == LARGE`) which large star
+/// it is.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 struct Span {
     start: u32,
-    len: u32,
-    cap: u32,
+    len: u16,
+    cap: u16,
 }
+
+/// The `cap` of a span whose star lives in `StarLists::large`.
+const LARGE: u16 = u16::MAX;
+
+/// The most entries a star keeps in the pool.
+const MAX_POOLED: usize = LARGE as usize - 1;
 
 /// One star per vertex, in a shared pool.
 #[derive(Clone, Debug, Default)]
@@ -26,25 +37,40 @@ pub(crate) struct StarLists {
     pool: Vec<u32>,
     /// Pool entries no span owns.
     garbage: usize,
+    /// The stars too large for a span.
+    large: Vec<Vec<u32>>,
 }
 
 impl StarLists {
     /// Empty stars, one per count, each with room for exactly its count.
     pub fn with_capacities(counts: impl ExactSizeIterator<Item = u32>) -> StarLists {
         let mut span = Vec::with_capacity(counts.len());
-        let mut next = 0u32;
+        let mut large = Vec::new();
+        let mut next = 0usize;
         for cap in counts {
-            span.push(Span {
-                start: next,
-                len: 0,
-                cap,
-            });
-            next += cap;
+            let cap = cap as usize;
+            if cap > MAX_POOLED {
+                span.push(Span {
+                    start: large.len() as u32,
+                    len: 0,
+                    cap: LARGE,
+                });
+                large.push(Vec::with_capacity(cap));
+            } else {
+                span.push(Span {
+                    start: next as u32,
+                    len: 0,
+                    cap: cap as u16,
+                });
+                next += cap;
+            }
         }
+        assert!(next <= u32::MAX as usize, "star lists beyond 2³² entries");
         StarLists {
             span,
-            pool: vec![0; next as usize],
+            pool: vec![0; next],
             garbage: 0,
+            large,
         }
     }
 
@@ -58,7 +84,22 @@ impl StarLists {
     #[inline]
     pub fn get(&self, v: usize) -> &[u32] {
         let s = self.span[v];
-        &self.pool[s.start as usize..(s.start + s.len) as usize]
+        if s.cap == LARGE {
+            return &self.large[s.start as usize];
+        }
+        &self.pool[s.start as usize..s.start as usize + s.len as usize]
+    }
+
+    /// The star of `v`, mutable, if it is in the pool (else `None`, and
+    /// `large` has it).
+    #[inline]
+    fn pooled_mut(&mut self, v: usize) -> Option<(&mut [u32], &mut u16)> {
+        let s = &mut self.span[v];
+        if s.cap == LARGE {
+            return None;
+        }
+        let (start, len) = (s.start as usize, s.len as usize);
+        Some((&mut self.pool[start..start + len], &mut s.len))
     }
 
     /// Every star, in vertex order.
@@ -70,11 +111,20 @@ impl StarLists {
     /// Appends `x` to the star of `v`.
     #[inline]
     pub fn push(&mut self, v: usize, x: u32) {
-        if self.span[v].len == self.span[v].cap {
+        let s = self.span[v];
+        if s.cap == LARGE {
+            self.large[s.start as usize].push(x);
+            return;
+        }
+        if s.len == s.cap {
             self.grow(v);
+            if self.span[v].cap == LARGE {
+                self.large[self.span[v].start as usize].push(x);
+                return;
+            }
         }
         let s = &mut self.span[v];
-        self.pool[(s.start + s.len) as usize] = x;
+        self.pool[s.start as usize + s.len as usize] = x;
         s.len += 1;
     }
 
@@ -82,26 +132,42 @@ impl StarLists {
     /// taking its place (a vector's `swap_remove`).
     #[inline]
     pub fn remove(&mut self, v: usize, x: u32) {
-        let s = &mut self.span[v];
-        let star = &mut self.pool[s.start as usize..(s.start + s.len) as usize];
-        if let Some(p) = star.iter().position(|&y| y == x) {
-            star[p] = star[star.len() - 1];
-            s.len -= 1;
+        // One search for both kinds of star: on a fan's centre this scan
+        // is most of a collapse.
+        if let Some(p) = self.get(v).iter().position(|&y| y == x) {
+            self.swap_remove(v, p);
+        }
+    }
+
+    /// Removes entry `p` of `v`'s star, the last entry taking its place.
+    #[inline]
+    fn swap_remove(&mut self, v: usize, p: usize) {
+        match self.pooled_mut(v) {
+            Some((star, len)) => {
+                star[p] = star[star.len() - 1];
+                *len -= 1;
+            }
+            None => {
+                self.large[self.span[v].start as usize].swap_remove(p);
+            }
         }
     }
 
     /// Keeps the entries of `v`'s star for which `keep` holds, in order.
     pub fn retain(&mut self, v: usize, mut keep: impl FnMut(u32) -> bool) {
-        let s = &mut self.span[v];
-        let star = &mut self.pool[s.start as usize..(s.start + s.len) as usize];
-        let mut w = 0;
-        for r in 0..star.len() {
-            if keep(star[r]) {
-                star[w] = star[r];
-                w += 1;
+        match self.pooled_mut(v) {
+            Some((star, len)) => {
+                let mut w = 0;
+                for r in 0..star.len() {
+                    if keep(star[r]) {
+                        star[w] = star[r];
+                        w += 1;
+                    }
+                }
+                *len = w as u16;
             }
+            None => self.large[self.span[v].start as usize].retain(|&x| keep(x)),
         }
-        s.len = w as u32;
     }
 
     /// Moves the star of `v` into `out` (cleared first), leaving it empty
@@ -109,34 +175,55 @@ impl StarLists {
     pub fn take(&mut self, v: usize, out: &mut Vec<u32>) {
         out.clear();
         out.extend_from_slice(self.get(v));
-        self.garbage += self.span[v].cap as usize;
+        let s = self.span[v];
+        if s.cap == LARGE {
+            self.large[s.start as usize] = Vec::new();
+        } else {
+            self.garbage += s.cap as usize;
+        }
         self.span[v] = Span::default();
     }
 
-    /// Moves the star of `v` to the end of the pool with room to grow.
+    /// Moves the star of `v` to the end of the pool with room to grow, or
+    /// out of the pool when it outgrows a span.
     #[cold]
     fn grow(&mut self, v: usize) {
         let old = self.span[v];
+        let len = old.len as usize;
         // Half as much again, and at least four: a vertex that gains a
         // star in a collapse gains a few faces, rarely many.
-        let cap = (old.len + 4).max(old.len + old.len / 2);
-        if self.pool.len() + cap as usize > self.pool.capacity() {
-            self.make_room(cap as usize);
+        let cap = (len + 4).max(len + len / 2);
+        if cap > MAX_POOLED {
+            let mut star = Vec::with_capacity(cap);
+            star.extend_from_slice(self.get(v));
+            self.garbage += old.cap as usize;
+            self.span[v] = Span {
+                start: self.large.len() as u32,
+                len: 0,
+                cap: LARGE,
+            };
+            self.large.push(star);
+            return;
+        }
+        if self.pool.len() + cap > self.pool.capacity() {
+            self.make_room(cap);
         }
         let old = self.span[v];
         let start = self.pool.len();
         assert!(
-            start + cap as usize <= u32::MAX as usize,
+            start + cap <= u32::MAX as usize,
             "star lists beyond 2³² entries"
         );
-        self.pool
-            .extend_from_within(old.start as usize..(old.start + old.len) as usize);
-        self.pool.resize(start + cap as usize, 0);
+        if old.len > 0 {
+            let from = old.start as usize;
+            self.pool.extend_from_within(from..from + len);
+        }
+        self.pool.resize(start + cap, 0);
         self.garbage += old.cap as usize;
         self.span[v] = Span {
             start: start as u32,
             len: old.len,
-            cap,
+            cap: cap as u16,
         };
     }
 
@@ -163,20 +250,23 @@ impl StarLists {
             }
         }
         let mut order: Vec<u32> = (0..self.span.len() as u32)
-            .filter(|&v| self.span[v as usize].cap > 0)
+            .filter(|&v| {
+                let cap = self.span[v as usize].cap;
+                cap > 0 && cap != LARGE
+            })
             .collect();
         order.sort_unstable_by_key(|&v| self.span[v as usize].start);
-        let mut next = 0u32;
+        let mut next = 0usize;
         for v in order {
             let s = &mut self.span[v as usize];
-            if s.start != next {
-                self.pool
-                    .copy_within(s.start as usize..(s.start + s.len) as usize, next as usize);
-                s.start = next;
+            let (from, len) = (s.start as usize, s.len as usize);
+            if from != next {
+                self.pool.copy_within(from..from + len, next);
+                s.start = next as u32;
             }
-            next += s.cap;
+            next += s.cap as usize;
         }
-        self.pool.truncate(next as usize);
+        self.pool.truncate(next);
         self.garbage = 0;
     }
 }
@@ -244,11 +334,53 @@ mod tests {
                 compactions += 1;
             }
             // Every pool entry is some span's room or counted garbage.
-            let owned: usize = stars.span.iter().map(|s| s.cap as usize).sum();
+            let owned: usize = stars
+                .span
+                .iter()
+                .filter(|s| s.cap != LARGE)
+                .map(|s| s.cap as usize)
+                .sum();
             assert_eq!(owned + stars.garbage, stars.pool.len(), "step {step}");
         }
         assert_eq!(as_vecs(&stars), reference);
         assert!(compactions > 10, "only {compactions} compactions");
+    }
+
+    #[test]
+    fn a_star_larger_than_a_span_lives_outside_the_pool() {
+        // One star grows past what a span counts (a fan's centre), beside
+        // small ones that keep compacting around it; another starts large.
+        let n = 8usize;
+        let mut counts = vec![2u32; n];
+        counts[5] = 70_000;
+        let mut stars = StarLists::with_capacities(counts.into_iter());
+        let mut reference: Vec<Vec<u32>> = vec![Vec::new(); n];
+        for x in 0..150_000u32 {
+            let v = if x % 3 == 0 { (x as usize / 3) % n } else { 2 };
+            let v = if x % 7 == 0 { 5 } else { v };
+            stars.push(v, x);
+            reference[v].push(x);
+            if x % 10 == 0 {
+                let y = reference[v][reference[v].len() / 2];
+                stars.remove(v, y);
+                let p = reference[v].iter().position(|&z| z == y).unwrap();
+                reference[v].swap_remove(p);
+            }
+        }
+        assert!(reference[2].len() > MAX_POOLED);
+        assert_eq!(stars.span[2].cap, LARGE);
+        assert_eq!(stars.span[5].cap, LARGE);
+        stars.retain(2, |x| x % 2 == 0);
+        reference[2].retain(|x| x % 2 == 0);
+        assert_eq!(as_vecs(&stars), reference);
+        let mut out = Vec::new();
+        stars.take(2, &mut out);
+        assert_eq!(out, std::mem::take(&mut reference[2]));
+        // Star 5 was made large first, star 2 grew out of the pool second.
+        assert_eq!(stars.large[1].capacity(), 0);
+        stars.push(2, 1);
+        reference[2].push(1);
+        assert_eq!(as_vecs(&stars), reference);
     }
 
     #[test]
