@@ -54,9 +54,12 @@ pub(crate) struct Complex {
     pub instances: Vec<u32>,
     /// The twins folded into a face, sorted by that face.
     pub riders: Vec<Rider>,
-    /// Scratch marks for set operations, compared against `stamp`.
-    vmark: Vec<u32>,
-    stamp: u32,
+    /// Scratch marks for set operations, compared against `stamp`. 16
+    /// bits: the marks are cleared once every 65,535 stamps, a pass over
+    /// the vertices that costs nothing beside the collapses between, and
+    /// every chunk of a large run holds one mark per vertex.
+    vmark: Vec<u16>,
+    stamp: u16,
     /// Edges the last collapse killed (collapsed or merged away).
     pub killed: Vec<u32>,
     /// Boundary sides at each vertex: sides used by exactly one live face.
@@ -619,7 +622,7 @@ impl Complex {
         a1.iter().chain(a2).eq(b1.iter().chain(b2))
     }
 
-    fn next_stamp(&mut self) -> u32 {
+    fn next_stamp(&mut self) -> u16 {
         self.stamp = self.stamp.wrapping_add(1);
         if self.stamp == 0 {
             self.vmark.fill(0);

@@ -284,18 +284,13 @@ struct Slots {
 impl Slots {
     fn new(layouts: &[Layout], nv: usize) -> Slots {
         let mut start = Vec::with_capacity(layouts.len() + 1);
-        let mut slot = vec![NONE; nv];
         let mut next = 0usize;
         for l in layouts {
             start.push(next);
-            for &v in &l.vertex {
-                if slot[v as usize] == NONE {
-                    slot[v as usize] = next as u32;
-                }
-                next += 1;
-            }
+            next += l.vertex.len();
         }
         start.push(next);
+        let slot = first_slots(layouts.iter().map(|l| &l.vertex[..]), nv);
         Slots { start, slot }
     }
 
@@ -350,6 +345,22 @@ impl Slots {
             }
         }
     }
+}
+
+/// Each vertex's first slot when the chunks' vertex lists (`vertex`, in
+/// chunk order) follow one another; `NONE` for a vertex in none.
+fn first_slots<'a>(vertex: impl Iterator<Item = &'a [u32]>, nv: usize) -> Vec<u32> {
+    let mut slot = vec![NONE; nv];
+    let mut next = 0u32;
+    for list in vertex {
+        for &v in list {
+            if slot[v as usize] == NONE {
+                slot[v as usize] = next;
+            }
+            next += 1;
+        }
+    }
+    slot
 }
 
 /// Moves every value of `g` at an index with a destination there, in
@@ -533,8 +544,15 @@ fn one_pass(run: &mut Run, shift: DVec3, handoff: usize, progress: &dyn Fn(f64))
             .map(|(layout, q)| build_chunk(this, layout, q, &locked))
             .collect()
     };
-    // Not needed in the rounds.
+    // Not needed in the rounds: `write_back` finds the first slots again
+    // from the chunks' vertex lists, and the global loop, which has not
+    // run yet, refuses nothing before it does.
     drop(locked);
+    let nv = slots.slot.len();
+    let mut slots = slots;
+    slots.slot = Vec::new();
+    debug_assert!(run.refused_around.iter().all(|&n| n == 0));
+    run.refused_around = Vec::new();
     // Rounds: every chunk makes its collapses up to the cap, which then
     // doubles (or jumps to the cheapest collapse left). Within a round the
     // order is each chunk's greedy order; across rounds, the global one.
@@ -558,7 +576,8 @@ fn one_pass(run: &mut Run, shift: DVec3, handoff: usize, progress: &dyn Fn(f64))
             p.active = p.run.collapse_until(cap, &|_| {});
         });
     }
-    write_back(run, parts, corners, listed, regular.then_some(face_count));
+    slots.slot = write_back(run, parts, corners, listed, regular.then_some(face_count));
+    run.refused_around = vec![0; nv];
     slots.move_back(&mut quadrics);
     slots.move_back(&mut reg);
     for (v, q, r, p) in aside {
@@ -576,21 +595,22 @@ fn one_pass(run: &mut Run, shift: DVec3, handoff: usize, progress: &dyn Fn(f64))
 /// was `listed`) are rebuilt here, and with them the faces' slot ranges
 /// when those were freed too (`regular`: that many faces, three slots
 /// each); the slots of faces in no chunk (dead ones) are never read
-/// again. Each chunk's
-/// quadrics stay where they are, in its ranges of the pass's arrays,
-/// summed by its own collapses.
+/// again. Each chunk's quadrics stay where they are, in its ranges of the
+/// pass's arrays, summed by its own collapses. Returns each vertex's first
+/// slot in those arrays (see [`Slots`]), freed during the rounds.
 fn write_back(
     run: &mut Run,
     mut parts: Vec<Chunk>,
     corners: usize,
     listed: bool,
     regular: Option<usize>,
-) {
+) -> Vec<u32> {
     // The chunks' adjacency and queues first, or the global corners would
     // be allocated on top of everything (the pass's peak).
     for part in &mut parts {
         part.run.release_adjacency();
     }
+    let slot = first_slots(parts.iter().map(|p| &p.vertex[..]), run.merged_into.len());
     if let Some(n) = regular {
         // Every face that is in no chunk is dead.
         run.p.complex.faces = (0..n as u32)
@@ -647,6 +667,7 @@ fn write_back(
     let c = &mut run.p.complex;
     c.clear_adjacency();
     c.triangles = c.count_triangles();
+    slot
 }
 
 /// Adds a chunk's counts to the run's report.
