@@ -956,22 +956,14 @@ mod tests {
         let carried = q[2].eval(p2);
         assert!((carried - 0.0625).abs() < 1e-15);
         let e = c.edge_between(1, 2).unwrap();
+        let sq = stored(&c, &q);
         let plain = CostModel {
             area_floor: 0.0,
             attributes_move_vertices: false,
             metric: base,
             lock_borders: false,
         }
-        .evaluate(
-            &c,
-            &stored(&c, &q),
-            &[],
-            &[],
-            &[],
-            None,
-            e,
-            &mut Scratch::default(),
-        )
+        .evaluate(&c, &sq, &[], &[], &[], None, e, &mut Scratch::default())
         .unwrap();
         let eq5 = CostModel {
             area_floor: 0.0,
@@ -982,16 +974,7 @@ mod tests {
             },
             lock_borders: false,
         }
-        .evaluate(
-            &c,
-            &stored(&c, &q),
-            &[],
-            &[],
-            &[],
-            None,
-            e,
-            &mut Scratch::default(),
-        )
+        .evaluate(&c, &sq, &[], &[], &[], None, e, &mut Scratch::default())
         .unwrap();
         // Same placement; the cost drops by exactly Q1(p1) + Q2(p2) = 0 + 1/16.
         assert_eq!(plain.position, eq5.position);
@@ -1025,25 +1008,18 @@ mod tests {
             gluing_weight: 2.0,
             ..Metric::default()
         };
-        let q = vertex_quadrics(&c, &metric, &[], EdgeImportance::default());
+        let q = stored(
+            &c,
+            &vertex_quadrics(&c, &metric, &[], EdgeImportance::default()),
+        );
         let m = CostModel {
             area_floor: 0.0,
             attributes_move_vertices: false,
             metric,
             lock_borders: false,
         };
-        let ev = m
-            .evaluate(
-                &c,
-                &stored(&c, &q),
-                &[],
-                &[],
-                &[],
-                None,
-                e,
-                &mut Scratch::default(),
-            )
-            .unwrap();
+        let mut s = Scratch::default();
+        let ev = m.evaluate(&c, &q, &[], &[], &[], None, e, &mut s).unwrap();
         // Each vertex has area share 1/2 and lies in z = 0: the planes are
         // indifferent within the plane, the gluing term 2·(1/2)·|x−p|² per
         // endpoint is least at the midpoint (2, 0, 0): 2·(1/2)·(1 + 1).
@@ -1059,21 +1035,10 @@ mod tests {
             },
             lock_borders: false,
         };
-        assert!(
-            free.evaluate(
-                &c,
-                &stored(&c, &q),
-                &[],
-                &[],
-                &[],
-                None,
-                e,
-                &mut Scratch::default()
-            )
-            .unwrap()
-            .cost
-                < 1e-12
-        );
+        let ev = free
+            .evaluate(&c, &q, &[], &[], &[], None, e, &mut s)
+            .unwrap();
+        assert!(ev.cost < 1e-12);
     }
 
     #[test]
