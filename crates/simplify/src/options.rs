@@ -398,7 +398,7 @@ pub struct Partition {
     /// a core's cache.
     pub chunk_faces: usize,
     /// The global loop starts when the triangles left to remove are at most
-    /// this fraction of those the run removes in all. Default 0.125.
+    /// this fraction of those the run removes in all. Default 0.02.
     pub handoff: f64,
 }
 
