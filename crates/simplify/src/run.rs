@@ -885,8 +885,9 @@ impl<'o> Run<'o> {
         }
         self.moved[i as usize] = true;
         self.merged_into[j as usize] = i;
-        // Summed in double precision, stored about where the vertex went.
-        // About where the endpoints were when they were stored.
+        // Each endpoint's quadric expanded about where it was stored (its
+        // position before the collapse), summed in double precision, and
+        // stored about where the vertex went.
         let merged = self.quadrics[i as usize].quadric(pi) + self.quadrics[j as usize].quadric(pj);
         self.quadrics[i as usize] = StoredQuadric::new(&merged, c.pos[i as usize]);
         if !self.reg.is_empty() {
