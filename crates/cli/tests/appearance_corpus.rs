@@ -5,6 +5,8 @@
 //! error in the others.
 #![allow(clippy::unwrap_used, clippy::expect_used)] // test code
 
+mod support;
+
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -128,26 +130,7 @@ fn skinned_levels_of_detail_keep_one_influence_set_per_position() {
 /// the npm registry the first time; `None` (with a message) where Node.js
 /// is absent, a failure under `CI=true`.
 fn validator() -> Option<PathBuf> {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../tools/gltf-validator");
-    let ci = std::env::var("CI").is_ok_and(|v| v == "true");
-    if Command::new("node").arg("--version").output().is_err() {
-        assert!(!ci, "node is not installed: the glTF validator cannot run");
-        eprintln!("SKIPPED: node is not installed, so the Khronos glTF validator cannot run");
-        return None;
-    }
-    if !dir.join("node_modules/gltf-validator").exists() {
-        let o = Command::new("npm")
-            .args(["install", "--no-audit", "--no-fund", "--prefix"])
-            .arg(&dir)
-            .output();
-        let ok = o.as_ref().is_ok_and(|o| o.status.success());
-        if !ok {
-            assert!(!ci, "npm install of the glTF validator failed: {o:?}");
-            eprintln!("SKIPPED: could not install the glTF validator: {o:?}");
-            return None;
-        }
-    }
-    Some(dir.join("validate.js"))
+    support::npm_tool("gltf-validator", "gltf-validator").map(|dir| dir.join("validate.js"))
 }
 
 /// The error codes the validator reports for a file, with counts.

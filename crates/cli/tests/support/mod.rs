@@ -50,9 +50,14 @@ pub fn torus(path: &Path) -> PathBuf {
     path.to_path_buf()
 }
 
-/// Installs the npm packages of `tools/<tool>` once; `false` (with a loud
+/// Installs the npm packages of `tools/<tool>` once; `None` (with a loud
 /// message) where node or the registry is missing, a panic under CI.
-fn npm_tool(tool: &str, module: &str) -> Option<PathBuf> {
+///
+/// Tests run in parallel threads and several need the same tool, so the
+/// install holds a file lock and leaves a marker only once npm succeeded:
+/// two concurrent `npm install`s into one folder fail with ENOTEMPTY, and a
+/// half-installed `node_modules` must not pass for a finished one.
+pub fn npm_tool(tool: &str, module: &str) -> Option<PathBuf> {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("../../tools")
         .join(tool);
@@ -61,17 +66,27 @@ fn npm_tool(tool: &str, module: &str) -> Option<PathBuf> {
         eprintln!("SKIPPED: node is not installed, so {tool} cannot run");
         return None;
     }
-    if !dir.join("node_modules").join(module).exists() {
+    let marker = dir.join("node_modules").join(".wildlod-installed");
+    if marker.exists() {
+        return Some(dir);
+    }
+    // `cargo test` runs one test binary at a time, so a lock within the
+    // process is enough (`File::lock` is newer than the MSRV).
+    static INSTALL: std::sync::Mutex<()> = std::sync::Mutex::new(());
+    let _held = INSTALL.lock().unwrap_or_else(|e| e.into_inner());
+    if !marker.exists() {
         let o = Command::new("npm")
             .args(["install", "--no-audit", "--no-fund", "--prefix"])
             .arg(&dir)
             .output();
-        let ok = o.as_ref().is_ok_and(|o| o.status.success());
+        let ok = o.as_ref().is_ok_and(|o| o.status.success())
+            && dir.join("node_modules").join(module).exists();
         if !ok {
             assert!(!in_ci(), "npm install of {tool} failed: {o:?}");
             eprintln!("SKIPPED: could not install {tool}: {o:?}");
             return None;
         }
+        std::fs::write(&marker, b"").unwrap();
     }
     Some(dir)
 }
