@@ -298,7 +298,7 @@ impl AttributeState {
     }
 
     /// Adds every live face's linear functionals to the wedges of its
-    /// corners (area share = area / arity, like the plane quadrics).
+    /// corners (area share = area / arity).
     fn fill_quadrics(&mut self, input: &AttributeInput<'_>, c: &Complex, weight: &[f64]) {
         // Per stream: surface and UV area of the faces it covers.
         let mut areas = vec![(0.0f64, 0.0f64); self.streams.len()];
