@@ -127,6 +127,47 @@ fn face_share(c: &Complex, f: u32, v: u32, (n, a, p): (DVec3, f64, DVec3)) -> (Q
     }
 }
 
+/// The median, over the sides of the faces, of the distance a collapse of
+/// that side would move the surface: √(error / mean weight) of the two
+/// endpoints' quadrics at their optimal point. Faces are sampled evenly, at
+/// most 65,536 sides, and every side counts once per face it bounds; faces
+/// only are read, so it works before the complex has edges (the
+/// partitioned path). 0 when no side has area.
+///
+/// The scale of the errors this mesh's collapses make at the start, which
+/// Knodt's tie tolerance is a share of (see
+/// [`crate::ordering::tie_distance`]).
+pub(crate) fn median_collapse_deviation(c: &Complex, q: &[StoredQuadric]) -> f64 {
+    const SAMPLES: usize = 1 << 16;
+    let live: Vec<u32> = (0..c.faces.len() as u32)
+        .filter(|&f| c.faces[f as usize].len > 0)
+        .collect();
+    let sides: usize = live.iter().map(|&f| c.faces[f as usize].len as usize).sum();
+    let stride = sides.div_ceil(SAMPLES).max(1);
+    let mut deviations: Vec<f64> = live
+        .iter()
+        .step_by(stride)
+        .flat_map(|&f| {
+            let face = c.face(f);
+            (0..face.len()).map(move |k| (face[k], face[(k + 1) % face.len()]))
+        })
+        .filter_map(|(a, b)| {
+            let (pa, pb) = (c.pos[a as usize], c.pos[b as usize]);
+            let sum = q[a as usize].quadric(pa) + q[b as usize].quadric(pb);
+            let placed = place(&sum, pa, pb, REACH);
+            // Per mean endpoint weight, as the tie tolerance is applied
+            // (`ordering::tie_tolerance`).
+            let d2 = placed.error / (0.5 * sum.weight);
+            (sum.weight > 0.0 && d2.is_finite()).then(|| d2.max(0.0).sqrt())
+        })
+        .collect();
+    if deviations.is_empty() {
+        return 0.0;
+    }
+    let mid = deviations.len() / 2;
+    *deviations.select_nth_unstable_by(mid, f64::total_cmp).1
+}
+
 /// The initial quadric of every vertex: Σ over its faces of its share of
 /// their planes (the barycentric share of W Eq. 9, polygons as the fans
 /// they are drawn with, see [`face_share`]),
@@ -955,6 +996,38 @@ mod tests {
                 assert!((t[v].eval(x) - q[v].eval(x)).abs() < 1e-12, "corner {v}");
             }
         }
+    }
+
+    #[test]
+    fn median_collapse_deviation_is_a_distance_that_shrinks_as_h_squared() {
+        // The planes alone (the regularization's travel cost would count
+        // on a flat grid too).
+        let m = Metric {
+            regularization: 0.0,
+            ..Metric::default()
+        };
+        let deviation = |mesh: &wildlod_mesh::Mesh, scale: f64| {
+            let pos: Vec<DVec3> = mesh
+                .positions
+                .iter()
+                .map(|p| DVec3::new(p[0] as f64, p[1] as f64, p[2] as f64) * scale)
+                .collect();
+            let (c, _) = Complex::new(pos, &mesh.faces.offsets, &mesh.faces.indices);
+            let q = vertex_quadrics(&c, &m, &[], EdgeImportance::default());
+            median_collapse_deviation(&c, &stored(&c, &q))
+        };
+        // A flat grid: every side collapses onto its plane.
+        let flat = wildlod_mesh::shapes::quad_grid(8, 8);
+        assert!(deviation(&flat, 1.0) < 1e-9, "{}", deviation(&flat, 1.0));
+        // On a sphere, a distance: twice the size, twice the deviation.
+        let coarse = wildlod_mesh::shapes::quad_sphere(8);
+        let d = deviation(&coarse, 1.0);
+        assert!(d > 0.0);
+        assert!((deviation(&coarse, 2.0) / d - 2.0).abs() < 1e-6);
+        // Twice as fine (h halved): about a quarter (κh²/8).
+        let fine = wildlod_mesh::shapes::quad_sphere(16);
+        let ratio = deviation(&fine, 1.0) / d;
+        assert!((0.2..0.3).contains(&ratio), "{ratio}");
     }
 
     #[test]

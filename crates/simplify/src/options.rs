@@ -288,8 +288,9 @@ pub enum QuadMode {
 /// [`Options::quad_mode`] is active.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct QuadSettings {
-    /// ε_abs of Knodt Eq. 4, as a distance relative to the bounding-box
-    /// diagonal at the input's resolution: a collapse whose cost differs
+    /// ε_abs of Knodt Eq. 4, as the largest distance relative to the
+    /// bounding-box diagonal at the input's resolution (narrowed on fine
+    /// meshes by [`QuadSettings::tie_factor`]): a collapse whose cost differs
     /// from the first of its class by less than the cost of moving its own
     /// vertex by ε·min(n₀/n, 10) (n₀ vertices at the start, n now) is treated as
     /// equal and ordered by recency. Knodt gives ε_abs in raw cost units
@@ -308,6 +309,23 @@ pub struct QuadSettings {
     /// 10% (0.55 on the median mesh); 2e-3 keeps more (0.96) for 10% more
     /// Chamfer distance.
     pub epsilon: f64,
+    /// Ties are narrower on meshes whose collapses are finer: the tie
+    /// distance is this many times the input's median initial collapse
+    /// deviation, where that is below [`QuadSettings::epsilon`] (which then
+    /// caps it). 0 leaves `epsilon` alone.
+    ///
+    /// Default 2: the median deviation of the corpus's mid-size quad
+    /// meshes, on which `epsilon` was measured, is about half of it
+    /// (`spot_quadrangulated` 8.1e-4, `mixedFaring` 7.8e-4), so they keep
+    /// their ties. On `corpus/quad` (`docs/evaluation.md`, "Warped quads
+    /// and ties at the mesh's own scale") the Chamfer distance at 50% / 10%
+    /// / 1% went from 1.71 / 1.25 / 1.02 to 1.53 / 1.08 / 0.87× the best
+    /// peer, all of it on the dense sword: 3.0 / 2.9 / 2.3 to 1.8 / 1.4 /
+    /// 1.1× (quad ratio 0.99 / 0.98 / 0.90 to 0.97 / 0.84 / 0.13). Factor
+    /// 1 is where a smooth surface's ties stop buying quads (the generated
+    /// spheres of [`crate::ordering`]) but it kept half the quads of the
+    /// corpus at 10%.
+    pub tie_factor: f64,
     /// ε_rel: costs within this fraction of the larger one are also ties
     /// (Dawson's relative comparison, which Knodt cites and ablates beside
     /// ε_abs). Costs grow by orders of magnitude as a mesh coarsens, so a
@@ -363,6 +381,7 @@ impl Default for QuadSettings {
     fn default() -> Self {
         QuadSettings {
             epsilon: 1.5e-3,
+            tie_factor: 2.0,
             relative_epsilon: 0.0,
             recency: true,
             tangent_weight: 0.0,

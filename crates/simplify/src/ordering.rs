@@ -32,6 +32,32 @@ use std::collections::BinaryHeap;
 /// distance than quads off; bounded here, under 1%).
 pub(crate) const MAX_TIE_GROWTH: f64 = 10.0;
 
+/// Knodt's ε as a distance for an input whose median edge collapse
+/// deviates by `deviation` at the start (see
+/// [`crate::cost::median_collapse_deviation`]): `factor` times that, at
+/// most `epsilon` (see [`crate::QuadSettings::tie_factor`]).
+///
+/// What counts as "about equal" is a share of the errors collapses
+/// actually make on this mesh. Those scale with its resolution and its
+/// curvature (about κh²/8 on a smooth surface, h² the area per vertex), so
+/// a fixed distance is a different share on every mesh: on a generated
+/// bumpy sphere of quads at 50%, the distance past which wider ties keep
+/// no more quads but cost distance was 8e-4, 2e-4 and 5e-5 at 1.5k, 6k and
+/// 25k vertices, each time about the sphere's median initial deviation
+/// (7.8e-4, 2.1e-4, 6.5e-5), and a thin curved blade of 22k vertices
+/// (median 3.3e-5) paid 3× the best peer's Chamfer distance at 50% under
+/// the fixed 1.5e-3. The cap keeps coarse models, whose collapses are all
+/// far off, from ties so wide that chords override every cost (joint
+/// weights, symmetry).
+pub(crate) fn tie_distance(epsilon: f64, factor: f64, deviation: f64) -> f64 {
+    let relative = factor * deviation;
+    if relative.is_finite() && relative > 0.0 {
+        epsilon.min(relative)
+    } else {
+        epsilon
+    }
+}
+
 /// Knodt's ε_abs (Eq. 4) as a cost difference, for a distance tolerance
 /// `epsilon` (relative to the diagonal), for a collapse whose endpoints
 /// carry `area` on average, on a mesh that started with `start` vertices
@@ -187,6 +213,19 @@ impl TieOrder {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_tie_distance_is_a_share_of_the_meshs_own_deviation_at_most_epsilon() {
+        // Twice a median deviation of 2e-4: 4e-4, under the cap.
+        assert!((tie_distance(1.5e-3, 2.0, 2e-4) - 4e-4).abs() < 1e-18);
+        // A coarse mesh (deviation 1e-2): the cap.
+        assert_eq!(tie_distance(1.5e-3, 2.0, 1e-2), 1.5e-3);
+        // No deviation to measure (a flat mesh, no edges): the cap.
+        assert_eq!(tie_distance(1.5e-3, 2.0, 0.0), 1.5e-3);
+        assert_eq!(tie_distance(1.5e-3, 2.0, f64::NAN), 1.5e-3);
+        // Factor 0: the cap alone, as before the factor existed.
+        assert_eq!(tie_distance(1.5e-3, 0.0, 2e-4), 1.5e-3);
+    }
 
     #[test]
     fn tie_tolerance_is_a_growing_distance_over_the_collapse_area() {

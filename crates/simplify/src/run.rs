@@ -7,14 +7,15 @@ use wildlod_mesh::Faces;
 
 use crate::attributes::{AttrScratch, AttributeInput, AttributeState};
 use crate::cost::{
-    distance, face_plane, vertex_quadric_parts, CostModel, EdgeImportance, Evaluation, Scratch,
+    distance, face_plane, median_collapse_deviation, vertex_quadric_parts, CostModel,
+    EdgeImportance, Evaluation, Scratch,
 };
 use crate::guards::{flips_a_face, keeps_topology, pinch_prices, pinches, removed_triangles};
 use crate::heap::{CollapseQueue, Entry};
 use crate::history::HistoryRecorder;
 use crate::options::Metric;
 use crate::options::Options;
-use crate::ordering::{tie_tolerance, TieOrder};
+use crate::ordering::{tie_distance, tie_tolerance, TieOrder};
 use crate::report::{Report, StopReason};
 use crate::simplify::{Prepared, Simplified};
 use crate::stored::{Isotropic, StoredQuadric};
@@ -185,6 +186,9 @@ pub(crate) struct Run<'o> {
     /// The vertices carrying area at the start (for Knodt's ε as a cost
     /// difference, see `Run::tie_tolerance`).
     area_vertices: usize,
+    /// Knodt's ε as a distance on this input (see
+    /// `ordering::tie_distance`).
+    tie_epsilon: f64,
     /// The virtual edges added, as vertex pairs (the partitioned path adds
     /// them back after rebuilding the complex).
     virtual_pairs: Vec<(u32, u32)>,
@@ -318,6 +322,7 @@ impl<'o> Run<'o> {
             ties: None,
             quads_active,
             area_vertices: 0,
+            tie_epsilon: 0.0,
             virtual_pairs,
             last_cost: 0.0,
             refused_around: vec![0; nv],
@@ -340,6 +345,12 @@ impl<'o> Run<'o> {
         };
         run.progress_start = run.p.complex.triangles;
         run.area_vertices = area_vertices(&run.quadrics);
+        run.tie_epsilon = options.quad.epsilon;
+        if run.quads_active && options.quad.tie_factor > 0.0 {
+            let deviation = median_collapse_deviation(&run.p.complex, &run.quadrics);
+            run.tie_epsilon =
+                tie_distance(options.quad.epsilon, options.quad.tie_factor, deviation);
+        }
         if run.model.metric.pinch_cost > 0.0 {
             let area: Vec<f64> = run.quadrics.iter().map(StoredQuadric::weight).collect();
             let pinch = run.model.metric.pinch_cost;
@@ -372,6 +383,7 @@ impl<'o> Run<'o> {
             ties: None,
             quads_active: parent.quads_active,
             area_vertices: parent.area_vertices,
+            tie_epsilon: parent.tie_epsilon,
             virtual_pairs: Vec::new(),
             last_cost: 0.0,
             refused_around: vec![0; nv],
@@ -700,7 +712,7 @@ impl<'o> Run<'o> {
         let [a, b] = self.p.complex.edges[e as usize].ends;
         let area = 0.5 * (self.quadrics[a as usize].weight() + self.quadrics[b as usize].weight());
         let left = self.area_vertices.saturating_sub(self.report.collapses);
-        tie_tolerance(self.options.quad.epsilon, area, self.area_vertices, left)
+        tie_tolerance(self.tie_epsilon, area, self.area_vertices, left)
     }
 
     /// Brings a current entry to the top of the main queue and returns it

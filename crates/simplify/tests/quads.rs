@@ -291,3 +291,55 @@ fn ties_do_not_sweep_chords_across_a_finely_tessellated_part() {
         );
     }
 }
+
+/// A quad sphere of `n × n` quads per cube face with smooth bumps: the
+/// same shape at every `n`.
+fn smooth_bumpy_sphere(n: usize) -> Mesh {
+    let mut m = shapes::quad_sphere(n);
+    for p in &mut m.positions {
+        let r = 1.0 + 0.15 * (3.0 * p[0]).sin() * (2.0 * p[1]).cos() + 0.1 * (4.0 * p[2]).sin();
+        *p = p.map(|c| c * r);
+    }
+    m
+}
+
+#[test]
+fn ties_taken_from_the_meshs_own_deviation_keep_their_price_on_finer_meshes() {
+    // A collapse deviates by about κh²/8, so on the same shape tessellated
+    // more finely every error shrinks, and a fixed tie distance becomes a
+    // wider share of it: the ordering's price over plain cost order grows
+    // with the tessellation. Ties a share of the mesh's own median
+    // deviation (`QuadSettings::tie_factor`) keep the price where it is.
+    let cmp = wildlod_eval::CompareOptions {
+        samples: 20_000,
+        ..Default::default()
+    };
+    let price = |n: usize, tie_factor: f64| {
+        let mesh = smooth_bumpy_sphere(n);
+        let reference = wildlod_eval::EvalMesh::from_mesh(&mesh);
+        let target = 6 * n * n; // half the triangles
+        let quad = QuadSettings {
+            tie_factor,
+            ..QuadSettings::default()
+        };
+        let chamfer = |mode| {
+            let (out, rep) = simplify_mesh(&mesh, &to(target, mode, quad)).unwrap();
+            assert!(rep.output_triangles <= target);
+            let c =
+                wildlod_eval::compare(&reference, &wildlod_eval::EvalMesh::from_mesh(&out), &cmp);
+            (c.chamfer_mean, arities(&out).1)
+        };
+        let ((on, quads), (off, _)) = (chamfer(QuadMode::Auto), chamfer(QuadMode::Never));
+        eprintln!("n = {n}, factor {tie_factor}: Chamfer {on:e} with quads ({quads} kept), {off:e} without");
+        (on / off, quads)
+    };
+    // Fixed distance (factor 0): the price grows past 2× at n = 32.
+    let fixed = price(32, 0.0);
+    assert!(fixed.0 > 2.0, "{fixed:?}");
+    // At the mesh's own scale: the same price at n = 16 and 32, well
+    // under the fixed one, and nearly every face still a quad (3,072
+    // faces would be all quads).
+    let (coarse, fine) = (price(16, 1.0), price(32, 1.0));
+    assert!(fine.0 <= 1.5 && coarse.0 <= 1.5, "{coarse:?} {fine:?}");
+    assert!(fine.1 >= 2_900, "{fine:?}");
+}
