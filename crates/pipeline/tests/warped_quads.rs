@@ -13,7 +13,8 @@ fn a_swords_warped_quads_simplify_like_its_triangles() {
     // most of them warped. With each quad's average (Newell) plane, which
     // none of its corners lies on, the half-size sword was 7.4× (Hausdorff)
     // and 1.41× (Chamfer) as far from its input as when the same sword was
-    // given as triangles; with the planes of its fans, 1.57× and 1.22×.
+    // given as triangles; with the planes of the fans it is drawn with,
+    // 1.14× and 1.01×.
     let Some(root) = corpus("a_swords_warped_quads_simplify_like_its_triangles") else {
         return;
     };
@@ -43,7 +44,7 @@ fn a_swords_warped_quads_simplify_like_its_triangles() {
     let (q, t) = (dist(&quads), dist(&triangles));
     eprintln!("sword at 50%: quads {q:?}, triangles {t:?}");
     assert!(
-        q.0 <= 2.0 * t.0 && q.1 <= 1.3 * t.1,
+        q.0 <= 1.5 * t.0 && q.1 <= 1.1 * t.1,
         "sword at 50% (Hausdorff, Chamfer): quads {q:?} against triangles {t:?}"
     );
 }

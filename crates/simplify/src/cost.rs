@@ -77,16 +77,14 @@ pub(crate) fn face_plane(c: &Complex, f: u32) -> Option<(DVec3, f64, DVec3)> {
 /// area `a`: the barycentric share of W Eq. 9.
 ///
 /// A triangle has one plane, a third of which each corner takes. A warped
-/// polygon has no plane: it is drawn as the triangles of a fan, and which
-/// fan is the reader's choice (a quad's diagonal from either corner). So
-/// its quadric is the mean over the fans from every corner, each scaled
-/// to weigh `a`, of their triangles' planes, a third of each going to each
-/// of its corners. Every corner then lies on every plane it holds, as on a
-/// triangle mesh, where the average (Newell) plane lies on none of them:
-/// a curved blade's quads lost their curvature to it, and their vertices
-/// their place. Taking every fan keeps the quadrics of a mirror-symmetric
-/// mesh mirror-symmetric whatever its corner order; for a planar polygon
-/// every fan gives its one plane.
+/// polygon has no plane: it is drawn as the fan of triangles from its first
+/// corner (by wildlod's writers, OBJ readers, renderers and the error
+/// metrics), so each corner takes a third of the planes of the fan
+/// triangles it belongs to, scaled so that the polygon weighs `a` in all.
+/// Every corner then lies on every plane it holds, as on a triangle mesh,
+/// where the average (Newell) plane lies on none of them: a curved blade's
+/// quads lost their curvature to it, and their vertices their place. For a
+/// planar polygon the planes are its one plane.
 fn face_share(c: &Complex, f: u32, v: u32, (n, a, p): (DVec3, f64, DVec3)) -> (Quadric, f64) {
     let face = c.face(f);
     let k = face.len();
@@ -94,31 +92,22 @@ fn face_share(c: &Complex, f: u32, v: u32, (n, a, p): (DVec3, f64, DVec3)) -> (Q
         let share = a / 3.0;
         return (Quadric::plane(n, p, share), share);
     }
-    let at = |i: usize| c.pos[face[i % k] as usize];
+    let at = |i: usize| c.pos[face[i] as usize];
     let mut mine = Quadric::ZERO;
-    let mut fans = 0;
-    for start in 0..k {
-        let mut fan = Quadric::ZERO;
-        let mut fan_area = 0.0;
-        for i in 1..k - 1 {
-            let (p0, p1, p2) = (at(start), at(start + i), at(start + i + 1));
-            let n2 = (p1 - p0).cross(p2 - p0);
-            let len = n2.length();
-            if len.is_finite() && len > 0.0 {
-                fan_area += 0.5 * len;
-                let corners = [start, start + i, start + i + 1];
-                if corners.iter().any(|&j| face[j % k] == v) {
-                    fan += Quadric::plane(n2 / len, p0, 0.5 * len / 3.0);
-                }
+    let mut fan_area = 0.0;
+    for i in 1..k - 1 {
+        let (p0, p1, p2) = (at(0), at(i), at(i + 1));
+        let n2 = (p1 - p0).cross(p2 - p0);
+        let len = n2.length();
+        if len.is_finite() && len > 0.0 {
+            fan_area += 0.5 * len;
+            if face[0] == v || face[i] == v || face[i + 1] == v {
+                mine += Quadric::plane(n2 / len, p0, 0.5 * len / 3.0);
             }
         }
-        if fan_area > 0.0 && fan_area.is_finite() {
-            mine += fan.scaled(a / fan_area);
-            fans += 1;
-        }
     }
-    if fans > 0 {
-        let q = mine.scaled(1.0 / fans as f64);
+    if fan_area > 0.0 && fan_area.is_finite() {
+        let q = mine.scaled(a / fan_area);
         let share = q.weight;
         (q, share)
     } else {
@@ -944,28 +933,30 @@ mod tests {
     }
 
     #[test]
-    fn polygon_planes_are_those_of_its_fans_from_every_corner() {
+    fn polygon_planes_are_those_of_the_fan_it_is_drawn_with() {
         let m = Metric {
             regularization: 0.0,
             border_weight: 0.0,
             crease_weight: 0.0,
             ..Metric::default()
         };
-        // The unit square: each fan's two triangles weigh 1/2, a corner on
-        // the fan's diagonal takes a third of both, the others a third of
-        // one; over the four fans every corner takes 1/4, all of z = 0.
+        // The unit square, drawn as (0,1,2) and (0,2,3), area 1/2 each:
+        // the corners on the diagonal take a third of both, the others a
+        // third of one (1/3, 1/6, 1/3, 1/6), all of the plane z = 0.
         let square = vec![DVec3::ZERO, DVec3::X, DVec3::new(1.0, 1.0, 0.0), DVec3::Y];
         let (c, _) = Complex::new(square, &[0, 4], &[0, 1, 2, 3]);
         let q = vertex_quadrics(&c, &m, &[], EdgeImportance::default());
-        for (v, q) in q.iter().enumerate() {
-            assert!((q.weight - 0.25).abs() < 1e-15, "corner {v}");
-            assert!((q.eval(DVec3::new(0.3, 0.7, 2.0)) - 1.0).abs() < 1e-12);
+        for (v, share) in [1.0 / 3.0, 1.0 / 6.0, 1.0 / 3.0, 1.0 / 6.0]
+            .into_iter()
+            .enumerate()
+        {
+            assert!((q[v].weight - share).abs() < 1e-15, "corner {v}");
+            assert!((q[v].eval(DVec3::new(0.3, 0.7, 2.0)) - 4.0 * share).abs() < 1e-12);
         }
-        // Warped: corner 2 lifted to (1,1,1); the face weighs its Newell
-        // area |(-1,-1,2)|/2 = √6/2. The fans on the diagonal 0–2 are drawn
-        // with (0,1,2), normal (0,-1,1)/√2, and (0,2,3), each of area √2/2,
-        // scaled by (√6/2)/√2; those on 1–3 with (1,2,3), normal
-        // (-1,-1,1)/√3, area √3/2, and (1,3,0), normal z, area 1/2.
+        // Warped: corner 2 lifted to (1,1,1). Drawn as (0,1,2), normal
+        // (0,-1,1)/√2, and (0,2,3), normal (-1,0,1)/√2, both through the
+        // origin, each of area √2/2; the face weighs its Newell area
+        // |(-1,-1,2)|/2 = √6/2, so the fan (area √2) is scaled by √3/2.
         let warped = vec![DVec3::ZERO, DVec3::X, DVec3::ONE, DVec3::Y];
         let (c, _) = Complex::new(warped.clone(), &[0, 4], &[0, 1, 2, 3]);
         let q = vertex_quadrics(&c, &m, &[], EdgeImportance::default());
@@ -975,27 +966,21 @@ mod tests {
         for (v, p) in warped.iter().enumerate() {
             assert!(q[v].eval(*p).abs() < 1e-15, "corner {v}: {}", q[v].eval(*p));
         }
-        // Corner 1 holds (0,1,2)'s plane from two of the four fans, a
-        // third of (√2/2)·(√6/2)/√2 = √6/4 each: weight √6/24 after the
-        // mean. At corner 3, (0,1,0), that plane is 1/√2 away and the
-        // other two planes pass through it: √6/48. Its whole share is
-        // (2 · (√6/4)/3 + 2 · (√6/2)/3) / 4 = √6/8.
+        // Corner 1 holds only the plane of (0,1,2), a third of
+        // (√2/2)·(√3/2) = √6/4: weight √6/12. At corner 3, (0,1,0), that
+        // plane is 1/√2 away: √6/24.
         let r6 = 6f64.sqrt();
-        assert!((q[1].eval(DVec3::Y) - r6 / 48.0).abs() < 1e-15);
-        assert!((q[1].weight - r6 / 8.0).abs() < 1e-15);
+        assert!((q[1].weight - r6 / 12.0).abs() < 1e-15);
+        assert!((q[1].eval(DVec3::Y) - r6 / 24.0).abs() < 1e-15);
+        // The shares add up to the face's area.
         let total: f64 = q.iter().map(|q| q.weight).sum();
         assert!((total - r6 / 2.0).abs() < 1e-15);
-        // The same quad listed from another corner has the same quadrics
-        // (a reader's choice of diagonal does not pick the surface, and a
-        // mirror-symmetric mesh keeps mirror-symmetric quadrics).
-        let (turned, _) = Complex::new(warped, &[0, 4], &[2, 3, 0, 1]);
+        // Listed from corner 1, the quad is drawn across the other
+        // diagonal, (1,2,3) and (1,3,0): corner 0 now holds only z = 0.
+        let (turned, _) = Complex::new(warped, &[0, 4], &[1, 2, 3, 0]);
         let t = vertex_quadrics(&turned, &m, &[], EdgeImportance::default());
-        for v in 0..4 {
-            assert!((t[v].weight - q[v].weight).abs() < 1e-15);
-            for x in [DVec3::new(0.3, -0.2, 0.9), DVec3::new(2.0, 1.0, -1.0)] {
-                assert!((t[v].eval(x) - q[v].eval(x)).abs() < 1e-12, "corner {v}");
-            }
-        }
+        let w0 = t[0].weight;
+        assert!((t[0].eval(DVec3::new(0.4, -3.0, 2.0)) - 4.0 * w0).abs() < 1e-12);
     }
 
     #[test]

@@ -319,9 +319,9 @@ pub struct QuadSettings {
     /// (`spot_quadrangulated` 8.1e-4, `mixedFaring` 7.8e-4), so they keep
     /// their ties. On `corpus/quad` (`docs/evaluation.md`, "Warped quads
     /// and ties at the mesh's own scale") the Chamfer distance at 50% / 10%
-    /// / 1% went from 1.71 / 1.25 / 1.02 to 1.53 / 1.08 / 0.87× the best
-    /// peer, all of it on the dense sword: 3.0 / 2.9 / 2.3 to 1.8 / 1.4 /
-    /// 1.1× (quad ratio 0.99 / 0.98 / 0.90 to 0.97 / 0.84 / 0.13). Factor
+    /// / 1% went from 1.55 / 1.20 / 1.04 to 1.33 / 1.03 / 0.83× the best
+    /// peer, most of it on the dense sword: 3.2 / 2.8 / 2.8 to 1.6 / 1.2 /
+    /// 1.0× (quad ratio 1.00 / 0.98 / 0.95 to 0.97 / 0.74 / 0.16). Factor
     /// 1 is where a smooth surface's ties stop buying quads (the generated
     /// spheres of [`crate::ordering`]) but it kept half the quads of the
     /// corpus at 10%.

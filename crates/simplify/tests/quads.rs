@@ -196,6 +196,22 @@ fn mirrored_bumpy_sphere(n: usize) -> Mesh {
         let s = 1.0 + 0.08 * (u - 0.5);
         *p = p.map(|c| c * s);
     }
+    // Symmetric as drawn, too: a quad is drawn as the fan from its first
+    // corner, and a mirror modifier lists a mirrored quad from the mirror
+    // image of its original's first corner. Start every quad at its corner
+    // of largest (|x|, y, z), which the mirror maps to its image's.
+    let key = |v: u32| {
+        let p = m.positions[v as usize];
+        (p[0].abs(), p[1], p[2])
+    };
+    for f in 0..m.faces.len() {
+        let r = m.faces.corner_range(f);
+        let corners = &mut m.faces.indices[r];
+        let first = (0..corners.len())
+            .max_by(|&a, &b| key(corners[a]).partial_cmp(&key(corners[b])).unwrap())
+            .unwrap();
+        corners.rotate_left(first);
+    }
     m
 }
 
