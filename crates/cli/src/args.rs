@@ -205,6 +205,12 @@ pub struct TuningArgs {
     /// median initial collapse's deviation where that is smaller.
     #[arg(long, value_name = "E", default_value_t = wildlod_simplify::QuadSettings::default().epsilon)]
     pub quad_epsilon: f64,
+    /// Width of the quad ties as a multiple of the input's median initial
+    /// collapse deviation, at most --quad-epsilon: a finely tessellated or
+    /// finely curved mesh, whose collapses deviate less, gets narrower ties
+    /// and keeps closer to its input. 0 uses --quad-epsilon alone.
+    #[arg(long, value_name = "F", default_value_t = wildlod_simplify::QuadSettings::default().tie_factor)]
+    pub quad_tie_factor: f64,
     /// Weight of Knodt 2024's tangent edge quadrics against the face planes
     /// (his balance: 0.33). They hold edges in place along creases and keep
     /// edge flow and thin parts; off by default because they trade distance

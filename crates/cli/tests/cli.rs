@@ -131,6 +131,67 @@ fn quads_are_kept_by_default_and_not_with_no_quads() {
     );
     let o = wildlod(&["simplify", s(&input), "-o", s(&keep), "--quad-epsilon=-1"]);
     assert_eq!(o.status.code(), Some(1));
+    let o = wildlod(&[
+        "simplify",
+        s(&input),
+        "-o",
+        s(&keep),
+        "--quad-tie-factor=-1",
+    ]);
+    assert_eq!(o.status.code(), Some(1));
+    assert!(stderr(&o).contains("--quad-tie-factor"), "{}", stderr(&o));
+}
+
+#[test]
+fn quad_ties_at_the_meshs_own_scale_keep_a_fine_quad_sphere_closer() {
+    // A smooth bumpy sphere of 6,144 quads: its collapses deviate far less
+    // than --quad-epsilon, so with that distance alone (factor 0) almost
+    // every early collapse is a tie and chords sweep across it; ties of the
+    // mesh's own median deviation (factor 1) keep it closer to its input.
+    let dir = tempfile::tempdir().unwrap();
+    let mut m = shapes::quad_sphere(32);
+    for p in &mut m.positions {
+        let r = 1.0 + 0.15 * (3.0 * p[0]).sin() * (2.0 * p[1]).cos() + 0.1 * (4.0 * p[2]).sin();
+        *p = p.map(|c| c * r);
+    }
+    let input = dir.path().join("sphere.obj");
+    wildlod_io::write(
+        &Document::from_scene(Scene::from_mesh(m)),
+        &input,
+        &WriteOptions::default(),
+    )
+    .unwrap();
+    let chamfer = |factor: &str| {
+        let out = dir.path().join(format!("lod_{factor}.obj"));
+        let o = wildlod(&[
+            "simplify",
+            s(&input),
+            "-o",
+            s(&out),
+            "--ratio",
+            "0.5",
+            "-q",
+            "--quad-tie-factor",
+            factor,
+        ]);
+        assert!(o.status.success(), "{}", stderr(&o));
+        let o = wildlod(&[
+            "compare",
+            s(&input),
+            s(&out),
+            "--json",
+            "--samples",
+            "20000",
+        ]);
+        assert!(o.status.success(), "{}", stderr(&o));
+        let v: serde_json::Value = serde_json::from_str(&stdout(&o)).unwrap();
+        v["chamfer_mean"].as_f64().unwrap()
+    };
+    let (own, fixed) = (chamfer("1"), chamfer("0"));
+    assert!(
+        own < 0.8 * fixed,
+        "Chamfer {own:e} with factor 1, {fixed:e} with 0"
+    );
 }
 
 #[test]

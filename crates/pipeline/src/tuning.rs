@@ -51,6 +51,10 @@ pub struct Tuning {
     /// Tolerance under which costs count as equal and are ordered to keep
     /// quads.
     pub quad_epsilon: f64,
+    /// Width of the quad ties as a multiple of the input's median initial
+    /// collapse deviation, at most `quad_epsilon`
+    /// (`QuadSettings::tie_factor`); 0 uses `quad_epsilon` alone.
+    pub quad_tie_factor: f64,
     /// Weight of the tangent edge quadrics (Knodt 2024); 0 is off.
     pub tangent_weight: f64,
     /// Soft symmetry λ_sym (Knodt 2024 §3.1); 0 is off.
@@ -103,6 +107,7 @@ impl Default for Tuning {
             max_normal_turn: 90.0,
             no_quads: false,
             quad_epsilon: QuadSettings::default().epsilon,
+            quad_tie_factor: QuadSettings::default().tie_factor,
             tangent_weight: 0.0,
             symmetry: 0.0,
             area_floor: options.metric.area_floor,
@@ -132,6 +137,7 @@ impl Tuning {
         for (name, value) in [
             ("virtual_radius", self.virtual_radius),
             ("quad_epsilon", self.quad_epsilon),
+            ("quad_tie_factor", self.quad_tie_factor),
             ("tangent_weight", self.tangent_weight),
             ("symmetry", self.symmetry),
             ("area_floor", self.area_floor),
@@ -173,6 +179,7 @@ impl Tuning {
             options.quad_mode = QuadMode::Never;
         }
         options.quad.epsilon = self.quad_epsilon;
+        options.quad.tie_factor = self.quad_tie_factor;
         // Knodt's balance of tangent planes against face planes, when only
         // the symmetry term asks for them.
         let tangent = if self.tangent_weight == 0.0 && self.symmetry > 0.0 {

@@ -8,13 +8,14 @@ use wildlod_pipeline::{NormalSetting, SeamSetting, Tuning};
 
 /// The names `**options` accepts: the fields of [`Tuning`], and
 /// `normal_mode` for `normals` (in `simplify`, `normals` is the stream).
-pub const OPTION_NAMES: [&str; 23] = [
+pub const OPTION_NAMES: [&str; 24] = [
     "virtual_radius",
     "keep_topology",
     "lock_borders",
     "max_normal_turn",
     "no_quads",
     "quad_epsilon",
+    "quad_tie_factor",
     "tangent_weight",
     "symmetry",
     "area_floor",
@@ -92,6 +93,7 @@ pub fn tuning(py: Python<'_>, options: Option<&Bound<'_, PyDict>>) -> PyResult<T
             "max_normal_turn" => t.max_normal_turn = value.extract()?,
             "no_quads" => t.no_quads = value.extract()?,
             "quad_epsilon" => t.quad_epsilon = value.extract()?,
+            "quad_tie_factor" => t.quad_tie_factor = value.extract()?,
             "tangent_weight" => t.tangent_weight = value.extract()?,
             "symmetry" => t.symmetry = value.extract()?,
             "area_floor" => t.area_floor = value.extract()?,

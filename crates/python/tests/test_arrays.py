@@ -251,3 +251,17 @@ def test_hidden_twins_of_a_closed_surface_are_dropped_unless_kept():
     kept = wildlod.simplify(pos, doubled, ratio=0.5, keep_hidden_twins=True)
     assert kept["report"]["hidden_twins"] == 0
     assert "keep_hidden_twins" in wildlod.option_names()
+
+
+def test_quad_tie_factor_reaches_the_simplifier():
+    # A grid of quads with a ridge: ties at the mesh's own scale (factor 1)
+    # and the fixed distance alone (factor 0) order collapses differently,
+    # and a negative factor is refused with the option's name.
+    pos, quads = grid(24)
+    pos[:, 2] = 0.3 * np.sin(pos[:, 0] * 0.7) * np.cos(pos[:, 1] * 0.5)
+    own = wildlod.simplify(pos, quads, ratio=0.5, quad_tie_factor=1.0)
+    fixed = wildlod.simplify(pos, quads, ratio=0.5, quad_tie_factor=0.0)
+    assert not np.array_equal(own["positions"], fixed["positions"])
+    with pytest.raises(ValueError, match="quad_tie_factor"):
+        wildlod.simplify(pos, quads, ratio=0.5, quad_tie_factor=-1.0)
+    assert "quad_tie_factor" in wildlod.option_names()

@@ -145,6 +145,7 @@ pub(crate) fn tuning(t: &TuningArgs) -> Tuning {
         max_normal_turn: t.max_normal_turn,
         no_quads: t.no_quads,
         quad_epsilon: t.quad_epsilon,
+        quad_tie_factor: t.quad_tie_factor,
         tangent_weight: t.tangent_weight,
         symmetry: t.symmetry,
         area_floor: t.area_floor,

@@ -130,7 +130,8 @@ def simplify(
 
     ``options`` are the CLI's tuning flags with underscores
     (``virtual_radius``, ``keep_topology``, ``lock_borders``,
-    ``max_normal_turn``, ``no_quads``, ``quad_epsilon``, ``tangent_weight``,
+    ``max_normal_turn``, ``no_quads``, ``quad_epsilon``, ``quad_tie_factor``,
+    ``tangent_weight``,
     ``symmetry``, ``area_floor``,
     ``pinch_cost``, ``area_exponent``, ``face_weight_floor``, ``refit_sweeps``, ``keep_hidden_twins``, ``classic``, ``uv_weight``, ``normal_weight``,
     ``color_weight``, ``skin_weight``, ``seams`` = 'penalize' | 'keep' |
