@@ -149,11 +149,7 @@ fn quad_ties_at_the_meshs_own_scale_keep_a_fine_quad_sphere_closer() {
     // every early collapse is a tie and chords sweep across it; ties of the
     // mesh's own median deviation (factor 1) keep it closer to its input.
     let dir = tempfile::tempdir().unwrap();
-    let mut m = shapes::quad_sphere(32);
-    for p in &mut m.positions {
-        let r = 1.0 + 0.15 * (3.0 * p[0]).sin() * (2.0 * p[1]).cos() + 0.1 * (4.0 * p[2]).sin();
-        *p = p.map(|c| c * r);
-    }
+    let m = shapes::bumpy_quad_sphere(32);
     let input = dir.path().join("sphere.obj");
     wildlod_io::write(
         &Document::from_scene(Scene::from_mesh(m)),

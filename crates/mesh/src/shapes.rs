@@ -138,6 +138,18 @@ pub fn quad_sphere(n: usize) -> Mesh {
     Mesh::from_polygons(positions, f)
 }
 
+/// [`quad_sphere`] with smooth bumps (radius `1 + 0.15 sin 3x cos 2y +
+/// 0.1 sin 4z` along each direction): the same curved shape at every `n`,
+/// for measuring how a result changes with the tessellation alone.
+pub fn bumpy_quad_sphere(n: usize) -> Mesh {
+    let mut m = quad_sphere(n);
+    for p in &mut m.positions {
+        let r = 1.0 + 0.15 * (3.0 * p[0]).sin() * (2.0 * p[1]).cos() + 0.1 * (4.0 * p[2]).sin();
+        *p = p.map(|c| c * r);
+    }
+    m
+}
+
 /// A box from `lo` to `hi` whose six sides are `n × n` quad grids: a closed
 /// manifold with something to simplify.
 pub fn box_grid(lo: [f32; 3], hi: [f32; 3], n: usize) -> Mesh {
@@ -237,7 +249,12 @@ mod tests {
 
     #[test]
     fn generated_shapes_are_valid_closed_manifolds() {
-        for (m, comps) in [(cube(), 1), (torus(8, 6, 2.0, 0.5), 1), (quad_sphere(3), 1)] {
+        for (m, comps) in [
+            (cube(), 1),
+            (torus(8, 6, 2.0, 0.5), 1),
+            (quad_sphere(3), 1),
+            (bumpy_quad_sphere(3), 1),
+        ] {
             m.validate().unwrap();
             let s = topology(&m);
             assert_eq!(s.boundary_edges, 0);

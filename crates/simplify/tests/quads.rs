@@ -308,17 +308,6 @@ fn ties_do_not_sweep_chords_across_a_finely_tessellated_part() {
     }
 }
 
-/// A quad sphere of `n × n` quads per cube face with smooth bumps: the
-/// same shape at every `n`.
-fn smooth_bumpy_sphere(n: usize) -> Mesh {
-    let mut m = shapes::quad_sphere(n);
-    for p in &mut m.positions {
-        let r = 1.0 + 0.15 * (3.0 * p[0]).sin() * (2.0 * p[1]).cos() + 0.1 * (4.0 * p[2]).sin();
-        *p = p.map(|c| c * r);
-    }
-    m
-}
-
 #[test]
 fn ties_taken_from_the_meshs_own_deviation_keep_their_price_on_finer_meshes() {
     // A collapse deviates by about κh²/8, so on the same shape tessellated
@@ -331,7 +320,7 @@ fn ties_taken_from_the_meshs_own_deviation_keep_their_price_on_finer_meshes() {
         ..Default::default()
     };
     let price = |n: usize, tie_factor: f64| {
-        let mesh = smooth_bumpy_sphere(n);
+        let mesh = shapes::bumpy_quad_sphere(n);
         let reference = wildlod_eval::EvalMesh::from_mesh(&mesh);
         let target = 6 * n * n; // half the triangles
         let quad = QuadSettings {
