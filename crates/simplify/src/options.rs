@@ -403,9 +403,13 @@ impl Default for QuadSettings {
 /// curve of face centroids). Each chunk is simplified on its own, in
 /// parallel, with the vertices near the cuts locked, in rounds of a rising
 /// cost cap, so that every chunk makes the collapses the global order would
-/// make first; the rounds stop once the whole mesh is within `handoff` of
-/// the target (as a fraction of the triangles still to remove). The usual
-/// global loop then finishes, cuts included. Small chunks also fit in the
+/// make first, the triangles going wherever collapses are cheapest (a chunk
+/// is not held at its share of the target). A pass stops once its chunks'
+/// interiors are reduced as far as the whole mesh should be; the next one
+/// cuts elsewhere, so the faces along the last cuts catch up; the passes
+/// stop once the whole mesh is within `handoff` of the target (as a
+/// fraction of the triangles still to remove). The usual global loop then
+/// finishes, cuts included. Small chunks also fit in the
 /// processor's caches, which is most of the gain on any number of cores.
 /// The result is deterministic and does not depend on the thread count.
 #[derive(Clone, Copy, Debug, PartialEq)]

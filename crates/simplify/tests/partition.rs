@@ -94,6 +94,43 @@ fn partitioned_result_is_as_close_as_one_global_loop() {
     }
 }
 
+/// A square of `n × n` quads as triangles, flat on its left half and
+/// rippled on its right: the global loop spends a halving's triangles on
+/// the ripples and almost none on the flat half.
+fn half_flat(n: usize) -> Mesh {
+    let mut m = shapes::triangulate(&shapes::quad_grid(n, n));
+    // Positions only: the phase does not run with attributes.
+    m.attributes.clear();
+    for p in &mut m.positions {
+        let (x, y) = (p[0], p[1]);
+        if x > 0.5 {
+            p[2] = 0.02 * (40.0 * x).sin() * (33.0 * y).cos() + 0.01 * (91.0 * y + 7.0 * x).sin();
+        }
+    }
+    m
+}
+
+#[test]
+fn partitioned_budget_goes_where_collapses_are_cheapest_as_in_the_global_loop() {
+    // 51 200 triangles: 25 chunks. Held at its share of the target, every
+    // chunk of the flat half stopped at half its triangles and the ripples
+    // lost the difference: at 50% the Chamfer distance was 40 times the
+    // global loop's; left on their cuts, rings of full density did the
+    // same on any mesh.
+    for mesh in [half_flat(320), bumpy_sphere(128)] {
+        for r in [0.5, 0.25] {
+            let mut o = ratio(r);
+            o.partition.min_triangles = 0;
+            let (a, rep) = simplify_mesh(&mesh, &o).unwrap();
+            mostly_parallel(&rep);
+            let (b, _) = simplify_mesh(&mesh, &global(ratio(r))).unwrap();
+            let (ha, ca) = deviation(&mesh, &a);
+            let (hb, cb) = deviation(&mesh, &b);
+            assert_close(r, (ha, ca), (hb, cb));
+        }
+    }
+}
+
 #[test]
 fn partitioned_output_is_identical_on_one_or_two_threads() {
     let mesh = bumpy_sphere(48);
