@@ -194,6 +194,30 @@ fn partitioned_error_limit_bounds_every_collapse() {
 }
 
 #[test]
+fn partitioned_error_limit_runs_mostly_in_parallel_with_the_default_chunks() {
+    // Under an error target the passes stop at the error, not at a pass
+    // goal: the chunks still make most of the collapses. (What once ended
+    // a pass early, a round whose cheapest collapse was refused, happens on
+    // the corpus's dragon: `wildlod-pipeline`'s `tests/partition_corpus.rs`.)
+    for mesh in [half_flat(320), bumpy_sphere(128)] {
+        let o = Options {
+            target: Target {
+                error: Some(0.002),
+                ..Target::default()
+            },
+            partition: Partition {
+                min_triangles: 0,
+                ..Partition::default()
+            },
+            ..Options::default()
+        };
+        let (_, rep) = simplify_mesh(&mesh, &o).unwrap();
+        mostly_parallel(&rep);
+        assert_eq!(rep.stop, Some(StopReason::ErrorLimit));
+    }
+}
+
+#[test]
 fn quad_mode_keeps_one_global_loop() {
     // Chords crossing a cut would end there: quad mode does not partition.
     let mesh = shapes::quad_sphere(64); // 24 576 quads

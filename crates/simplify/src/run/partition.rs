@@ -621,9 +621,11 @@ fn one_pass(run: &mut Run, shift: DVec3, handoff: usize, progress: &dyn Fn(f64))
                 !paused && p.run.target > p.floor && p.run.p.complex.triangles <= p.run.target;
             p.active = paused || p.limited;
         });
+        // A round may remove nothing (the cheapest collapse refused): the
+        // cap grows. But while a chunk waits at its share, the cap stays,
+        // and shares rounded down to nothing would wait forever.
         let after: usize = parts.iter().map(|p| p.run.p.complex.triangles).sum();
-        // Every chunk at its floor or out of collapses.
-        if after == left {
+        if after == left && parts.iter().any(|p| p.active && p.limited) {
             break;
         }
     }
