@@ -236,11 +236,19 @@ pub struct TuningArgs {
     /// (the link condition, on face sides only): thin legs, blades and
     /// hair-thin strands stay until nothing cheaper is left, instead of
     /// flattening into edges the output cannot show. 1 ranks such collapses
-    /// after every ordinary one; 0 lets W's topology changes compete at
-    /// their plane cost. Merging parts, closing holes and dropping parts
+    /// after every ordinary one (up to --pinch-distance); 0 lets W's
+    /// topology changes compete at their plane cost. Merging parts, closing holes and dropping parts
     /// too small for the target are never penalized.
     #[arg(long, value_name = "C", default_value_t = wildlod_simplify::Metric::default().pinch_cost)]
     pub pinch_cost: f64,
+    /// Caps the pinch cost: a thin part of a part large enough for the
+    /// target is flattened once the ordinary collapses left would move the
+    /// surface by about half this distance (relative to the bounding-box
+    /// diagonal), so an extreme target does not fold the rest of a model
+    /// to keep thin wires. 0 keeps thin parts until nothing else is left.
+    /// With --error alone there is no cap.
+    #[arg(long, value_name = "D", default_value_t = wildlod_simplify::Metric::default().pinch_distance)]
+    pub pinch_distance: f64,
     /// How face planes weigh in the error, from 0 to 1: by their area to
     /// this power. 1 (W's area-weighted quadrics) gives the lowest mean
     /// distance; 0 weighs every face alike, as Blender's Decimate does,

@@ -444,6 +444,8 @@ fn plane_weighting_and_pinch_flags_reach_the_simplifier() {
     let default = run("default.obj", &[]);
     assert_ne!(default, run("free.obj", &["--pinch-cost", "0"]));
     assert_eq!(default, run("one.obj", &["--pinch-cost", "1"]));
+    // Uncapped, the pinches wait until nothing else is left.
+    assert_ne!(default, run("uncapped.obj", &["--pinch-distance", "0"]));
     // A floor of ten mean faces is above every vertex's area here.
     assert_ne!(default, run("floor.obj", &["--area-floor", "10"]));
     // The torus's faces shrink towards its hole: weighing them alike, or
@@ -465,6 +467,7 @@ fn plane_weighting_and_pinch_flags_reach_the_simplifier() {
     assert!(same("half.obj", &["--face-weight-floor", "0.5"]));
     for flag in [
         "--pinch-cost=-1",
+        "--pinch-distance=-1",
         "--area-floor=-1",
         "--area-exponent=1.5",
         "--area-exponent=-0.5",

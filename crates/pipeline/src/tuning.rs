@@ -65,6 +65,10 @@ pub struct Tuning {
     /// Added to the cost of collapses that pinch or fold the surface
     /// (`Metric::pinch_cost`); 0 is off.
     pub pinch_cost: f64,
+    /// Caps the pinch cost on parts large enough for the target: thin
+    /// parts go once the rest would move by about half this distance
+    /// (`Metric::pinch_distance`, relative to the diagonal); 0 is no cap.
+    pub pinch_distance: f64,
     /// Face planes weighted by area^A (`Metric::area_exponent`), in [0, 1];
     /// 1 is W's area weighting, 0 every face alike.
     pub area_exponent: f64,
@@ -112,6 +116,7 @@ impl Default for Tuning {
             symmetry: 0.0,
             area_floor: options.metric.area_floor,
             pinch_cost: options.metric.pinch_cost,
+            pinch_distance: options.metric.pinch_distance,
             area_exponent: options.metric.area_exponent,
             face_weight_floor: options.metric.face_weight_floor,
             classic: false,
@@ -142,6 +147,7 @@ impl Tuning {
             ("symmetry", self.symmetry),
             ("area_floor", self.area_floor),
             ("pinch_cost", self.pinch_cost),
+            ("pinch_distance", self.pinch_distance),
             ("face_weight_floor", self.face_weight_floor),
             ("uv_weight", self.uv_weight),
             ("normal_weight", self.normal_weight),
@@ -192,6 +198,7 @@ impl Tuning {
         options.quad.symmetry = self.symmetry;
         options.metric.area_floor = self.area_floor;
         options.metric.pinch_cost = self.pinch_cost;
+        options.metric.pinch_distance = self.pinch_distance;
         options.metric.area_exponent = self.area_exponent;
         options.metric.face_weight_floor = self.face_weight_floor;
         // Classic QEM is the plain algorithm, for comparisons.
@@ -266,6 +273,24 @@ mod tests {
         .options()
         .expect("valid");
         assert_eq!(o.metric.pinch_cost, 2.0);
+        let o = Tuning {
+            pinch_distance: 0.2,
+            ..Tuning::default()
+        }
+        .options()
+        .expect("valid");
+        assert_eq!(o.metric.pinch_distance, 0.2);
+        assert!(matches!(
+            Tuning {
+                pinch_distance: -0.1,
+                ..Tuning::default()
+            }
+            .options(),
+            Err(Error::Setting {
+                name: "pinch_distance",
+                ..
+            })
+        ));
         assert_eq!(
             Tuning::default()
                 .options()

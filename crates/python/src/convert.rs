@@ -8,7 +8,7 @@ use wildlod_pipeline::{NormalSetting, SeamSetting, Tuning};
 
 /// The names `**options` accepts: the fields of [`Tuning`], and
 /// `normal_mode` for `normals` (in `simplify`, `normals` is the stream).
-pub const OPTION_NAMES: [&str; 24] = [
+pub const OPTION_NAMES: [&str; 25] = [
     "virtual_radius",
     "keep_topology",
     "lock_borders",
@@ -20,6 +20,7 @@ pub const OPTION_NAMES: [&str; 24] = [
     "symmetry",
     "area_floor",
     "pinch_cost",
+    "pinch_distance",
     "area_exponent",
     "face_weight_floor",
     "refit_sweeps",
@@ -98,6 +99,7 @@ pub fn tuning(py: Python<'_>, options: Option<&Bound<'_, PyDict>>) -> PyResult<T
             "symmetry" => t.symmetry = value.extract()?,
             "area_floor" => t.area_floor = value.extract()?,
             "pinch_cost" => t.pinch_cost = value.extract()?,
+            "pinch_distance" => t.pinch_distance = value.extract()?,
             "area_exponent" => t.area_exponent = value.extract()?,
             "face_weight_floor" => t.face_weight_floor = value.extract()?,
             "refit_sweeps" => t.refit_sweeps = value.extract()?,

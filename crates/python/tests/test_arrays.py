@@ -265,3 +265,16 @@ def test_quad_tie_factor_reaches_the_simplifier():
     with pytest.raises(ValueError, match="quad_tie_factor"):
         wildlod.simplify(pos, quads, ratio=0.5, quad_tie_factor=-1.0)
     assert "quad_tie_factor" in wildlod.option_names()
+
+
+def test_pinch_distance_reaches_the_simplifier():
+    # Eight triangles are below what a torus can keep: capped, its pinches
+    # compete once the rest gets costly; uncapped (0), they wait until
+    # nothing else is left. A negative distance is refused by name.
+    pos, tris, _, _ = torus()
+    capped = wildlod.simplify(pos, tris, faces_target=8, no_quads=True)
+    uncapped = wildlod.simplify(pos, tris, faces_target=8, no_quads=True, pinch_distance=0.0)
+    assert not np.array_equal(capped["positions"], uncapped["positions"])
+    with pytest.raises(ValueError, match="pinch_distance"):
+        wildlod.simplify(pos, tris, faces_target=8, pinch_distance=-1.0)
+    assert "pinch_distance" in wildlod.option_names()

@@ -257,22 +257,39 @@ pub(crate) fn pinches(c: &Complex, i: u32, j: u32) -> bool {
 /// tetrahedron).
 const CLOSED_MINIMUM: f64 = 4.0;
 
-/// What a pinch costs at each vertex (see `Metric::pinch_cost`): `pinch`
-/// on parts large enough to keep their topology at the target; on parts too
-/// small for it (their share of `target` triangles, by area, `area` per
-/// vertex, is below what the smallest closed surface needs), what their
-/// vanishing costs measured like an ordinary collapse at the target. Their
-/// pinches are W's ordinary topology changes, not the loss of a thin
-/// feature: at the target they could not stay closed surfaces anyway. But
-/// whether they should go is a matter of distance, not area: a side
-/// mirror has a thousandth of a truck's area and sticks out by a twentieth
-/// of its size. A collapse at the target moving the surface by `e` costs
-/// about `4 · (A / target) · e²` (both endpoints carry two target faces'
-/// area); a part of diagonal `d` vanishing moves its surface by about
-/// `d / 2`, so it pays `(A / target) · d²`, capped at `pinch`: it goes when
-/// it is smaller than the error the rest of the mesh reaches. Empty when
-/// every vertex pays `pinch`.
-pub(crate) fn pinch_prices(c: &Complex, area: &[f64], target: usize, pinch: f64) -> Vec<f32> {
+/// What a pinch costs (see `Metric::pinch_cost`), from the parts of the
+/// complex, `area` per vertex, and the run's `budget` of triangles.
+///
+/// A part too small for the budget (its share of it, by area, is below
+/// what the smallest closed surface needs) pays what its vanishing costs
+/// measured like an ordinary collapse at the target. Its pinches are W's
+/// ordinary topology changes, not the loss of a thin feature: at the
+/// target it could not stay a closed surface anyway. But whether it should
+/// go is a matter of distance, not area: a side mirror has a thousandth of
+/// a truck's area and sticks out by a twentieth of its size. A collapse at
+/// the target moving the surface by `e` costs about `4 · (A / target) · e²`
+/// (both endpoints carry two target faces' area); a part of diagonal `d`
+/// vanishing moves its surface by about `d / 2`, so it pays
+/// `(A / target) · d²`: it goes when it is smaller than the error the rest
+/// of the mesh reaches.
+///
+/// Every other part pays the same for a `distance` (`Metric::pinch_distance`),
+/// `(A / target) · distance²`: its thin parts go once the rest would move
+/// by about half of it. Only where `capped` (the run has a triangle
+/// target; an error limit alone has no target face) and `distance > 0`.
+///
+/// Every price is at most `pinch`.
+pub(crate) fn pinch_prices(
+    c: &Complex,
+    area: &[f64],
+    budget: usize,
+    pinch: f64,
+    distance: Option<f64>,
+) -> PinchPrices {
+    let full = PinchPrices {
+        base: pinch,
+        per_vertex: Vec::new(),
+    };
     let (label, parts) = c.part_labels();
     let mut part_area = vec![0.0f64; parts];
     let mut lo = vec![DVec3::splat(f64::INFINITY); parts];
@@ -285,22 +302,49 @@ pub(crate) fn pinch_prices(c: &Complex, area: &[f64], target: usize, pinch: f64)
     }
     let total: f64 = part_area.iter().sum();
     if total.is_nan() || total <= 0.0 {
-        return Vec::new();
+        return full;
     }
-    let face_area = total / target.max(1) as f64;
+    let face_area = total / budget.max(1) as f64;
+    let base = match distance {
+        Some(d) if d > 0.0 => (face_area * d * d).min(pinch),
+        _ => pinch,
+    };
     let price: Vec<f64> = (0..parts)
         .map(|l| {
-            if !too_small_for_budget(part_area[l], total, target) {
-                return pinch;
+            if !too_small_for_budget(part_area[l], total, budget) {
+                return base;
             }
             let d2 = (hi[l] - lo[l]).length_squared();
             (face_area * d2).min(pinch)
         })
         .collect();
-    if price.iter().all(|&p| p == pinch) {
-        return Vec::new();
+    // One number when every vertex pays the same: a price per vertex is 4
+    // bytes a vertex of a large run would carry for nothing.
+    let per_vertex = if price.iter().all(|&p| p == base) {
+        Vec::new()
+    } else {
+        label.iter().map(|&l| price[l as usize] as f32).collect()
+    };
+    PinchPrices { base, per_vertex }
+}
+
+/// What a pinch costs in a run (see [`pinch_prices`]).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub(crate) struct PinchPrices {
+    /// The price of every vertex not in `per_vertex`.
+    pub base: f64,
+    /// The price at each vertex; empty when every vertex pays `base`.
+    pub per_vertex: Vec<f32>,
+}
+
+impl PinchPrices {
+    /// The price of a pinch at vertex `v`.
+    #[inline]
+    pub fn at(&self, v: u32) -> f64 {
+        self.per_vertex
+            .get(v as usize)
+            .map_or(self.base, |&p| f64::from(p))
     }
-    label.iter().map(|&l| price[l as usize] as f32).collect()
 }
 
 /// Whether a part of `area`, out of `total`, gets less than the smallest
@@ -424,12 +468,50 @@ mod tests {
         let off: Vec<u32> = (0..=8).map(|k| 3 * k).collect();
         let c = Complex::new(pos, &off, &idx).0;
         let area = [24.75, 24.75, 24.75, 24.75, 0.25, 0.25, 0.25, 0.25];
-        let prices = pinch_prices(&c, &area, 100, 10.0);
-        assert_eq!(prices, [10.0, 10.0, 10.0, 10.0, 0.75, 0.75, 0.75, 0.75]);
+        let prices = pinch_prices(&c, &area, 100, 10.0, None);
+        assert_eq!(prices.base, 10.0);
+        assert_eq!(
+            prices.per_vertex,
+            [10.0, 10.0, 10.0, 10.0, 0.75, 0.75, 0.75, 0.75]
+        );
+        assert_eq!((prices.at(0), prices.at(5)), (10.0, 0.75));
         // Never above the full price.
-        let capped = pinch_prices(&c, &area, 100, 0.5);
-        assert!(capped.is_empty(), "{capped:?}");
-        assert!(pinch_prices(&c, &area, 1000, 10.0).is_empty());
+        let capped = pinch_prices(&c, &area, 100, 0.5, None);
+        assert!(capped.per_vertex.is_empty(), "{capped:?}");
+        assert_eq!(capped.base, 0.5);
+        let enough = pinch_prices(&c, &area, 1000, 10.0, None);
+        assert!(enough.per_vertex.is_empty());
+        assert_eq!(enough.base, 10.0);
+    }
+
+    #[test]
+    fn a_pinch_distance_prices_large_parts_like_a_collapse_at_the_target() {
+        // The two tetrahedra above. With a pinch distance of 0.1 the large
+        // one pays a target face's area (100 / 100 = 1) times 0.1²; the
+        // small one still pays for its own size (0.75), which is larger.
+        let t = tetra();
+        let mut pos = t.pos.clone();
+        pos.extend(t.pos.iter().map(|p| *p * 0.5 + DVec3::splat(5.0)));
+        let idx: Vec<u32> = [0, 2, 1, 0, 1, 3, 0, 3, 2, 1, 2, 3]
+            .iter()
+            .chain([4, 6, 5, 4, 5, 7, 4, 7, 6, 5, 6, 7].iter())
+            .copied()
+            .collect();
+        let off: Vec<u32> = (0..=8).map(|k| 3 * k).collect();
+        let c = Complex::new(pos, &off, &idx).0;
+        let area = [24.75, 24.75, 24.75, 24.75, 0.25, 0.25, 0.25, 0.25];
+        let prices = pinch_prices(&c, &area, 100, 10.0, Some(0.1));
+        assert!((prices.base - 0.01).abs() < 1e-12, "{}", prices.base);
+        assert!((prices.at(0) - 0.01).abs() < 1e-9);
+        assert!((prices.at(7) - 0.75).abs() < 1e-9);
+        // At 1000 triangles a target face is 0.1: everyone pays 0.1 · 0.1²,
+        // as one number.
+        let all = pinch_prices(&c, &area, 1000, 10.0, Some(0.1));
+        assert!(all.per_vertex.is_empty());
+        assert!((all.base - 0.001).abs() < 1e-12, "{}", all.base);
+        // Never above the full price; 0 or no target is the full price.
+        assert_eq!(pinch_prices(&c, &area, 100, 0.005, Some(0.1)).base, 0.005);
+        assert_eq!(pinch_prices(&c, &area, 100, 10.0, Some(0.0)).base, 10.0);
     }
 
     #[test]

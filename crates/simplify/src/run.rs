@@ -10,7 +10,9 @@ use crate::cost::{
     distance, face_plane, median_collapse_deviation, vertex_quadric_parts, CostModel,
     EdgeImportance, Evaluation, Scratch,
 };
-use crate::guards::{flips_a_face, keeps_topology, pinch_prices, pinches, removed_triangles};
+use crate::guards::{
+    flips_a_face, keeps_topology, pinch_prices, pinches, removed_triangles, PinchPrices,
+};
 use crate::heap::{CollapseQueue, Entry};
 use crate::history::HistoryRecorder;
 use crate::options::Metric;
@@ -204,9 +206,8 @@ pub(crate) struct Run<'o> {
     /// vertices shared with other chunks, in the partitioned path.
     locked: Vec<bool>,
     track_border: bool,
-    /// What a pinch costs at each vertex (see `guards::pinch_prices`);
-    /// empty when every vertex pays `Metric::pinch_cost`.
-    pinch_price: Vec<f32>,
+    /// What a pinch costs at each vertex (see `guards::pinch_prices`).
+    pinch_price: PinchPrices,
     moved: Vec<bool>,
     /// The vertex each vertex was merged into (itself while alive).
     merged_into: Vec<u32>,
@@ -329,7 +330,10 @@ impl<'o> Run<'o> {
             border: Vec::new(),
             locked: Vec::new(),
             track_border: model.needs_border(),
-            pinch_price: Vec::new(),
+            pinch_price: PinchPrices {
+                base: model.metric.pinch_cost,
+                per_vertex: Vec::new(),
+            },
             moved: vec![false; nv],
             merged_into: (0..nv as u32).collect(),
             target,
@@ -354,7 +358,8 @@ impl<'o> Run<'o> {
         if run.model.metric.pinch_cost > 0.0 {
             let area: Vec<f64> = run.quadrics.iter().map(StoredQuadric::weight).collect();
             let pinch = run.model.metric.pinch_cost;
-            run.pinch_price = pinch_prices(&run.p.complex, &area, budget, pinch);
+            let distance = (target > 0).then_some(run.model.metric.pinch_distance);
+            run.pinch_price = pinch_prices(&run.p.complex, &area, budget, pinch, distance);
         }
         run
     }
@@ -390,7 +395,10 @@ impl<'o> Run<'o> {
             border: Vec::new(),
             locked,
             track_border: parent.model.needs_border(),
-            pinch_price: Vec::new(),
+            pinch_price: PinchPrices {
+                base: parent.pinch_price.base,
+                per_vertex: Vec::new(),
+            },
             moved: vec![false; nv],
             merged_into: (0..nv as u32).collect(),
             target,
@@ -414,11 +422,9 @@ impl<'o> Run<'o> {
     /// A chunk's share of its parent's pinch prices (see `pinch_price`),
     /// `vertex` mapping its vertices to the parent's.
     pub fn inherit_pinch_prices(&mut self, parent: &Run<'o>, vertex: &[u32]) {
-        if !parent.pinch_price.is_empty() {
-            self.pinch_price = vertex
-                .iter()
-                .map(|&v| parent.pinch_price[v as usize])
-                .collect();
+        let parent = &parent.pinch_price.per_vertex;
+        if !parent.is_empty() {
+            self.pinch_price.per_vertex = vertex.iter().map(|&v| parent[v as usize]).collect();
         }
     }
 
@@ -568,10 +574,7 @@ impl<'o> Run<'o> {
             // with its penalty the first time it reaches the top: checked
             // here, once per pop, not at every evaluation.
             let [a, b] = self.p.complex.edges[e as usize].ends;
-            let pinch = self
-                .pinch_price
-                .get(a as usize)
-                .map_or(self.model.metric.pinch_cost, |&p| p as f64);
+            let pinch = self.pinch_price.at(a);
             if pinch > 0.0 && cost < pinch && pinches(&self.p.complex, a, b) {
                 let edge = &mut self.p.complex.edges[e as usize];
                 edge.set_queued(true);

@@ -284,6 +284,7 @@ fn check_input(positions: &[[f32; 3]], faces: &Faces, options: &Options) -> Resu
         ("boundary_area_weight", o.metric.boundary_area_weight),
         ("border_weight", o.metric.border_weight),
         ("gluing_weight", o.metric.gluing_weight),
+        ("pinch_distance", o.metric.pinch_distance),
         ("tangent_weight", o.metric.tangent_weight),
         ("quad.epsilon", o.quad.epsilon),
         ("quad.relative_epsilon", o.quad.relative_epsilon),

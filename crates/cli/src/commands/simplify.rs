@@ -150,6 +150,7 @@ pub(crate) fn tuning(t: &TuningArgs) -> Tuning {
         symmetry: t.symmetry,
         area_floor: t.area_floor,
         pinch_cost: t.pinch_cost,
+        pinch_distance: t.pinch_distance,
         area_exponent: t.area_exponent,
         face_weight_floor: t.face_weight_floor,
         refit_sweeps: t.refit_sweeps,
