@@ -255,8 +255,11 @@ fn place(
         here + step
     };
     let faces = class.of(v);
-    let after = distance_to(input, faces, p);
-    if after > reach && after > distance_to(input, faces, here) {
+    // Usually some face is within reach at once, and the distances
+    // themselves are never needed.
+    if !within(input, faces, p, reach)
+        && distance_to(input, faces, p) > distance_to(input, faces, here)
+    {
         return here;
     }
     p
@@ -381,6 +384,20 @@ fn distance_to(input: &RefitInput<'_>, faces: &[u32], p: DVec3) -> f64 {
         }
     }
     best.sqrt()
+}
+
+/// Whether `p` is within `limit` of one of the input `faces`: the same
+/// test as `distance_to(..) <= limit`, stopping at the first face that
+/// passes.
+fn within(input: &RefitInput<'_>, faces: &[u32], p: DVec3, limit: f64) -> bool {
+    faces.iter().any(|&f| {
+        let corners: SmallVec<[DVec3; 8]> =
+            input.face(f as usize).map(|w| input.point(w)).collect();
+        (1..corners.len().saturating_sub(1)).any(|k| {
+            let (q, _) = closest_point_on_triangle(p, corners[0], corners[k], corners[k + 1]);
+            (p - q).length_squared().sqrt() <= limit
+        })
+    })
 }
 
 /// Normal (length twice the area) of face `f` at positions `pos`.
