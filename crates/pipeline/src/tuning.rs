@@ -234,6 +234,11 @@ impl Tuning {
 mod tests {
     use super::*;
 
+    /// Whether `t` is refused with a setting error naming `name`.
+    fn refused_as(t: Tuning, name: &str) -> bool {
+        matches!(t.options(), Err(Error::Setting { name: n, .. }) if n == name)
+    }
+
     #[test]
     fn out_of_range_settings_are_named() {
         let bad = Tuning {
@@ -244,16 +249,12 @@ mod tests {
             Err(Error::Setting { name, .. }) => assert_eq!(name, "uv_weight"),
             other => panic!("expected a setting error, got {other:?}"),
         }
-        let bad = Tuning {
-            max_normal_turn: 0.0,
-            ..Tuning::default()
-        };
-        assert!(matches!(
-            bad.options(),
-            Err(Error::Setting {
-                name: "max_normal_turn",
-                ..
-            })
+        assert!(refused_as(
+            Tuning {
+                max_normal_turn: 0.0,
+                ..Tuning::default()
+            },
+            "max_normal_turn"
         ));
     }
 
@@ -280,16 +281,12 @@ mod tests {
         .options()
         .expect("valid");
         assert_eq!(o.metric.pinch_distance, 0.2);
-        assert!(matches!(
+        assert!(refused_as(
             Tuning {
                 pinch_distance: -0.1,
                 ..Tuning::default()
-            }
-            .options(),
-            Err(Error::Setting {
-                name: "pinch_distance",
-                ..
-            })
+            },
+            "pinch_distance"
         ));
         assert_eq!(
             Tuning::default()
@@ -299,16 +296,12 @@ mod tests {
                 .area_floor,
             0.0
         );
-        let bad = Tuning {
-            area_floor: f64::NAN,
-            ..Tuning::default()
-        };
-        assert!(matches!(
-            bad.options(),
-            Err(Error::Setting {
-                name: "area_floor",
-                ..
-            })
+        assert!(refused_as(
+            Tuning {
+                area_floor: f64::NAN,
+                ..Tuning::default()
+            },
+            "area_floor"
         ));
     }
 
@@ -368,16 +361,12 @@ mod tests {
         .options()
         .expect("valid");
         assert_eq!(o.metric.face_weight_floor, 2.0);
-        assert!(matches!(
+        assert!(refused_as(
             Tuning {
                 face_weight_floor: -1.0,
                 ..Tuning::default()
-            }
-            .options(),
-            Err(Error::Setting {
-                name: "face_weight_floor",
-                ..
-            })
+            },
+            "face_weight_floor"
         ));
         // Classic QEM keeps the exponent too: it is a weighting, not a term.
         let o = Tuning {
@@ -393,16 +382,7 @@ mod tests {
                 area_exponent: bad,
                 ..Tuning::default()
             };
-            assert!(
-                matches!(
-                    t.options(),
-                    Err(Error::Setting {
-                        name: "area_exponent",
-                        ..
-                    })
-                ),
-                "{bad}"
-            );
+            assert!(refused_as(t, "area_exponent"), "{bad}");
         }
     }
 

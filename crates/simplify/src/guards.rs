@@ -448,15 +448,9 @@ mod tests {
         }
     }
 
-    #[test]
-    fn parts_too_small_for_a_closed_shape_pay_for_their_size() {
-        // Two tetrahedra, one with 99 times the other's area (per-vertex
-        // areas given directly), the small one half as large. At 100
-        // triangles the small one's share is 1 triangle, below a
-        // tetrahedron's 4: it pays a target face's area (100 / 100 = 1)
-        // times its squared diagonal (3 / 4), the large one the full
-        // price. At 1000 triangles the small one's 10 is enough to keep:
-        // everyone pays the full price (no list).
+    /// Two tetrahedra, the second half as large and far away, with
+    /// per-vertex areas giving the first 99 times the second's area.
+    fn two_tetrahedra() -> (Complex, [f64; 8]) {
         let t = tetra();
         let mut pos = t.pos.clone();
         pos.extend(t.pos.iter().map(|p| *p * 0.5 + DVec3::splat(5.0)));
@@ -467,7 +461,19 @@ mod tests {
             .collect();
         let off: Vec<u32> = (0..=8).map(|k| 3 * k).collect();
         let c = Complex::new(pos, &off, &idx).0;
-        let area = [24.75, 24.75, 24.75, 24.75, 0.25, 0.25, 0.25, 0.25];
+        (c, [24.75, 24.75, 24.75, 24.75, 0.25, 0.25, 0.25, 0.25])
+    }
+
+    #[test]
+    fn parts_too_small_for_a_closed_shape_pay_for_their_size() {
+        // Two tetrahedra, one with 99 times the other's area (per-vertex
+        // areas given directly), the small one half as large. At 100
+        // triangles the small one's share is 1 triangle, below a
+        // tetrahedron's 4: it pays a target face's area (100 / 100 = 1)
+        // times its squared diagonal (3 / 4), the large one the full
+        // price. At 1000 triangles the small one's 10 is enough to keep:
+        // everyone pays the full price (no list).
+        let (c, area) = two_tetrahedra();
         let prices = pinch_prices(&c, &area, 100, 10.0, None);
         assert_eq!(prices.base, 10.0);
         assert_eq!(
@@ -489,17 +495,7 @@ mod tests {
         // The two tetrahedra above. With a pinch distance of 0.1 the large
         // one pays a target face's area (100 / 100 = 1) times 0.1²; the
         // small one still pays for its own size (0.75), which is larger.
-        let t = tetra();
-        let mut pos = t.pos.clone();
-        pos.extend(t.pos.iter().map(|p| *p * 0.5 + DVec3::splat(5.0)));
-        let idx: Vec<u32> = [0, 2, 1, 0, 1, 3, 0, 3, 2, 1, 2, 3]
-            .iter()
-            .chain([4, 6, 5, 4, 5, 7, 4, 7, 6, 5, 6, 7].iter())
-            .copied()
-            .collect();
-        let off: Vec<u32> = (0..=8).map(|k| 3 * k).collect();
-        let c = Complex::new(pos, &off, &idx).0;
-        let area = [24.75, 24.75, 24.75, 24.75, 0.25, 0.25, 0.25, 0.25];
+        let (c, area) = two_tetrahedra();
         let prices = pinch_prices(&c, &area, 100, 10.0, Some(0.1));
         assert!((prices.base - 0.01).abs() < 1e-12, "{}", prices.base);
         assert!((prices.at(0) - 0.01).abs() < 1e-9);
