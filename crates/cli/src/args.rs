@@ -237,8 +237,9 @@ pub struct TuningArgs {
     /// hair-thin strands stay until nothing cheaper is left, instead of
     /// flattening into edges the output cannot show. 1 ranks such collapses
     /// after every ordinary one (up to --pinch-distance); 0 lets W's
-    /// topology changes compete at their plane cost. Merging parts, closing holes and dropping parts
-    /// too small for the target are never penalized.
+    /// topology changes compete at their plane cost. Merging parts,
+    /// closing holes and dropping parts too small for the target are never
+    /// penalized.
     #[arg(long, value_name = "C", default_value_t = wildlod_simplify::Metric::default().pinch_cost)]
     pub pinch_cost: f64,
     /// Caps the pinch cost: a thin part of a part large enough for the

@@ -275,8 +275,9 @@ const CLOSED_MINIMUM: f64 = 4.0;
 ///
 /// Every other part pays the same for a `distance` (`Metric::pinch_distance`),
 /// `(A / target) · distance²`: its thin parts go once the rest would move
-/// by about half of it. Only where `capped` (the run has a triangle
-/// target; an error limit alone has no target face) and `distance > 0`.
+/// by about half of it. Only when `distance` is given (the run has a
+/// triangle target; an error limit alone has no target face) and above 0;
+/// otherwise they pay `pinch`.
 ///
 /// Every price is at most `pinch`.
 pub(crate) fn pinch_prices(
