@@ -371,33 +371,36 @@ fn class_faces(input: &RefitInput<'_>, nv: usize) -> Stars {
     })
 }
 
+/// Squared distances from `p` to each triangle of the input `faces`
+/// (polygons as fans), in order.
+fn squared_distances<'a>(
+    input: &'a RefitInput<'_>,
+    faces: &'a [u32],
+    p: DVec3,
+) -> impl Iterator<Item = f64> + 'a {
+    faces.iter().flat_map(move |&f| {
+        let corners: SmallVec<[DVec3; 8]> =
+            input.face(f as usize).map(|w| input.point(w)).collect();
+        (1..corners.len().saturating_sub(1)).map(move |k| {
+            let (q, _) = closest_point_on_triangle(p, corners[0], corners[k], corners[k + 1]);
+            (p - q).length_squared()
+        })
+    })
+}
+
 /// Distance from `p` to the nearest of the input `faces` (polygons as
 /// fans); infinite when there are none.
 fn distance_to(input: &RefitInput<'_>, faces: &[u32], p: DVec3) -> f64 {
-    let mut best = f64::INFINITY;
-    for &f in faces {
-        let corners: SmallVec<[DVec3; 8]> =
-            input.face(f as usize).map(|w| input.point(w)).collect();
-        for k in 1..corners.len().saturating_sub(1) {
-            let (q, _) = closest_point_on_triangle(p, corners[0], corners[k], corners[k + 1]);
-            best = best.min((p - q).length_squared());
-        }
-    }
-    best.sqrt()
+    squared_distances(input, faces, p)
+        .fold(f64::INFINITY, f64::min)
+        .sqrt()
 }
 
 /// Whether `p` is within `limit` of one of the input `faces`: the same
 /// test as `distance_to(..) <= limit`, stopping at the first face that
 /// passes.
 fn within(input: &RefitInput<'_>, faces: &[u32], p: DVec3, limit: f64) -> bool {
-    faces.iter().any(|&f| {
-        let corners: SmallVec<[DVec3; 8]> =
-            input.face(f as usize).map(|w| input.point(w)).collect();
-        (1..corners.len().saturating_sub(1)).any(|k| {
-            let (q, _) = closest_point_on_triangle(p, corners[0], corners[k], corners[k + 1]);
-            (p - q).length_squared().sqrt() <= limit
-        })
-    })
+    squared_distances(input, faces, p).any(|d2| d2.sqrt() <= limit)
 }
 
 /// Normal (length twice the area) of face `f` at positions `pos`.
