@@ -1,10 +1,12 @@
 //! Measuring wildlod the way the papers do, side by side with
 //! meshoptimizer: the corpus evaluation ([`evaluation`]) behind
-//! `cargo run --release -p wildlod-bench --bin evaluate`, and the shared
-//! pieces of the criterion benchmarks.
+//! `cargo run --release -p wildlod-bench --bin evaluate`, the shared
+//! pieces of the criterion benchmarks, and meshes made in code to check
+//! defaults outside the corpus ([`holdout`]).
 
 pub mod appearance;
 pub mod evaluation;
+pub mod holdout;
 pub mod methods;
 
 /// Mean time of a benchmark from criterion's saved estimates (under

@@ -1,0 +1,795 @@
+//! Meshes made in code to check defaults on assets outside the corpus.
+//!
+//! The corpus is what every default was measured on, so a default can fit
+//! it and nothing else. These meshes are of the corpus's kinds but none of
+//! its files: smooth closed surfaces, machined parts (teeth, knurls, turned
+//! profiles, hex prisms), scenes of many parts, a double-sided cloth, leaf
+//! cards, an unwelded soup, quad meshes and UV-mapped surfaces. They are
+//! written as OBJ under one folder per category (`manifold`, `wild`,
+//! `quad`, `textured`), the layout `../shared/peers` reads, so the peers and
+//! wildlod are scored on them exactly as on the corpus
+//! (`docs/evaluation.md`, "Meshes made in code").
+//!
+//! The text is written here, not through `wildlod-io`: a check of the
+//! product should not depend on the product's own writer.
+
+use std::collections::HashMap;
+use std::f64::consts::{PI, TAU};
+use std::fmt::Write as _;
+
+/// One generated mesh: positions, polygons (0-based), and optionally one
+/// UV per corner.
+#[derive(Clone, Debug, Default)]
+pub struct Generated {
+    /// Category folder (`manifold`, `wild`, `quad`, `textured`).
+    pub category: &'static str,
+    /// File stem.
+    pub name: &'static str,
+    /// Vertex positions.
+    pub positions: Vec<[f64; 3]>,
+    /// Polygons as vertex ids.
+    pub faces: Vec<Vec<u32>>,
+    /// UVs, and per face the UV id of each corner (empty: no UVs).
+    pub uvs: Vec<[f64; 2]>,
+    /// Per face, the UV ids of its corners.
+    pub face_uvs: Vec<Vec<u32>>,
+}
+
+impl Generated {
+    /// The mesh as OBJ text.
+    pub fn to_obj(&self) -> String {
+        let mut s = String::with_capacity(64 * (self.positions.len() + self.faces.len()));
+        let _ = writeln!(s, "# wildlod holdout mesh {}/{}", self.category, self.name);
+        for p in &self.positions {
+            let _ = writeln!(s, "v {:.7} {:.7} {:.7}", p[0], p[1], p[2]);
+        }
+        for t in &self.uvs {
+            let _ = writeln!(s, "vt {:.7} {:.7}", t[0], t[1]);
+        }
+        for (k, f) in self.faces.iter().enumerate() {
+            s.push('f');
+            for (c, &v) in f.iter().enumerate() {
+                match self.face_uvs.get(k) {
+                    Some(ft) => {
+                        let _ = write!(s, " {}/{}", v + 1, ft[c] + 1);
+                    }
+                    None => {
+                        let _ = write!(s, " {}", v + 1);
+                    }
+                }
+            }
+            s.push('\n');
+        }
+        s
+    }
+
+    /// Triangles of the mesh once its polygons are fanned.
+    pub fn triangles(&self) -> usize {
+        self.faces.iter().map(|f| f.len().saturating_sub(2)).sum()
+    }
+}
+
+/// Every holdout mesh, in a fixed order (deterministic: same bytes on every
+/// machine).
+pub fn all() -> Vec<Generated> {
+    vec![
+        blob(),
+        torus_knot(),
+        turned_shaft(),
+        gear(),
+        hex_nut(),
+        knurled_knob(),
+        sprocket(),
+        scatter(),
+        cloth_two_sided(),
+        tree(),
+        blob_soup(),
+        bumpy_torus_quads(),
+        quad_creature(),
+        quad_panel(),
+        terrain(),
+        atlas_sphere(),
+    ]
+}
+
+/// SplitMix64: a tiny deterministic generator, enough for placing parts.
+struct Rng(u64);
+
+impl Rng {
+    fn next(&mut self) -> u64 {
+        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+        z ^ (z >> 31)
+    }
+
+    /// Uniform in [lo, hi).
+    fn uniform(&mut self, lo: f64, hi: f64) -> f64 {
+        lo + (hi - lo) * (self.next() >> 11) as f64 / (1u64 << 53) as f64
+    }
+
+    /// Standard normal (Box–Muller).
+    fn normal(&mut self) -> f64 {
+        let u = self.uniform(f64::MIN_POSITIVE, 1.0);
+        let v = self.uniform(0.0, 1.0);
+        (-2.0 * u.ln()).sqrt() * (TAU * v).cos()
+    }
+
+    fn unit(&mut self) -> [f64; 3] {
+        normalize([self.normal(), self.normal(), self.normal()])
+    }
+}
+
+fn add(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [a[0] + b[0], a[1] + b[1], a[2] + b[2]]
+}
+
+fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+}
+
+fn scale(a: [f64; 3], k: f64) -> [f64; 3] {
+    [a[0] * k, a[1] * k, a[2] * k]
+}
+
+fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
+}
+
+fn normalize(a: [f64; 3]) -> [f64; 3] {
+    let l = dot(a, a).sqrt();
+    if l > 0.0 {
+        scale(a, 1.0 / l)
+    } else {
+        [0.0, 0.0, 1.0]
+    }
+}
+
+/// A smooth field on space: sines along random directions, octaves halving
+/// in amplitude (a stand-in for noise that needs no table).
+struct Field(Vec<([f64; 3], f64, f64, f64)>);
+
+impl Field {
+    fn new(octaves: u32, seed: u64) -> Field {
+        let mut r = Rng(seed);
+        let mut waves = Vec::new();
+        for o in 0..octaves {
+            for _ in 0..4 {
+                let d = r.unit();
+                let freq = 2f64.powi(o as i32) * r.uniform(1.5, 3.0);
+                let phase = r.uniform(0.0, TAU);
+                waves.push((d, freq, phase, 0.5f64.powi(o as i32)));
+            }
+        }
+        Field(waves)
+    }
+
+    fn at(&self, p: [f64; 3]) -> f64 {
+        self.0
+            .iter()
+            .map(|&(d, f, ph, a)| a * (f * dot(p, d) + ph).sin())
+            .sum()
+    }
+}
+
+/// Quads of an `nu × nv` grid of vertex ids `id(i, j)`, wrapped or not in
+/// each direction.
+fn grid_quads(
+    nu: usize,
+    nv: usize,
+    wrap_u: bool,
+    wrap_v: bool,
+    id: impl Fn(usize, usize) -> u32,
+) -> Vec<Vec<u32>> {
+    let cu = if wrap_u { nu } else { nu - 1 };
+    let cv = if wrap_v { nv } else { nv - 1 };
+    let mut out = Vec::with_capacity(cu * cv);
+    for i in 0..cu {
+        for j in 0..cv {
+            let (i2, j2) = ((i + 1) % nu, (j + 1) % nv);
+            out.push(vec![id(i, j), id(i2, j), id(i2, j2), id(i, j2)]);
+        }
+    }
+    out
+}
+
+/// Quads split along their first diagonal.
+fn triangulate(faces: Vec<Vec<u32>>) -> Vec<Vec<u32>> {
+    faces
+        .into_iter()
+        .flat_map(|f| (1..f.len() - 1).map(move |k| vec![f[0], f[k], f[k + 1]]))
+        .collect()
+}
+
+/// A sphere of six `n × n` quad grids (a cube's faces pushed out), welded
+/// along the cube's edges; with the grid ids of each chart for UVs.
+fn cube_sphere(n: usize) -> (Vec<[f64; 3]>, Vec<Vec<u32>>, Vec<Vec<u32>>) {
+    let mut ids: HashMap<[i64; 3], u32> = HashMap::new();
+    let mut pos = Vec::new();
+    let mut faces = Vec::new();
+    let mut charts = Vec::new();
+    for axis in 0..3 {
+        for s in [-1.0, 1.0] {
+            let mut chart = Vec::with_capacity((n + 1) * (n + 1));
+            for i in 0..=n {
+                for j in 0..=n {
+                    let (u, v) = (-1.0 + 2.0 * i as f64 / n as f64, -1.0 + 2.0 * j as f64 / n as f64);
+                    let mut p = [0.0; 3];
+                    p[axis] = s;
+                    p[(axis + 1) % 3] = u * s;
+                    p[(axis + 2) % 3] = v;
+                    let key = p.map(|x| (x * 1e6).round() as i64);
+                    let id = *ids.entry(key).or_insert_with(|| {
+                        pos.push(normalize(p));
+                        pos.len() as u32 - 1
+                    });
+                    chart.push(id);
+                }
+            }
+            faces.extend(grid_quads(n + 1, n + 1, false, false, |i, j| {
+                chart[i * (n + 1) + j]
+            }));
+            charts.push(chart);
+        }
+    }
+    (pos, faces, charts)
+}
+
+/// `manifold/blob`: a closed smooth lump, 27,648 triangles.
+pub fn blob() -> Generated {
+    let (pos, faces, _) = cube_sphere(48);
+    let f = Field::new(3, 1);
+    Generated {
+        category: "manifold",
+        name: "blob",
+        positions: pos.iter().map(|&p| scale(p, 1.0 + 0.15 * f.at(p))).collect(),
+        faces: triangulate(faces),
+        ..Default::default()
+    }
+}
+
+/// A tube of radius `r(s)` around a closed curve sampled at `c`.
+fn tube(c: &[[f64; 3]], nv: usize, r: impl Fn(f64) -> f64) -> (Vec<[f64; 3]>, Vec<Vec<u32>>) {
+    let nu = c.len();
+    let mut pos = Vec::with_capacity(nu * nv);
+    for i in 0..nu {
+        let t = normalize(sub(c[(i + 1) % nu], c[(i + nu - 1) % nu]));
+        let n = normalize(cross(t, [0.0, 0.0, 1.0]));
+        let b = cross(t, n);
+        for j in 0..nv {
+            let s = TAU * j as f64 / nv as f64;
+            let d = add(scale(n, s.cos()), scale(b, s.sin()));
+            pos.push(add(c[i], scale(d, r(s))));
+        }
+    }
+    let faces = grid_quads(nu, nv, true, true, |i, j| (i * nv + j) as u32);
+    (pos, faces)
+}
+
+/// `manifold/torus_knot`: a (2, 3) knot tube, 9,600 triangles.
+pub fn torus_knot() -> Generated {
+    let c: Vec<[f64; 3]> = (0..300)
+        .map(|i| {
+            let t = TAU * i as f64 / 300.0;
+            let w = 2.0 + (3.0 * t).cos();
+            [w * (2.0 * t).cos(), w * (2.0 * t).sin(), -(3.0 * t).sin()]
+        })
+        .collect();
+    let (positions, faces) = tube(&c, 16, |_| 0.35);
+    Generated {
+        category: "manifold",
+        name: "torus_knot",
+        positions,
+        faces: triangulate(faces),
+        ..Default::default()
+    }
+}
+
+/// A closed surface of revolution of `profile` (radius, height), whose ends
+/// have radius 0 (poles), in `n` segments; faces outward.
+fn lathe(profile: &[(f64, f64)], n: usize) -> (Vec<[f64; 3]>, Vec<Vec<u32>>) {
+    let mut pos = Vec::new();
+    let mut rings: Vec<Vec<u32>> = Vec::new();
+    for &(r, z) in profile {
+        if r == 0.0 {
+            rings.push(vec![pos.len() as u32]);
+            pos.push([0.0, 0.0, z]);
+        } else {
+            let ring = (0..n)
+                .map(|k| {
+                    let a = TAU * k as f64 / n as f64;
+                    pos.push([r * a.cos(), r * a.sin(), z]);
+                    pos.len() as u32 - 1
+                })
+                .collect();
+            rings.push(ring);
+        }
+    }
+    let mut faces = Vec::new();
+    for w in rings.windows(2) {
+        let (a, b) = (&w[0], &w[1]);
+        for k in 0..n {
+            let k2 = (k + 1) % n;
+            match (a.len(), b.len()) {
+                (1, _) => faces.push(vec![a[0], b[k2], b[k]]),
+                (_, 1) => faces.push(vec![a[k], a[k2], b[0]]),
+                _ => faces.push(vec![a[k], a[k2], b[k2], b[k]]),
+            }
+        }
+    }
+    (pos, faces)
+}
+
+/// Points of a quarter circle around `(rc, zc)` from angle `a0` to `a1`.
+fn arc(rc: f64, zc: f64, radius: f64, a0: f64, a1: f64, m: usize) -> Vec<(f64, f64)> {
+    (0..m)
+        .map(|k| {
+            let a = a0 + (a1 - a0) * k as f64 / (m - 1) as f64;
+            (rc + radius * a.cos(), zc + radius * a.sin())
+        })
+        .collect()
+}
+
+/// `manifold/turned_shaft`: a stepped shaft with fillets and a groove,
+/// tessellated as CAD exports are (few rings on flats and cylinders, many
+/// on fillets), 3,456 triangles.
+pub fn turned_shaft() -> Generated {
+    let mut p = vec![(0.0, 0.0)];
+    p.extend(arc(0.45, 0.05, 0.05, -PI / 2.0, 0.0, 6));
+    p.extend([(0.5, 0.6), (0.3, 0.6), (0.3, 0.9), (0.26, 0.92), (0.26, 1.0)]);
+    p.extend([(0.3, 1.02), (0.3, 1.6)]);
+    p.extend(arc(0.22, 1.6, 0.08, 0.0, PI / 2.0, 6).into_iter().skip(1));
+    p.push((0.0, 1.68));
+    let (positions, faces) = lathe(&p, 96);
+    Generated {
+        category: "manifold",
+        name: "turned_shaft",
+        positions,
+        faces: triangulate(faces),
+        ..Default::default()
+    }
+}
+
+/// A plate of outline radius `outer(θ)` with a round hole of radius
+/// `inner`, `height` thick, in `n` angular steps: four rings of vertices
+/// (outer bottom, outer top, inner top, inner bottom) joined by quads.
+fn ring_plate(n: usize, outer: impl Fn(f64) -> f64, inner: f64, height: f64) -> Generated {
+    let mut positions = Vec::with_capacity(4 * n);
+    for (outside, z) in [(true, 0.0), (true, height), (false, height), (false, 0.0)] {
+        for k in 0..n {
+            let a = TAU * k as f64 / n as f64;
+            let r = if outside { outer(a) } else { inner };
+            positions.push([r * a.cos(), r * a.sin(), z]);
+        }
+    }
+    let mut faces = Vec::with_capacity(4 * n);
+    for ring in 0..4 {
+        let next = (ring + 1) % 4;
+        for k in 0..n {
+            let k2 = (k + 1) % n;
+            let id = |r: usize, k: usize| (r * n + k) as u32;
+            faces.push(vec![id(ring, k), id(ring, k2), id(next, k2), id(next, k)]);
+        }
+    }
+    Generated {
+        positions,
+        faces: triangulate(faces),
+        ..Default::default()
+    }
+}
+
+/// `wild/gear`: 20 square teeth and a bore, 1,920 triangles.
+pub fn gear() -> Generated {
+    let teeth = |a: f64| if (20.0 * a).cos() > 0.2 { 1.12 } else { 1.0 };
+    Generated {
+        category: "wild",
+        name: "gear",
+        ..ring_plate(240, teeth, 0.35, 0.25)
+    }
+}
+
+/// `wild/hex_nut`: a hexagonal prism with a bore, 1,536 triangles.
+pub fn hex_nut() -> Generated {
+    let hex = |a: f64| {
+        let sector = (a + PI / 6.0).rem_euclid(PI / 3.0) - PI / 6.0;
+        0.866 / sector.cos()
+    };
+    Generated {
+        category: "wild",
+        name: "hex_nut",
+        ..ring_plate(192, hex, 0.45, 0.5)
+    }
+}
+
+/// `wild/sprocket`: a thin plate with 12 rounded teeth, 2,880 triangles.
+pub fn sprocket() -> Generated {
+    let teeth = |a: f64| 1.0 + 0.1 * (1.5 * (12.0 * a).cos()).clamp(-1.0, 1.0);
+    Generated {
+        category: "wild",
+        name: "sprocket",
+        ..ring_plate(360, teeth, 0.3, 0.1)
+    }
+}
+
+/// `wild/knurled_knob`: a cylinder with 24 ridges, a domed top and a flat
+/// bottom, 5,760 triangles.
+pub fn knurled_knob() -> Generated {
+    let n = 480;
+    let ridged = |a: f64| if (24.0 * a).sin() > 0.0 { 0.64 } else { 0.6 };
+    let mut positions = vec![[0.0, 0.0, 0.0]];
+    let mut rings = Vec::new();
+    let mut ring = |positions: &mut Vec<[f64; 3]>, r: &dyn Fn(f64) -> f64, z: f64| {
+        let ids: Vec<u32> = (0..n)
+            .map(|k| {
+                let a = TAU * k as f64 / n as f64;
+                positions.push([r(a) * a.cos(), r(a) * a.sin(), z]);
+                positions.len() as u32 - 1
+            })
+            .collect();
+        rings.push(ids);
+    };
+    ring(&mut positions, &ridged, 0.0);
+    ring(&mut positions, &ridged, 0.5);
+    for (r, z) in [(0.55, 0.55), (0.45, 0.62), (0.3, 0.67), (0.15, 0.69)] {
+        ring(&mut positions, &move |_| r, z);
+    }
+    positions.push([0.0, 0.0, 0.7]);
+    let top = positions.len() as u32 - 1;
+    let mut faces = Vec::new();
+    for k in 0..n {
+        faces.push(vec![0, rings[0][(k + 1) % n], rings[0][k]]);
+    }
+    for w in rings.windows(2) {
+        for k in 0..n {
+            let k2 = (k + 1) % n;
+            faces.push(vec![w[0][k], w[0][k2], w[1][k2], w[1][k]]);
+        }
+    }
+    let last = &rings[rings.len() - 1];
+    for k in 0..n {
+        faces.push(vec![last[k], last[(k + 1) % n], top]);
+    }
+    Generated {
+        category: "wild",
+        name: "knurled_knob",
+        positions,
+        faces: triangulate(faces),
+        ..Default::default()
+    }
+}
+
+/// Appends `part` (positions, faces) to `into`, offsetting its ids.
+fn append(into: &mut Generated, positions: Vec<[f64; 3]>, faces: Vec<Vec<u32>>) {
+    let base = into.positions.len() as u32;
+    into.positions.extend(positions);
+    into.faces
+        .extend(faces.into_iter().map(|f| f.into_iter().map(|v| v + base).collect()));
+}
+
+/// `wild/scatter`: 40 separate, partly intersecting spheres and rounded
+/// boxes of different sizes, 27,840 triangles.
+pub fn scatter() -> Generated {
+    let mut r = Rng(3);
+    let mut g = Generated {
+        category: "wild",
+        name: "scatter",
+        ..Default::default()
+    };
+    for k in 0..40 {
+        let c = [r.uniform(-1.0, 1.0), r.uniform(-1.0, 1.0), r.uniform(-1.0, 1.0)];
+        let size = r.uniform(0.08, 0.3);
+        let (pos, faces, _) = cube_sphere(if k % 2 == 0 { 10 } else { 4 });
+        let boxy = k % 2 == 1;
+        let pos = pos
+            .into_iter()
+            .map(|p| {
+                // A box with slightly rounded corners: each coordinate
+                // pushed toward ±1.
+                let q = if boxy {
+                    let m = p.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+                    p.map(|x| x.signum() * (x.abs() / m).powf(0.05))
+                } else {
+                    p
+                };
+                add(c, scale(q, size))
+            })
+            .collect();
+        append(&mut g, pos, triangulate(faces));
+    }
+    g
+}
+
+/// `wild/cloth_two_sided`: a curved open sheet made double-sided by a
+/// reversed copy of every face, 19,044 triangles.
+pub fn cloth_two_sided() -> Generated {
+    let n = 70;
+    let positions: Vec<[f64; 3]> = (0..n * n)
+        .map(|k| {
+            let (u, v) = ((k / n) as f64 / (n - 1) as f64, (k % n) as f64 / (n - 1) as f64);
+            [2.0 * u, 0.3 * (3.0 * u).sin() * (2.0 * v).cos(), 1.5 * v]
+        })
+        .collect();
+    let front = triangulate(grid_quads(n, n, false, false, |i, j| (i * n + j) as u32));
+    let back: Vec<Vec<u32>> = front.iter().map(|f| f.iter().rev().copied().collect()).collect();
+    Generated {
+        category: "wild",
+        name: "cloth_two_sided",
+        positions,
+        faces: front.into_iter().chain(back).collect(),
+        ..Default::default()
+    }
+}
+
+/// `wild/tree`: a tapered trunk and 500 separate leaf cards (two triangles
+/// each), 1,936 triangles.
+pub fn tree() -> Generated {
+    let (nu, nv) = (40, 12);
+    let mut g = Generated {
+        category: "wild",
+        name: "tree",
+        ..Default::default()
+    };
+    let trunk: Vec<[f64; 3]> = (0..nu * nv)
+        .map(|k| {
+            let t = (k / nv) as f64 / (nu - 1) as f64;
+            let a = TAU * (k % nv) as f64 / nv as f64;
+            let r = 0.12 * (1.0 - 0.6 * t);
+            [r * a.cos(), r * a.sin(), 2.0 * t]
+        })
+        .collect();
+    let faces = triangulate(grid_quads(nu, nv, false, true, |i, j| (i * nv + j) as u32));
+    append(&mut g, trunk, faces);
+    let mut r = Rng(11);
+    for _ in 0..500 {
+        let c = [0.5 * r.normal(), 0.5 * r.normal(), 1.4 + 0.35 * r.normal()];
+        let a = r.unit();
+        let b = normalize(cross(a, r.unit()));
+        let (l, w) = (0.08, 0.032);
+        let corner = |s: f64, t: f64| add(c, add(scale(a, s * l), scale(b, t * w)));
+        let card = vec![
+            corner(-1.0, -1.0),
+            corner(1.0, -1.0),
+            corner(1.0, 1.0),
+            corner(-1.0, 1.0),
+        ];
+        append(&mut g, card, vec![vec![0, 1, 2], vec![0, 2, 3]]);
+    }
+    g
+}
+
+/// `wild/blob_soup`: a lump whose triangles share no vertex (as STL and
+/// some exporters write them), 10,800 triangles.
+pub fn blob_soup() -> Generated {
+    let (pos, faces, _) = cube_sphere(30);
+    let f = Field::new(2, 3);
+    let pos: Vec<[f64; 3]> = pos.iter().map(|&p| scale(p, 1.0 + 0.2 * f.at(p))).collect();
+    let tris = triangulate(faces);
+    Generated {
+        category: "wild",
+        name: "blob_soup",
+        positions: tris.iter().flatten().map(|&v| pos[v as usize]).collect(),
+        faces: (0..tris.len() as u32)
+            .map(|k| vec![3 * k, 3 * k + 1, 3 * k + 2])
+            .collect(),
+        ..Default::default()
+    }
+}
+
+/// `quad/bumpy_torus_quads`: 4,800 quads on a torus with bumps.
+pub fn bumpy_torus_quads() -> Generated {
+    let (nu, nv) = (120, 40);
+    let positions = (0..nu * nv)
+        .map(|k| {
+            let (a, b) = (TAU * (k / nv) as f64 / nu as f64, TAU * (k % nv) as f64 / nv as f64);
+            let r = 0.4 * (1.0 + 0.1 * (5.0 * a).sin() * (3.0 * b).cos());
+            let w = 1.0 + r * b.cos();
+            [w * a.cos(), w * a.sin(), r * b.sin()]
+        })
+        .collect();
+    Generated {
+        category: "quad",
+        name: "bumpy_torus_quads",
+        positions,
+        faces: grid_quads(nu, nv, true, true, |i, j| (i * nv + j) as u32),
+        ..Default::default()
+    }
+}
+
+/// `quad/quad_creature`: 5,400 quads on a stretched lump.
+pub fn quad_creature() -> Generated {
+    let (pos, faces, _) = cube_sphere(30);
+    let f = Field::new(2, 11);
+    Generated {
+        category: "quad",
+        name: "quad_creature",
+        positions: pos
+            .iter()
+            .map(|&p| {
+                let k = 1.0 + 0.1 * f.at(p);
+                [0.7 * p[0] * k, p[1] * k, 1.6 * p[2] * k]
+            })
+            .collect(),
+        faces,
+        ..Default::default()
+    }
+}
+
+/// `quad/quad_panel`: an open flat panel of 7,921 quads with a raised ring.
+pub fn quad_panel() -> Generated {
+    let n = 90;
+    let positions = (0..n * n)
+        .map(|k| {
+            let (x, y) = (
+                -1.0 + 2.0 * (k / n) as f64 / (n - 1) as f64,
+                -1.0 + 2.0 * (k % n) as f64 / (n - 1) as f64,
+            );
+            let d = ((x * x + y * y).sqrt() - 0.5) / 0.06;
+            [x, y, 0.08 * (-d * d).exp()]
+        })
+        .collect();
+    Generated {
+        category: "quad",
+        name: "quad_panel",
+        positions,
+        faces: grid_quads(n, n, false, false, |i, j| (i * n + j) as u32),
+        ..Default::default()
+    }
+}
+
+/// `textured/terrain`: an open height field with planar UVs, 33,282
+/// triangles.
+pub fn terrain() -> Generated {
+    let n = 130;
+    let f = Field::new(4, 5);
+    let mut positions = Vec::with_capacity(n * n);
+    let mut uvs = Vec::with_capacity(n * n);
+    for k in 0..n * n {
+        let (u, v) = ((k / n) as f64 / (n - 1) as f64, (k % n) as f64 / (n - 1) as f64);
+        let (x, y) = (2.0 * u - 1.0, 2.0 * v - 1.0);
+        positions.push([x, y, 0.1 * f.at([1.3 * x, 1.3 * y, 0.0])]);
+        uvs.push([u, v]);
+    }
+    let faces = triangulate(grid_quads(n, n, false, false, |i, j| (i * n + j) as u32));
+    Generated {
+        category: "textured",
+        name: "terrain",
+        positions,
+        face_uvs: faces.clone(),
+        faces,
+        uvs,
+    }
+}
+
+/// `textured/atlas_sphere`: a bumpy sphere whose six cube-map charts are
+/// separate UV islands (a seam along every cube edge), 15,552 triangles.
+pub fn atlas_sphere() -> Generated {
+    let n = 36;
+    let (pos, _, charts) = cube_sphere(n);
+    let f = Field::new(3, 9);
+    let positions = pos.iter().map(|&p| scale(p, 1.0 + 0.08 * f.at(p))).collect();
+    let (mut uvs, mut faces, mut face_uvs) = (Vec::new(), Vec::new(), Vec::new());
+    let m = n + 1;
+    for (c, chart) in charts.iter().enumerate() {
+        let base = uvs.len() as u32;
+        let (ox, oy) = ((c % 3) as f64 / 3.0, (c / 3) as f64 / 2.0);
+        for i in 0..m {
+            for j in 0..m {
+                let (s, t) = (i as f64 / n as f64, j as f64 / n as f64);
+                uvs.push([ox + 0.01 + 0.31 * s, oy + 0.01 + 0.47 * t]);
+            }
+        }
+        faces.extend(triangulate(grid_quads(m, m, false, false, |i, j| chart[i * m + j])));
+        face_uvs.extend(triangulate(grid_quads(m, m, false, false, |i, j| {
+            base + (i * m + j) as u32
+        })));
+    }
+    Generated {
+        category: "textured",
+        name: "atlas_sphere",
+        positions,
+        faces,
+        uvs,
+        face_uvs,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::collections::HashMap;
+
+    /// Edges used by exactly one face, and by more than two (position
+    /// ids, unordered).
+    fn border_and_nonmanifold(g: &Generated) -> (usize, usize) {
+        let mut count: HashMap<(u32, u32), usize> = HashMap::new();
+        for f in &g.faces {
+            for k in 0..f.len() {
+                let (a, b) = (f[k], f[(k + 1) % f.len()]);
+                *count.entry((a.min(b), a.max(b))).or_default() += 1;
+            }
+        }
+        let border = count.values().filter(|&&c| c == 1).count();
+        let many = count.values().filter(|&&c| c > 2).count();
+        (border, many)
+    }
+
+    #[test]
+    fn each_mesh_has_the_size_and_topology_its_documentation_gives() {
+        let expect: &[(&str, usize, bool)] = &[
+            // (name, triangles, closed)
+            ("blob", 27_648, true),
+            ("torus_knot", 9_600, true),
+            ("turned_shaft", 3_456, true),
+            ("gear", 1_920, true),
+            ("hex_nut", 1_536, true),
+            ("knurled_knob", 5_760, true),
+            ("sprocket", 2_880, true),
+            ("scatter", 27_840, true),
+            ("bumpy_torus_quads", 9_600, true),
+            ("quad_creature", 10_800, true),
+            ("atlas_sphere", 15_552, true),
+        ];
+        let all = all();
+        for &(name, tris, closed) in expect {
+            let g = all.iter().find(|g| g.name == name).expect(name);
+            assert_eq!(g.triangles(), tris, "{name}");
+            let (border, many) = border_and_nonmanifold(g);
+            assert_eq!((border == 0, many), (closed, 0), "{name}: {border} border edges");
+        }
+        // Open ones: the panel's and the terrain's borders are their grid's
+        // outline; the cloth's twins make every edge doubled, none single.
+        let find = |n: &str| all.iter().find(|g| g.name == n).expect(n);
+        assert_eq!(border_and_nonmanifold(find("quad_panel")), (4 * 89, 0));
+        assert_eq!(border_and_nonmanifold(find("terrain")), (4 * 129, 0));
+        assert_eq!(find("cloth_two_sided").triangles(), 19_044);
+        assert_eq!(border_and_nonmanifold(find("cloth_two_sided")).0, 0);
+        // 500 cards of two triangles each, plus the open-ended trunk.
+        assert_eq!(find("tree").triangles(), 2 * 39 * 12 + 1000);
+        // The soup shares no vertex.
+        let soup = find("blob_soup");
+        assert_eq!(soup.positions.len(), 3 * soup.triangles());
+    }
+
+    #[test]
+    fn generation_is_deterministic_and_uvs_cover_every_corner() {
+        let (a, b) = (all(), all());
+        for (x, y) in a.iter().zip(&b) {
+            assert_eq!(x.to_obj(), y.to_obj(), "{}", x.name);
+            if !x.uvs.is_empty() {
+                assert_eq!(x.face_uvs.len(), x.faces.len(), "{}", x.name);
+                for (f, t) in x.faces.iter().zip(&x.face_uvs) {
+                    assert_eq!(f.len(), t.len());
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn the_atlas_sphere_has_six_uv_islands_and_one_surface() {
+        let g = atlas_sphere();
+        // Seams: positions with corners of more than one UV.
+        let mut uv_of: HashMap<u32, Vec<u32>> = HashMap::new();
+        for (f, t) in g.faces.iter().zip(&g.face_uvs) {
+            for (&v, &u) in f.iter().zip(t) {
+                let e = uv_of.entry(v).or_default();
+                if !e.contains(&u) {
+                    e.push(u);
+                }
+            }
+        }
+        let seam = uv_of.values().filter(|u| u.len() > 1).count();
+        // The twelve cube edges hold 12·35 inner vertices (two UVs each)
+        // and the eight corners (three UVs each).
+        assert_eq!(seam, 12 * 35 + 8);
+        assert_eq!(border_and_nonmanifold(&g), (0, 0));
+    }
+}
