@@ -4,7 +4,8 @@
 //! it and nothing else. These meshes are of the corpus's kinds but none of
 //! its files: smooth closed surfaces, machined parts (teeth, knurls, turned
 //! profiles, hex prisms), scenes of many parts, a double-sided cloth, leaf
-//! cards, an unwelded soup, quad meshes and UV-mapped surfaces. They are
+//! cards, an unwelded soup, quad meshes, and UV-mapped surfaces with
+//! normals (smooth, and hard at a prop's edges). They are
 //! written as OBJ under one folder per category (`manifold`, `wild`,
 //! `quad`, `textured`), the layout `../shared/peers` reads, so the peers and
 //! wildlod are scored on them exactly as on the corpus
@@ -33,6 +34,11 @@ pub struct Generated {
     pub uvs: Vec<[f64; 2]>,
     /// Per face, the UV ids of its corners.
     pub face_uvs: Vec<Vec<u32>>,
+    /// Normals, and per face the normal id of each corner (empty: no
+    /// normals).
+    pub normals: Vec<[f64; 3]>,
+    /// Per face, the normal ids of its corners.
+    pub face_normals: Vec<Vec<u32>>,
 }
 
 impl Generated {
@@ -46,16 +52,24 @@ impl Generated {
         for t in &self.uvs {
             let _ = writeln!(s, "vt {:.7} {:.7}", t[0], t[1]);
         }
+        for n in &self.normals {
+            let _ = writeln!(s, "vn {:.6} {:.6} {:.6}", n[0], n[1], n[2]);
+        }
         for (k, f) in self.faces.iter().enumerate() {
             s.push('f');
             for (c, &v) in f.iter().enumerate() {
-                match self.face_uvs.get(k) {
-                    Some(ft) => {
-                        let _ = write!(s, " {}/{}", v + 1, ft[c] + 1);
+                let _ = write!(s, " {}", v + 1);
+                match (self.face_uvs.get(k), self.face_normals.get(k)) {
+                    (Some(t), Some(n)) => {
+                        let _ = write!(s, "/{}/{}", t[c] + 1, n[c] + 1);
                     }
-                    None => {
-                        let _ = write!(s, " {}", v + 1);
+                    (Some(t), None) => {
+                        let _ = write!(s, "/{}", t[c] + 1);
                     }
+                    (None, Some(n)) => {
+                        let _ = write!(s, "//{}", n[c] + 1);
+                    }
+                    (None, None) => {}
                 }
             }
             s.push('\n');
@@ -89,6 +103,7 @@ pub fn all() -> Vec<Generated> {
         quad_panel(),
         terrain(),
         atlas_sphere(),
+        panel_crate(),
     ]
 }
 
@@ -210,9 +225,13 @@ fn triangulate(faces: Vec<Vec<u32>>) -> Vec<Vec<u32>> {
         .collect()
 }
 
+/// Positions, polygons, and the vertex ids of each of the six charts of
+/// [`cube_sphere`] (row by row).
+type CubeSphere = (Vec<[f64; 3]>, Vec<Vec<u32>>, Vec<Vec<u32>>);
+
 /// A sphere of six `n × n` quad grids (a cube's faces pushed out), welded
 /// along the cube's edges; with the grid ids of each chart for UVs.
-fn cube_sphere(n: usize) -> (Vec<[f64; 3]>, Vec<Vec<u32>>, Vec<Vec<u32>>) {
+fn cube_sphere(n: usize) -> CubeSphere {
     let mut ids: HashMap<[i64; 3], u32> = HashMap::new();
     let mut pos = Vec::new();
     let mut faces = Vec::new();
@@ -222,7 +241,10 @@ fn cube_sphere(n: usize) -> (Vec<[f64; 3]>, Vec<Vec<u32>>, Vec<Vec<u32>>) {
             let mut chart = Vec::with_capacity((n + 1) * (n + 1));
             for i in 0..=n {
                 for j in 0..=n {
-                    let (u, v) = (-1.0 + 2.0 * i as f64 / n as f64, -1.0 + 2.0 * j as f64 / n as f64);
+                    let (u, v) = (
+                        -1.0 + 2.0 * i as f64 / n as f64,
+                        -1.0 + 2.0 * j as f64 / n as f64,
+                    );
                     let mut p = [0.0; 3];
                     p[axis] = s;
                     p[(axis + 1) % 3] = u * s;
@@ -251,7 +273,10 @@ pub fn blob() -> Generated {
     Generated {
         category: "manifold",
         name: "blob",
-        positions: pos.iter().map(|&p| scale(p, 1.0 + 0.15 * f.at(p))).collect(),
+        positions: pos
+            .iter()
+            .map(|&p| scale(p, 1.0 + 0.15 * f.at(p)))
+            .collect(),
         faces: triangulate(faces),
         ..Default::default()
     }
@@ -345,7 +370,13 @@ fn arc(rc: f64, zc: f64, radius: f64, a0: f64, a1: f64, m: usize) -> Vec<(f64, f
 pub fn turned_shaft() -> Generated {
     let mut p = vec![(0.0, 0.0)];
     p.extend(arc(0.45, 0.05, 0.05, -PI / 2.0, 0.0, 6));
-    p.extend([(0.5, 0.6), (0.3, 0.6), (0.3, 0.9), (0.26, 0.92), (0.26, 1.0)]);
+    p.extend([
+        (0.5, 0.6),
+        (0.3, 0.6),
+        (0.3, 0.9),
+        (0.26, 0.92),
+        (0.26, 1.0),
+    ]);
     p.extend([(0.3, 1.02), (0.3, 1.6)]);
     p.extend(arc(0.22, 1.6, 0.08, 0.0, PI / 2.0, 6).into_iter().skip(1));
     p.push((0.0, 1.68));
@@ -471,8 +502,11 @@ pub fn knurled_knob() -> Generated {
 fn append(into: &mut Generated, positions: Vec<[f64; 3]>, faces: Vec<Vec<u32>>) {
     let base = into.positions.len() as u32;
     into.positions.extend(positions);
-    into.faces
-        .extend(faces.into_iter().map(|f| f.into_iter().map(|v| v + base).collect()));
+    into.faces.extend(
+        faces
+            .into_iter()
+            .map(|f| f.into_iter().map(|v| v + base).collect()),
+    );
 }
 
 /// `wild/scatter`: 40 separate, partly intersecting spheres and rounded
@@ -485,7 +519,11 @@ pub fn scatter() -> Generated {
         ..Default::default()
     };
     for k in 0..40 {
-        let c = [r.uniform(-1.0, 1.0), r.uniform(-1.0, 1.0), r.uniform(-1.0, 1.0)];
+        let c = [
+            r.uniform(-1.0, 1.0),
+            r.uniform(-1.0, 1.0),
+            r.uniform(-1.0, 1.0),
+        ];
         let size = r.uniform(0.08, 0.3);
         let (pos, faces, _) = cube_sphere(if k % 2 == 0 { 10 } else { 4 });
         let boxy = k % 2 == 1;
@@ -514,12 +552,18 @@ pub fn cloth_two_sided() -> Generated {
     let n = 70;
     let positions: Vec<[f64; 3]> = (0..n * n)
         .map(|k| {
-            let (u, v) = ((k / n) as f64 / (n - 1) as f64, (k % n) as f64 / (n - 1) as f64);
+            let (u, v) = (
+                (k / n) as f64 / (n - 1) as f64,
+                (k % n) as f64 / (n - 1) as f64,
+            );
             [2.0 * u, 0.3 * (3.0 * u).sin() * (2.0 * v).cos(), 1.5 * v]
         })
         .collect();
     let front = triangulate(grid_quads(n, n, false, false, |i, j| (i * n + j) as u32));
-    let back: Vec<Vec<u32>> = front.iter().map(|f| f.iter().rev().copied().collect()).collect();
+    let back: Vec<Vec<u32>> = front
+        .iter()
+        .map(|f| f.iter().rev().copied().collect())
+        .collect();
     Generated {
         category: "wild",
         name: "cloth_two_sided",
@@ -589,7 +633,10 @@ pub fn bumpy_torus_quads() -> Generated {
     let (nu, nv) = (120, 40);
     let positions = (0..nu * nv)
         .map(|k| {
-            let (a, b) = (TAU * (k / nv) as f64 / nu as f64, TAU * (k % nv) as f64 / nv as f64);
+            let (a, b) = (
+                TAU * (k / nv) as f64 / nu as f64,
+                TAU * (k % nv) as f64 / nv as f64,
+            );
             let r = 0.4 * (1.0 + 0.1 * (5.0 * a).sin() * (3.0 * b).cos());
             let w = 1.0 + r * b.cos();
             [w * a.cos(), w * a.sin(), r * b.sin()]
@@ -645,6 +692,108 @@ pub fn quad_panel() -> Generated {
     }
 }
 
+/// Area-weighted vertex normals of `faces` (smooth shading), one per
+/// position, and the faces' corners pointing at them.
+fn smooth_normals(positions: &[[f64; 3]], faces: &[Vec<u32>]) -> (Vec<[f64; 3]>, Vec<Vec<u32>>) {
+    let mut n = vec![[0.0; 3]; positions.len()];
+    for f in faces {
+        let p = |k: usize| positions[f[k] as usize];
+        for k in 1..f.len() - 1 {
+            let w = cross(sub(p(k), p(0)), sub(p(k + 1), p(0)));
+            for &v in &[f[0], f[k], f[k + 1]] {
+                n[v as usize] = add(n[v as usize], w);
+            }
+        }
+    }
+    (n.into_iter().map(normalize).collect(), faces.to_vec())
+}
+
+/// `textured/panel_crate`: a box whose six sides carry raised panels, each
+/// side its own UV island and its own normals (hard edges at the box's
+/// edges, smooth within a side), like a game prop; 13,824 triangles.
+pub fn panel_crate() -> Generated {
+    let n = 24;
+    let m = n + 1;
+    let mut g = Generated {
+        category: "textured",
+        name: "panel_crate",
+        ..Default::default()
+    };
+    for (side, (axis, s)) in [0, 1, 2]
+        .iter()
+        .flat_map(|&a| [(a, -1.0), (a, 1.0)])
+        .enumerate()
+    {
+        let base = g.positions.len() as u32;
+        let (ox, oy) = ((side % 3) as f64 / 3.0, (side / 3) as f64 / 2.0);
+        let mut grid = Vec::with_capacity(m * m);
+        for i in 0..m {
+            for j in 0..m {
+                // (2i − n) / n is exactly −(2(n − i) − n) / n: the sides' shared
+                // edges get bit-identical coordinates.
+                let c = |k: usize| (2.0 * k as f64 - n as f64) / n as f64;
+                let (u, v) = (c(i), c(j));
+                // A raised panel inset from the side's outline, with a
+                // steep but smooth step, exactly 0 on the rim so that the
+                // sides weld along the box's edges.
+                let t = ((0.7 - u.abs().max(v.abs()) + 0.03) / 0.06).clamp(0.0, 1.0);
+                let h = 0.04 * t * t * (3.0 - 2.0 * t);
+                let mut p = [0.0; 3];
+                p[axis] = s * (1.0 + h);
+                p[(axis + 1) % 3] = u * s;
+                p[(axis + 2) % 3] = v;
+                grid.push(p);
+                g.uvs.push([
+                    ox + 0.01 + 0.31 * (i as f64 / n as f64),
+                    oy + 0.01 + 0.47 * (j as f64 / n as f64),
+                ]);
+            }
+        }
+        // The rim stays on the box's faces so that sides meet at its edges.
+        let faces = triangulate(grid_quads(m, m, false, false, |i, j| {
+            base + (i * m + j) as u32
+        }));
+        let local: Vec<Vec<u32>> = faces
+            .iter()
+            .map(|f| f.iter().map(|&v| v - base).collect())
+            .collect();
+        let (normals, _) = smooth_normals(&grid, &local);
+        let nbase = g.normals.len() as u32;
+        g.normals.extend(normals);
+        g.positions.extend(grid);
+        g.face_uvs.extend(faces.iter().cloned());
+        g.face_normals
+            .extend(local.iter().map(|f| f.iter().map(|&v| v + nbase).collect()));
+        g.faces.extend(faces);
+    }
+    weld_positions(&mut g);
+    g
+}
+
+/// Merges bit-identical positions (the sides of `panel_crate` meet along
+/// the box's edges; −0 counts as 0), keeping UVs and normals per corner.
+fn weld_positions(g: &mut Generated) {
+    let mut ids: HashMap<[u64; 3], u32> = HashMap::new();
+    let mut positions = Vec::new();
+    let remap: Vec<u32> = g
+        .positions
+        .iter()
+        .map(|p| {
+            *ids.entry(p.map(|x| (x + 0.0).to_bits()))
+                .or_insert_with(|| {
+                    positions.push(*p);
+                    positions.len() as u32 - 1
+                })
+        })
+        .collect();
+    for f in &mut g.faces {
+        for v in f.iter_mut() {
+            *v = remap[*v as usize];
+        }
+    }
+    g.positions = positions;
+}
+
 /// `textured/terrain`: an open height field with planar UVs, 33,282
 /// triangles.
 pub fn terrain() -> Generated {
@@ -653,12 +802,16 @@ pub fn terrain() -> Generated {
     let mut positions = Vec::with_capacity(n * n);
     let mut uvs = Vec::with_capacity(n * n);
     for k in 0..n * n {
-        let (u, v) = ((k / n) as f64 / (n - 1) as f64, (k % n) as f64 / (n - 1) as f64);
+        let (u, v) = (
+            (k / n) as f64 / (n - 1) as f64,
+            (k % n) as f64 / (n - 1) as f64,
+        );
         let (x, y) = (2.0 * u - 1.0, 2.0 * v - 1.0);
         positions.push([x, y, 0.1 * f.at([1.3 * x, 1.3 * y, 0.0])]);
         uvs.push([u, v]);
     }
     let faces = triangulate(grid_quads(n, n, false, false, |i, j| (i * n + j) as u32));
+    let (normals, face_normals) = smooth_normals(&positions, &faces);
     Generated {
         category: "textured",
         name: "terrain",
@@ -666,6 +819,8 @@ pub fn terrain() -> Generated {
         face_uvs: faces.clone(),
         faces,
         uvs,
+        normals,
+        face_normals,
     }
 }
 
@@ -675,7 +830,10 @@ pub fn atlas_sphere() -> Generated {
     let n = 36;
     let (pos, _, charts) = cube_sphere(n);
     let f = Field::new(3, 9);
-    let positions = pos.iter().map(|&p| scale(p, 1.0 + 0.08 * f.at(p))).collect();
+    let positions: Vec<[f64; 3]> = pos
+        .iter()
+        .map(|&p| scale(p, 1.0 + 0.08 * f.at(p)))
+        .collect();
     let (mut uvs, mut faces, mut face_uvs) = (Vec::new(), Vec::new(), Vec::new());
     let m = n + 1;
     for (c, chart) in charts.iter().enumerate() {
@@ -687,11 +845,14 @@ pub fn atlas_sphere() -> Generated {
                 uvs.push([ox + 0.01 + 0.31 * s, oy + 0.01 + 0.47 * t]);
             }
         }
-        faces.extend(triangulate(grid_quads(m, m, false, false, |i, j| chart[i * m + j])));
+        faces.extend(triangulate(grid_quads(m, m, false, false, |i, j| {
+            chart[i * m + j]
+        })));
         face_uvs.extend(triangulate(grid_quads(m, m, false, false, |i, j| {
             base + (i * m + j) as u32
         })));
     }
+    let (normals, face_normals) = smooth_normals(&positions, &faces);
     Generated {
         category: "textured",
         name: "atlas_sphere",
@@ -699,6 +860,8 @@ pub fn atlas_sphere() -> Generated {
         faces,
         uvs,
         face_uvs,
+        normals,
+        face_normals,
     }
 }
 
@@ -737,13 +900,18 @@ mod tests {
             ("bumpy_torus_quads", 9_600, true),
             ("quad_creature", 10_800, true),
             ("atlas_sphere", 15_552, true),
+            ("panel_crate", 6_912, true),
         ];
         let all = all();
         for &(name, tris, closed) in expect {
             let g = all.iter().find(|g| g.name == name).expect(name);
             assert_eq!(g.triangles(), tris, "{name}");
             let (border, many) = border_and_nonmanifold(g);
-            assert_eq!((border == 0, many), (closed, 0), "{name}: {border} border edges");
+            assert_eq!(
+                (border == 0, many),
+                (closed, 0),
+                "{name}: {border} border edges"
+            );
         }
         // Open ones: the panel's and the terrain's borders are their grid's
         // outline; the cloth's twins make every edge doubled, none single.
