@@ -411,7 +411,9 @@ fn face_normal(c: &Complex, pos: &[DVec3], f: u32) -> DVec3 {
 
 /// The closest point to input vertex `i` on the faces around the output
 /// vertex it went to, among faces that face its way (within 60°, see
-/// [`FACING`]; polygons as fans).
+/// [`FACING`]; polygons as fans). None when that point is on the outline
+/// of those faces ([`beyond_the_star`]) or beside the face it is on
+/// ([`beside_the_face`]): such a point is not fitted.
 fn match_point(
     c: &Complex,
     star: &Stars,
@@ -427,7 +429,7 @@ fn match_point(
     let x = input.point(i);
     let own = normal[i as usize].as_dvec3();
     let v = *input.root.get(i as usize)?;
-    let mut best: Option<(f64, Match)> = None;
+    let mut best: Option<(f64, Match, bool)> = None;
     for k in star.range(v) {
         let (f, n) = (star.list[k], star.normal[k]);
         if n.dot(own) <= FACING * own.length() {
@@ -439,21 +441,64 @@ fn match_point(
             let (a, b) = (c.pos[face[t] as usize], c.pos[face[t + 1] as usize]);
             let (q, bary) = closest_point_on_triangle(x, p0, a, b);
             let d2 = (x - q).length_squared();
-            if best.as_ref().map_or(true, |(b, _)| d2 < *b) {
+            if best.as_ref().map_or(true, |(b, _, _)| d2 < *b) {
+                let corners = [face[0], face[t], face[t + 1]];
+                let beyond = beyond_the_star(v, corners, bary, t, face.len());
                 best = Some((
                     d2,
                     Match {
-                        corners: [face[0], face[t], face[t + 1]],
+                        corners,
                         bary,
                         normal: n,
                         distance: n.dot(x - q),
                         weight: w,
                     },
+                    beyond,
                 ));
             }
         }
     }
-    best.map(|(_, m)| m)
+    match best {
+        Some((d2, m, false)) if !beside_the_face(&m, d2) => Some(m),
+        _ => None,
+    }
+}
+
+/// Whether input point `m` (squared distance `d2` to its closest point)
+/// lies beside its face rather than above it: the closest point on the
+/// face's outline and the offset more along the face than across it. The
+/// data term measures the offset along the face's normal, which for such a
+/// point is no distance to the surface (a panel's step point matched to
+/// the flat face next to the step, 10⁻² off along its normal, pulled an
+/// exactly simplified box off its planes).
+fn beside_the_face(m: &Match, d2: f64) -> bool {
+    let across = m.distance.abs();
+    let along = (d2 - across * across).max(0.0).sqrt();
+    m.bary.iter().any(|&b| b <= 1e-12) && along > across
+}
+
+/// Whether a closest point with barycentric weights `bary` on the fan
+/// triangle `corners` (triangle `t` of a polygon of `len` corners, fanned
+/// from its first) lies on a side of the polygon away from the output
+/// vertex `v`: on the outline of `v`'s faces. The input point is then
+/// beyond them, where another vertex's faces stand for it, and its
+/// distance to this outline is no distance to the surface: on a box
+/// with raised panels simplified exactly, points of a panel's step
+/// matched so pulled flat neighbours off their planes (Hausdorff 0 →
+/// 1.7·10⁻³ of the diagonal at 10%). A fan diagonal is inside the
+/// polygon, and a side through `v` is shared with its next face.
+fn beyond_the_star(v: u32, corners: [u32; 3], bary: [f64; 3], t: usize, len: usize) -> bool {
+    let Some(z) = (0..3).find(|&k| bary[k] <= 1e-12) else {
+        return false;
+    };
+    // The side opposite corner z, and whether it is a side of the polygon.
+    let polygon_side = match z {
+        0 => true,
+        1 => t + 1 == len - 1,
+        _ => t == 1,
+    };
+    let (a, b) = (corners[(z + 1) % 3], corners[(z + 2) % 3]);
+    polygon_side && a != v && b != v
 }
 
 /// The shortest edge from `v` to the other corners of its faces.
@@ -519,6 +564,43 @@ fn keep_faces_unfolded(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn points_beyond_their_vertex_faces_or_beside_a_face_are_not_fitted() {
+        // Quad [v, a, b, c] = [0, 1, 2, 3] fanned from v; its triangle
+        // t = 1 is [v, a, b]. On side a–b (v's weight 0): the quad's
+        // outline away from v, so beyond v's faces.
+        assert!(beyond_the_star(0, [0, 1, 2], [0.0, 0.5, 0.5], 1, 4));
+        // On side v–a (b's weight 0): through v, shared with v's next face.
+        assert!(!beyond_the_star(0, [0, 1, 2], [0.5, 0.5, 0.0], 1, 4));
+        // On v–b (a's weight 0): the fan's diagonal, inside the quad.
+        assert!(!beyond_the_star(0, [0, 1, 2], [0.5, 0.0, 0.5], 1, 4));
+        // Quad [a, v, b, c] = [0, 1, 2, 3]: its triangle t = 2 is
+        // [a, b, c]. On b–c: a side of the quad without v.
+        assert!(beyond_the_star(1, [0, 2, 3], [0.0, 0.5, 0.5], 2, 4));
+        // On a–b: the diagonal.
+        assert!(!beyond_the_star(1, [0, 2, 3], [0.5, 0.5, 0.0], 2, 4));
+        // On c–a: a side of the quad without v.
+        assert!(beyond_the_star(1, [0, 2, 3], [0.5, 0.0, 0.5], 2, 4));
+        // Inside a triangle: never.
+        assert!(!beyond_the_star(0, [0, 1, 2], [0.2, 0.3, 0.5], 1, 3));
+
+        let m = |bary: [f64; 3], distance: f64| Match {
+            corners: [0, 1, 2],
+            bary,
+            normal: DVec3::Z,
+            distance,
+            weight: 1.0,
+        };
+        // On an edge, 0.1 across the face and 0.2 along it: beside.
+        let d2 = 0.1f64.powi(2) + 0.2f64.powi(2);
+        assert!(beside_the_face(&m([0.0, 0.5, 0.5], -0.1), d2));
+        // 0.1 across and 0.05 along: above the edge, fitted.
+        let d2 = 0.1f64.powi(2) + 0.05f64.powi(2);
+        assert!(!beside_the_face(&m([0.0, 0.5, 0.5], 0.1), d2));
+        // Projected inside the face: fitted whatever the offset.
+        assert!(!beside_the_face(&m([0.2, 0.3, 0.5], 0.1), 0.01));
+    }
 
     /// A flat 5 × 5 grid of input vertices in z = 0 over [−1, 1]², as
     /// triangles.

@@ -89,3 +89,46 @@ fn classic_qem_does_not_refit() {
     assert_eq!(Options::classic_qem().refit_sweeps, 0);
     assert!(Options::default().refit_sweeps > 0);
 }
+
+/// A box of `n × n` grids per side whose sides carry raised panels: flat
+/// pieces joined by one row of slanted faces at each panel's step, so a
+/// simplifier can reduce it far without error.
+fn panelled_box(n: usize) -> Mesh {
+    let mut m = shapes::box_grid([-1.0; 3], [1.0; 3], n);
+    for p in &mut m.positions {
+        let Some(axis) = (0..3).find(|&k| p[k].abs() == 1.0) else {
+            continue;
+        };
+        let (u, v) = (p[(axis + 1) % 3], p[(axis + 2) % 3]);
+        // 0 on the rim and up to 0.03 inside the step, 0.04 on the panel.
+        let t = ((0.7 - u.abs().max(v.abs()) + 0.03) / 0.06).clamp(0.0, 1.0);
+        p[axis] += p[axis].signum() * 0.04 * t * t * (3.0 - 2.0 * t);
+    }
+    shapes::triangulate(&m)
+}
+
+#[test]
+fn an_exact_simplification_stays_exact() {
+    // The panelled box at 10% without the refit lies on its input. Input
+    // points of a step whose closest point on their output vertex's faces
+    // is on those faces' outline, or beside a face rather than above it,
+    // used to pull flat neighbours off their planes: such points are not
+    // fitted. Grids of 20 and 24 per side failed before (3.6e-4 and
+    // 2.2e-3); 16 is left out because the box is not reduced exactly at
+    // 10% there (4.6e-3 without the refit), and 32 still moves (1.9e-3: a
+    // point matched 10⁻² above a 45° face of its own vertex, see
+    // docs/evaluation.md).
+    for n in [12, 18, 20, 24, 28, 30, 36] {
+        let mesh = panelled_box(n);
+        let (plain, _) = simplify_mesh(&mesh, &with_sweeps(ratio(0.1), 0)).unwrap();
+        let (fitted, _) = simplify_mesh(&mesh, &ratio(0.1)).unwrap();
+        assert_eq!(fitted.faces, plain.faces);
+        let (h0, _) = distances(&mesh, &plain);
+        let (h1, _) = distances(&mesh, &fitted);
+        assert!(
+            h0 < 1e-6,
+            "{n}: the premise, exact without the refit ({h0:.3e})"
+        );
+        assert!(h1 < 1e-6, "{n}: Hausdorff {h0:.3e} -> {h1:.3e}");
+    }
+}
