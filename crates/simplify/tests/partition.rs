@@ -60,8 +60,27 @@ fn deviation(reference: &Mesh, candidate: &Mesh) -> (f64, f64) {
 /// meshes, and the cuts by up to 25% (measured at 1% on `bumpy_sphere(64)`
 /// with chunks of 1024 to 8192 faces), so it is held to 30%.
 fn assert_close(ratio: f64, (ha, ca): (f64, f64), (hb, cb): (f64, f64)) {
+    assert_close_above(ratio, (ha, ca), (hb, cb), 0.0);
+}
+
+/// [`assert_close`] where distances under `floor` count as equal: results
+/// exact up to rounding differ by any factor there.
+fn assert_close_above(ratio: f64, (ha, ca): (f64, f64), (hb, cb): (f64, f64), floor: f64) {
+    let (cb, hb) = (cb.max(floor), hb.max(floor));
     assert!(ca <= 1.05 * cb, "ratio {ratio}: Chamfer {ca} vs {cb}");
     assert!(ha <= 1.3 * hb, "ratio {ratio}: Hausdorff {ha} vs {hb}");
+}
+
+/// The bounding-box diagonal of `m`.
+fn diagonal(m: &Mesh) -> f64 {
+    let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
+    for p in &m.positions {
+        for k in 0..3 {
+            lo[k] = lo[k].min(f64::from(p[k]));
+            hi[k] = hi[k].max(f64::from(p[k]));
+        }
+    }
+    (0..3).map(|k| (hi[k] - lo[k]).powi(2)).sum::<f64>().sqrt()
 }
 
 #[test]
@@ -117,7 +136,14 @@ fn partitioned_budget_goes_where_collapses_are_cheapest_as_in_the_global_loop() 
     // lost the difference: at 50% the Chamfer distance was 40 times the
     // global loop's; left on their cuts, rings of full density did the
     // same on any mesh.
+    // The flat half lets both reduce the square at 50% almost exactly
+    // (Chamfer 1.2e-8 and 6.6e-9, since the refit no longer pulls exact
+    // results off their planes; 1.1e-7 and 1.9e-7 before): distances
+    // under a millionth of the diagonal, the peers' scoreboard's ties,
+    // count as equal. The failure above (3.6e-6 against 1.9e-7) is well
+    // above that.
     for mesh in [half_flat(320), bumpy_sphere(128)] {
+        let floor = 1e-6 * diagonal(&mesh);
         for r in [0.5, 0.25] {
             let mut o = ratio(r);
             o.partition.min_triangles = 0;
@@ -126,7 +152,7 @@ fn partitioned_budget_goes_where_collapses_are_cheapest_as_in_the_global_loop() 
             let (b, _) = simplify_mesh(&mesh, &global(ratio(r))).unwrap();
             let (ha, ca) = deviation(&mesh, &a);
             let (hb, cb) = deviation(&mesh, &b);
-            assert_close(r, (ha, ca), (hb, cb));
+            assert_close_above(r, (ha, ca), (hb, cb), floor);
         }
     }
 }
