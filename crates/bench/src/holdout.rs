@@ -18,6 +18,8 @@ use std::collections::HashMap;
 use std::f64::consts::{PI, TAU};
 use std::fmt::Write as _;
 
+use glam::DVec3;
+
 /// One generated mesh: positions, polygons (0-based), and optionally one
 /// UV per corner.
 #[derive(Clone, Debug, Default)]
@@ -27,7 +29,7 @@ pub struct Generated {
     /// File stem.
     pub name: &'static str,
     /// Vertex positions.
-    pub positions: Vec<[f64; 3]>,
+    pub positions: Vec<DVec3>,
     /// Polygons as vertex ids.
     pub faces: Vec<Vec<u32>>,
     /// UVs, and per face the UV id of each corner (empty: no UVs).
@@ -36,7 +38,7 @@ pub struct Generated {
     pub face_uvs: Vec<Vec<u32>>,
     /// Normals, and per face the normal id of each corner (empty: no
     /// normals).
-    pub normals: Vec<[f64; 3]>,
+    pub normals: Vec<DVec3>,
     /// Per face, the normal ids of its corners.
     pub face_normals: Vec<Vec<u32>>,
 }
@@ -47,13 +49,13 @@ impl Generated {
         let mut s = String::with_capacity(64 * (self.positions.len() + self.faces.len()));
         let _ = writeln!(s, "# wildlod holdout mesh {}/{}", self.category, self.name);
         for p in &self.positions {
-            let _ = writeln!(s, "v {:.7} {:.7} {:.7}", p[0], p[1], p[2]);
+            let _ = writeln!(s, "v {:.7} {:.7} {:.7}", p.x, p.y, p.z);
         }
         for t in &self.uvs {
             let _ = writeln!(s, "vt {:.7} {:.7}", t[0], t[1]);
         }
         for n in &self.normals {
-            let _ = writeln!(s, "vn {:.6} {:.6} {:.6}", n[0], n[1], n[2]);
+            let _ = writeln!(s, "vn {:.6} {:.6} {:.6}", n.x, n.y, n.z);
         }
         for (k, f) in self.faces.iter().enumerate() {
             s.push('f');
@@ -131,47 +133,14 @@ impl Rng {
         (-2.0 * u.ln()).sqrt() * (TAU * v).cos()
     }
 
-    fn unit(&mut self) -> [f64; 3] {
-        normalize([self.normal(), self.normal(), self.normal()])
-    }
-}
-
-fn add(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[0] + b[0], a[1] + b[1], a[2] + b[2]]
-}
-
-fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-
-fn scale(a: [f64; 3], k: f64) -> [f64; 3] {
-    [a[0] * k, a[1] * k, a[2] * k]
-}
-
-fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-
-fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
-}
-
-fn normalize(a: [f64; 3]) -> [f64; 3] {
-    let l = dot(a, a).sqrt();
-    if l > 0.0 {
-        scale(a, 1.0 / l)
-    } else {
-        [0.0, 0.0, 1.0]
+    fn unit(&mut self) -> DVec3 {
+        DVec3::new(self.normal(), self.normal(), self.normal()).normalize_or(DVec3::Z)
     }
 }
 
 /// A smooth field on space: sines along random directions, octaves halving
 /// in amplitude (a stand-in for noise that needs no table).
-struct Field(Vec<([f64; 3], f64, f64, f64)>);
+struct Field(Vec<(DVec3, f64, f64, f64)>);
 
 impl Field {
     fn new(octaves: u32, seed: u64) -> Field {
@@ -188,10 +157,10 @@ impl Field {
         Field(waves)
     }
 
-    fn at(&self, p: [f64; 3]) -> f64 {
+    fn at(&self, p: DVec3) -> f64 {
         self.0
             .iter()
-            .map(|&(d, f, ph, a)| a * (f * dot(p, d) + ph).sin())
+            .map(|&(d, f, ph, a)| a * (f * p.dot(d) + ph).sin())
             .sum()
     }
 }
@@ -227,7 +196,7 @@ fn triangulate(faces: Vec<Vec<u32>>) -> Vec<Vec<u32>> {
 
 /// Positions, polygons, and the vertex ids of each of the six charts of
 /// [`cube_sphere`] (row by row).
-type CubeSphere = (Vec<[f64; 3]>, Vec<Vec<u32>>, Vec<Vec<u32>>);
+type CubeSphere = (Vec<DVec3>, Vec<Vec<u32>>, Vec<Vec<u32>>);
 
 /// A sphere of six `n × n` quad grids (a cube's faces pushed out), welded
 /// along the cube's edges; with the grid ids of each chart for UVs.
@@ -245,13 +214,13 @@ fn cube_sphere(n: usize) -> CubeSphere {
                         -1.0 + 2.0 * i as f64 / n as f64,
                         -1.0 + 2.0 * j as f64 / n as f64,
                     );
-                    let mut p = [0.0; 3];
+                    let mut p = DVec3::ZERO;
                     p[axis] = s;
                     p[(axis + 1) % 3] = u * s;
                     p[(axis + 2) % 3] = v;
-                    let key = p.map(|x| (x * 1e6).round() as i64);
+                    let key = p.to_array().map(|x| (x * 1e6).round() as i64);
                     let id = *ids.entry(key).or_insert_with(|| {
-                        pos.push(normalize(p));
+                        pos.push(p.normalize());
                         pos.len() as u32 - 1
                     });
                     chart.push(id);
@@ -273,27 +242,24 @@ pub fn blob() -> Generated {
     Generated {
         category: "manifold",
         name: "blob",
-        positions: pos
-            .iter()
-            .map(|&p| scale(p, 1.0 + 0.15 * f.at(p)))
-            .collect(),
+        positions: pos.iter().map(|&p| p * (1.0 + 0.15 * f.at(p))).collect(),
         faces: triangulate(faces),
         ..Default::default()
     }
 }
 
 /// A tube of radius `r(s)` around a closed curve sampled at `c`.
-fn tube(c: &[[f64; 3]], nv: usize, r: impl Fn(f64) -> f64) -> (Vec<[f64; 3]>, Vec<Vec<u32>>) {
+fn tube(c: &[DVec3], nv: usize, r: impl Fn(f64) -> f64) -> (Vec<DVec3>, Vec<Vec<u32>>) {
     let nu = c.len();
     let mut pos = Vec::with_capacity(nu * nv);
     for i in 0..nu {
-        let t = normalize(sub(c[(i + 1) % nu], c[(i + nu - 1) % nu]));
-        let n = normalize(cross(t, [0.0, 0.0, 1.0]));
-        let b = cross(t, n);
+        let t = (c[(i + 1) % nu] - c[(i + nu - 1) % nu]).normalize();
+        let n = t.cross(DVec3::Z).normalize();
+        let b = t.cross(n);
         for j in 0..nv {
             let s = TAU * j as f64 / nv as f64;
-            let d = add(scale(n, s.cos()), scale(b, s.sin()));
-            pos.push(add(c[i], scale(d, r(s))));
+            let d = n * s.cos() + b * s.sin();
+            pos.push(c[i] + d * r(s));
         }
     }
     let faces = grid_quads(nu, nv, true, true, |i, j| (i * nv + j) as u32);
@@ -302,11 +268,11 @@ fn tube(c: &[[f64; 3]], nv: usize, r: impl Fn(f64) -> f64) -> (Vec<[f64; 3]>, Ve
 
 /// `manifold/torus_knot`: a (2, 3) knot tube, 9,600 triangles.
 pub fn torus_knot() -> Generated {
-    let c: Vec<[f64; 3]> = (0..300)
+    let c: Vec<DVec3> = (0..300)
         .map(|i| {
             let t = TAU * i as f64 / 300.0;
             let w = 2.0 + (3.0 * t).cos();
-            [w * (2.0 * t).cos(), w * (2.0 * t).sin(), -(3.0 * t).sin()]
+            DVec3::new(w * (2.0 * t).cos(), w * (2.0 * t).sin(), -(3.0 * t).sin())
         })
         .collect();
     let (positions, faces) = tube(&c, 16, |_| 0.35);
@@ -321,18 +287,18 @@ pub fn torus_knot() -> Generated {
 
 /// A closed surface of revolution of `profile` (radius, height), whose ends
 /// have radius 0 (poles), in `n` segments; faces outward.
-fn lathe(profile: &[(f64, f64)], n: usize) -> (Vec<[f64; 3]>, Vec<Vec<u32>>) {
+fn lathe(profile: &[(f64, f64)], n: usize) -> (Vec<DVec3>, Vec<Vec<u32>>) {
     let mut pos = Vec::new();
     let mut rings: Vec<Vec<u32>> = Vec::new();
     for &(r, z) in profile {
         if r == 0.0 {
             rings.push(vec![pos.len() as u32]);
-            pos.push([0.0, 0.0, z]);
+            pos.push(DVec3::new(0.0, 0.0, z));
         } else {
             let ring = (0..n)
                 .map(|k| {
                     let a = TAU * k as f64 / n as f64;
-                    pos.push([r * a.cos(), r * a.sin(), z]);
+                    pos.push(DVec3::new(r * a.cos(), r * a.sin(), z));
                     pos.len() as u32 - 1
                 })
                 .collect();
@@ -399,7 +365,7 @@ fn ring_plate(n: usize, outer: impl Fn(f64) -> f64, inner: f64, height: f64) -> 
         for k in 0..n {
             let a = TAU * k as f64 / n as f64;
             let r = if outside { outer(a) } else { inner };
-            positions.push([r * a.cos(), r * a.sin(), z]);
+            positions.push(DVec3::new(r * a.cos(), r * a.sin(), z));
         }
     }
     let mut faces = Vec::with_capacity(4 * n);
@@ -456,13 +422,13 @@ pub fn sprocket() -> Generated {
 pub fn knurled_knob() -> Generated {
     let n = 480;
     let ridged = |a: f64| if (24.0 * a).sin() > 0.0 { 0.64 } else { 0.6 };
-    let mut positions = vec![[0.0, 0.0, 0.0]];
+    let mut positions = vec![DVec3::new(0.0, 0.0, 0.0)];
     let mut rings = Vec::new();
-    let mut ring = |positions: &mut Vec<[f64; 3]>, r: &dyn Fn(f64) -> f64, z: f64| {
+    let mut ring = |positions: &mut Vec<DVec3>, r: &dyn Fn(f64) -> f64, z: f64| {
         let ids: Vec<u32> = (0..n)
             .map(|k| {
                 let a = TAU * k as f64 / n as f64;
-                positions.push([r(a) * a.cos(), r(a) * a.sin(), z]);
+                positions.push(DVec3::new(r(a) * a.cos(), r(a) * a.sin(), z));
                 positions.len() as u32 - 1
             })
             .collect();
@@ -473,7 +439,7 @@ pub fn knurled_knob() -> Generated {
     for (r, z) in [(0.55, 0.55), (0.45, 0.62), (0.3, 0.67), (0.15, 0.69)] {
         ring(&mut positions, &move |_| r, z);
     }
-    positions.push([0.0, 0.0, 0.7]);
+    positions.push(DVec3::new(0.0, 0.0, 0.7));
     let top = positions.len() as u32 - 1;
     let mut faces = Vec::new();
     for k in 0..n {
@@ -499,7 +465,7 @@ pub fn knurled_knob() -> Generated {
 }
 
 /// Appends `part` (positions, faces) to `into`, offsetting its ids.
-fn append(into: &mut Generated, positions: Vec<[f64; 3]>, faces: Vec<Vec<u32>>) {
+fn append(into: &mut Generated, positions: Vec<DVec3>, faces: Vec<Vec<u32>>) {
     let base = into.positions.len() as u32;
     into.positions.extend(positions);
     into.faces.extend(
@@ -519,11 +485,11 @@ pub fn scatter() -> Generated {
         ..Default::default()
     };
     for k in 0..40 {
-        let c = [
+        let c = DVec3::new(
             r.uniform(-1.0, 1.0),
             r.uniform(-1.0, 1.0),
             r.uniform(-1.0, 1.0),
-        ];
+        );
         let size = r.uniform(0.08, 0.3);
         let (pos, faces, _) = cube_sphere(if k % 2 == 0 { 10 } else { 4 });
         let boxy = k % 2 == 1;
@@ -533,12 +499,12 @@ pub fn scatter() -> Generated {
                 // A box with slightly rounded corners: each coordinate
                 // pushed toward ±1.
                 let q = if boxy {
-                    let m = p.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+                    let m = p.abs().max_element();
                     p.map(|x| x.signum() * (x.abs() / m).powf(0.05))
                 } else {
                     p
                 };
-                add(c, scale(q, size))
+                c + q * size
             })
             .collect();
         append(&mut g, pos, triangulate(faces));
@@ -550,13 +516,13 @@ pub fn scatter() -> Generated {
 /// reversed copy of every face, 19,044 triangles.
 pub fn cloth_two_sided() -> Generated {
     let n = 70;
-    let positions: Vec<[f64; 3]> = (0..n * n)
+    let positions: Vec<DVec3> = (0..n * n)
         .map(|k| {
             let (u, v) = (
                 (k / n) as f64 / (n - 1) as f64,
                 (k % n) as f64 / (n - 1) as f64,
             );
-            [2.0 * u, 0.3 * (3.0 * u).sin() * (2.0 * v).cos(), 1.5 * v]
+            DVec3::new(2.0 * u, 0.3 * (3.0 * u).sin() * (2.0 * v).cos(), 1.5 * v)
         })
         .collect();
     let front = triangulate(grid_quads(n, n, false, false, |i, j| (i * n + j) as u32));
@@ -582,23 +548,23 @@ pub fn tree() -> Generated {
         name: "tree",
         ..Default::default()
     };
-    let trunk: Vec<[f64; 3]> = (0..nu * nv)
+    let trunk: Vec<DVec3> = (0..nu * nv)
         .map(|k| {
             let t = (k / nv) as f64 / (nu - 1) as f64;
             let a = TAU * (k % nv) as f64 / nv as f64;
             let r = 0.12 * (1.0 - 0.6 * t);
-            [r * a.cos(), r * a.sin(), 2.0 * t]
+            DVec3::new(r * a.cos(), r * a.sin(), 2.0 * t)
         })
         .collect();
     let faces = triangulate(grid_quads(nu, nv, false, true, |i, j| (i * nv + j) as u32));
     append(&mut g, trunk, faces);
     let mut r = Rng(11);
     for _ in 0..500 {
-        let c = [0.5 * r.normal(), 0.5 * r.normal(), 1.4 + 0.35 * r.normal()];
+        let c = DVec3::new(0.5 * r.normal(), 0.5 * r.normal(), 1.4 + 0.35 * r.normal());
         let a = r.unit();
-        let b = normalize(cross(a, r.unit()));
+        let b = a.cross(r.unit()).normalize();
         let (l, w) = (0.08, 0.032);
-        let corner = |s: f64, t: f64| add(c, add(scale(a, s * l), scale(b, t * w)));
+        let corner = |s: f64, t: f64| c + a * (s * l) + b * (t * w);
         let card = vec![
             corner(-1.0, -1.0),
             corner(1.0, -1.0),
@@ -615,7 +581,7 @@ pub fn tree() -> Generated {
 pub fn blob_soup() -> Generated {
     let (pos, faces, _) = cube_sphere(30);
     let f = Field::new(2, 3);
-    let pos: Vec<[f64; 3]> = pos.iter().map(|&p| scale(p, 1.0 + 0.2 * f.at(p))).collect();
+    let pos: Vec<DVec3> = pos.iter().map(|&p| p * (1.0 + 0.2 * f.at(p))).collect();
     let tris = triangulate(faces);
     Generated {
         category: "wild",
@@ -639,7 +605,7 @@ pub fn bumpy_torus_quads() -> Generated {
             );
             let r = 0.4 * (1.0 + 0.1 * (5.0 * a).sin() * (3.0 * b).cos());
             let w = 1.0 + r * b.cos();
-            [w * a.cos(), w * a.sin(), r * b.sin()]
+            DVec3::new(w * a.cos(), w * a.sin(), r * b.sin())
         })
         .collect();
     Generated {
@@ -662,7 +628,7 @@ pub fn quad_creature() -> Generated {
             .iter()
             .map(|&p| {
                 let k = 1.0 + 0.1 * f.at(p);
-                [0.7 * p[0] * k, p[1] * k, 1.6 * p[2] * k]
+                DVec3::new(0.7, 1.0, 1.6) * p * k
             })
             .collect(),
         faces,
@@ -680,7 +646,7 @@ pub fn quad_panel() -> Generated {
                 -1.0 + 2.0 * (k % n) as f64 / (n - 1) as f64,
             );
             let d = ((x * x + y * y).sqrt() - 0.5) / 0.06;
-            [x, y, 0.08 * (-d * d).exp()]
+            DVec3::new(x, y, 0.08 * (-d * d).exp())
         })
         .collect();
     Generated {
@@ -694,18 +660,21 @@ pub fn quad_panel() -> Generated {
 
 /// Area-weighted vertex normals of `faces` (smooth shading), one per
 /// position, and the faces' corners pointing at them.
-fn smooth_normals(positions: &[[f64; 3]], faces: &[Vec<u32>]) -> (Vec<[f64; 3]>, Vec<Vec<u32>>) {
-    let mut n = vec![[0.0; 3]; positions.len()];
+fn smooth_normals(positions: &[DVec3], faces: &[Vec<u32>]) -> (Vec<DVec3>, Vec<Vec<u32>>) {
+    let mut n = vec![DVec3::ZERO; positions.len()];
     for f in faces {
         let p = |k: usize| positions[f[k] as usize];
         for k in 1..f.len() - 1 {
-            let w = cross(sub(p(k), p(0)), sub(p(k + 1), p(0)));
+            let w = (p(k) - p(0)).cross(p(k + 1) - p(0));
             for &v in &[f[0], f[k], f[k + 1]] {
-                n[v as usize] = add(n[v as usize], w);
+                n[v as usize] += w;
             }
         }
     }
-    (n.into_iter().map(normalize).collect(), faces.to_vec())
+    (
+        n.into_iter().map(|v| v.normalize_or(DVec3::Z)).collect(),
+        faces.to_vec(),
+    )
 }
 
 /// `textured/panel_crate`: a box whose six sides carry raised panels, each
@@ -738,7 +707,7 @@ pub fn panel_crate() -> Generated {
                 // sides weld along the box's edges.
                 let t = ((0.7 - u.abs().max(v.abs()) + 0.03) / 0.06).clamp(0.0, 1.0);
                 let h = 0.04 * t * t * (3.0 - 2.0 * t);
-                let mut p = [0.0; 3];
+                let mut p = DVec3::ZERO;
                 p[axis] = s * (1.0 + h);
                 p[(axis + 1) % 3] = u * s;
                 p[(axis + 2) % 3] = v;
@@ -779,7 +748,7 @@ fn weld_positions(g: &mut Generated) {
         .positions
         .iter()
         .map(|p| {
-            *ids.entry(p.map(|x| (x + 0.0).to_bits()))
+            *ids.entry(p.to_array().map(|x| (x + 0.0).to_bits()))
                 .or_insert_with(|| {
                     positions.push(*p);
                     positions.len() as u32 - 1
@@ -807,7 +776,11 @@ pub fn terrain() -> Generated {
             (k % n) as f64 / (n - 1) as f64,
         );
         let (x, y) = (2.0 * u - 1.0, 2.0 * v - 1.0);
-        positions.push([x, y, 0.1 * f.at([1.3 * x, 1.3 * y, 0.0])]);
+        positions.push(DVec3::new(
+            x,
+            y,
+            0.1 * f.at(DVec3::new(1.3 * x, 1.3 * y, 0.0)),
+        ));
         uvs.push([u, v]);
     }
     let faces = triangulate(grid_quads(n, n, false, false, |i, j| (i * n + j) as u32));
@@ -830,10 +803,7 @@ pub fn atlas_sphere() -> Generated {
     let n = 36;
     let (pos, _, charts) = cube_sphere(n);
     let f = Field::new(3, 9);
-    let positions: Vec<[f64; 3]> = pos
-        .iter()
-        .map(|&p| scale(p, 1.0 + 0.08 * f.at(p)))
-        .collect();
+    let positions: Vec<DVec3> = pos.iter().map(|&p| p * (1.0 + 0.08 * f.at(p))).collect();
     let (mut uvs, mut faces, mut face_uvs) = (Vec::new(), Vec::new(), Vec::new());
     let m = n + 1;
     for (c, chart) in charts.iter().enumerate() {
