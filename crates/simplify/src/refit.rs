@@ -27,7 +27,11 @@
 //! centre would move a vertex off the planes that hold it. Input points are
 //! matched only to faces around the output vertex they were merged into and
 //! only to faces within 60° of their own normal: a crease's other side and
-//! a thin part's other side are never pulled in. Repeated faces and twins
+//! a thin part's other side are never pulled in. A point whose closest
+//! point lies on the outline of those faces, or beside a face rather than
+//! above it, or on a sliver, is not matched: its offset along the face's
+//! normal is no distance to the surface, and fitting it pulled exactly
+//! simplified flat parts off their planes. Repeated faces and twins
 //! of the other orientation count once, as in the quadrics.
 //!
 //! Three guards keep it safe: a step is at most half the vertex's shortest
@@ -73,6 +77,10 @@ const FACING: f64 = 0.5;
 /// raised panels reduced exactly, such a sliver along an edge came out 45°
 /// off and points 10⁻² above it pulled the box off its planes.
 const SLIVER: f64 = 1e-6;
+
+/// A barycentric weight at most this puts a closest point on the side of
+/// its triangle opposite that corner.
+const ON_SIDE: f64 = 1e-12;
 
 /// Input points handled per parallel block: bounds the memory of the
 /// matches, which are applied block by block.
@@ -500,7 +508,7 @@ fn match_point(
 fn beside_the_face(m: &Match, d2: f64) -> bool {
     let across = m.distance.abs();
     let along = (d2 - across * across).max(0.0).sqrt();
-    m.bary.iter().any(|&b| b <= 1e-12) && along > across
+    m.bary.iter().any(|&b| b <= ON_SIDE) && along > across
 }
 
 /// Whether a closest point with barycentric weights `bary` on the fan
@@ -514,7 +522,7 @@ fn beside_the_face(m: &Match, d2: f64) -> bool {
 /// 1.7·10⁻³ of the diagonal at 10%). A fan diagonal is inside the
 /// polygon, and a side through `v` is shared with its next face.
 fn beyond_the_star(v: u32, corners: [u32; 3], bary: [f64; 3], t: usize, len: usize) -> bool {
-    let Some(z) = (0..3).find(|&k| bary[k] <= 1e-12) else {
+    let Some(z) = (0..3).find(|&k| bary[k] <= ON_SIDE) else {
         return false;
     };
     // The side opposite corner z, and whether it is a side of the polygon.
