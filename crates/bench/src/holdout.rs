@@ -19,6 +19,7 @@ use std::f64::consts::{PI, TAU};
 use std::fmt::Write as _;
 
 use glam::DVec3;
+use wildlod_testkit::SplitMix64;
 
 /// One generated mesh: positions, polygons (0-based), and optionally one
 /// UV per corner.
@@ -109,21 +110,14 @@ pub fn all() -> Vec<Generated> {
     ]
 }
 
-/// SplitMix64: a tiny deterministic generator, enough for placing parts.
-struct Rng(u64);
+/// Random numbers for placing parts (deterministic: the same meshes on
+/// every machine).
+struct Rng(SplitMix64);
 
 impl Rng {
-    fn next(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        z ^ (z >> 31)
-    }
-
     /// Uniform in [lo, hi).
     fn uniform(&mut self, lo: f64, hi: f64) -> f64 {
-        lo + (hi - lo) * (self.next() >> 11) as f64 / (1u64 << 53) as f64
+        lo + (hi - lo) * self.0.next_f64()
     }
 
     /// Standard normal (Box–Muller).
@@ -144,7 +138,7 @@ struct Field(Vec<(DVec3, f64, f64, f64)>);
 
 impl Field {
     fn new(octaves: u32, seed: u64) -> Field {
-        let mut r = Rng(seed);
+        let mut r = Rng(SplitMix64(seed));
         let mut waves = Vec::new();
         for o in 0..octaves {
             for _ in 0..4 {
@@ -478,7 +472,7 @@ fn append(into: &mut Generated, positions: Vec<DVec3>, faces: Vec<Vec<u32>>) {
 /// `wild/scatter`: 40 separate, partly intersecting spheres and rounded
 /// boxes of different sizes, 27,840 triangles.
 pub fn scatter() -> Generated {
-    let mut r = Rng(3);
+    let mut r = Rng(SplitMix64(3));
     let mut g = Generated {
         category: "wild",
         name: "scatter",
@@ -558,7 +552,7 @@ pub fn tree() -> Generated {
         .collect();
     let faces = triangulate(grid_quads(nu, nv, false, true, |i, j| (i * nv + j) as u32));
     append(&mut g, trunk, faces);
-    let mut r = Rng(11);
+    let mut r = Rng(SplitMix64(11));
     for _ in 0..500 {
         let c = DVec3::new(0.5 * r.normal(), 0.5 * r.normal(), 1.4 + 0.35 * r.normal());
         let a = r.unit();

@@ -9,20 +9,7 @@ use common::{bumpy_sphere, ratio};
 use glam::DVec3;
 use wildlod_mesh::{shapes, Faces, Mesh};
 use wildlod_simplify::{simplify_mesh, simplify_polygons, Metric, Options, Target};
-
-/// A small deterministic generator (SplitMix64), so meshes are irregular
-/// but the same on every run.
-struct Rng(u64);
-
-impl Rng {
-    fn next(&mut self) -> f64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
-    }
-}
+use wildlod_testkit::SplitMix64;
 
 /// Sides used by exactly one face: the border, as vertex pairs.
 fn border_sides(faces: &Faces) -> Vec<(u32, u32)> {
@@ -74,7 +61,7 @@ fn flat_patch(z: f32, seed: u64) -> (Vec<[f32; 3]>, Faces) {
     let on_border = |i: usize, j: usize| {
         i == 0 || j == 0 || i == nx || j == ny || (i >= notch_i && j >= notch_j)
     };
-    let mut rng = Rng(seed);
+    let mut rng = SplitMix64(seed);
     let mut id = vec![u32::MAX; (nx + 1) * (ny + 1)];
     let mut positions = Vec::new();
     for j in 0..=ny {
@@ -84,8 +71,8 @@ fn flat_patch(z: f32, seed: u64) -> (Vec<[f32; 3]>, Faces) {
             }
             let (mut x, mut y) = (1.5 * i as f64 / nx as f64, j as f64 / ny as f64);
             if !on_border(i, j) {
-                x += (rng.next() - 0.5) * 0.6 * 1.5 / nx as f64;
-                y += (rng.next() - 0.5) * 0.6 / ny as f64;
+                x += (rng.next_f64() - 0.5) * 0.6 * 1.5 / nx as f64;
+                y += (rng.next_f64() - 0.5) * 0.6 / ny as f64;
             }
             id[j * (nx + 1) + i] = positions.len() as u32;
             positions.push([x as f32, y as f32, z]);
@@ -99,7 +86,7 @@ fn flat_patch(z: f32, seed: u64) -> (Vec<[f32; 3]>, Faces) {
                 continue;
             }
             let (a, b, c, d) = (v(i, j), v(i + 1, j), v(i + 1, j + 1), v(i, j + 1));
-            let r = rng.next();
+            let r = rng.next_f64();
             if r < 0.5 {
                 faces.push(&[a, b, c, d]);
             } else if r < 0.75 {
