@@ -76,29 +76,60 @@ impl Bvh {
 /// box (`None`: it does not meet it), with `inv` = 1 / `dir` per axis (an
 /// infinite component for an axis the ray runs parallel to, which the
 /// comparisons handle).
+///
+/// Run for every node a ray passes near, so written to compile without
+/// branches per axis: one early test for an empty box, one at the end
+/// (bounds only narrow, so a ray that misses one slab misses at the end).
+#[inline]
 fn entry(b: &Aabb, origin: DVec3, inv: DVec3, max_t: f64) -> Option<f64> {
     if b.is_empty() {
         return None;
     }
+    let lo = (b.min - origin) * inv;
+    let hi = (b.max - origin) * inv;
     let (mut t0, mut t1) = (0.0f64, max_t);
-    for a in 0..3 {
-        let (lo, hi) = (
-            (b.min[a] - origin[a]) * inv[a],
-            (b.max[a] - origin[a]) * inv[a],
-        );
+    for (l, h) in [(lo.x, hi.x), (lo.y, hi.y), (lo.z, hi.z)] {
         // A parallel ray inside the slab gives (−∞, +∞); outside, both
-        // infinities on one side; 0·∞ (origin on the slab's face) is NaN,
-        // which counts as inside.
-        let (near, far) = if lo <= hi { (lo, hi) } else { (hi, lo) };
-        if !near.is_nan() {
-            t0 = t0.max(near);
+        // infinities on one side. One in the plane of a face gives 0·∞ =
+        // NaN there and an infinity at the other face, and may count as
+        // missing the box: it can only graze what the box holds (an edge
+        // or a vertex of a triangle), never cross it. NaN fails every
+        // comparison, so it never narrows the range (plain comparisons,
+        // not `f64::max`, whose NaN rule costs instructions).
+        let (near, far) = if l <= h { (l, h) } else { (h, l) };
+        if near > t0 {
+            t0 = near;
         }
-        if !far.is_nan() {
-            t1 = t1.min(far);
-        }
-        if t0 > t1 {
-            return None;
+        if far < t1 {
+            t1 = far;
         }
     }
-    Some(t0)
+    (t0 <= t1).then_some(t0)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn slab_test_enters_where_a_ray_meets_the_box() {
+        let b = Aabb {
+            min: DVec3::ZERO,
+            max: DVec3::ONE,
+        };
+        let at = |o: DVec3, d: DVec3, max_t: f64| entry(&b, o, d.recip(), max_t);
+        // Through the box along x from x = −1: enters at t = 1.
+        assert_eq!(at(DVec3::new(-1.0, 0.5, 0.5), DVec3::X, 5.0), Some(1.0));
+        // Too short to reach it.
+        assert_eq!(at(DVec3::new(-1.0, 0.5, 0.5), DVec3::X, 0.5), None);
+        // Parallel to the x slabs, outside them: never enters.
+        assert_eq!(at(DVec3::new(-1.0, 0.5, 0.5), DVec3::Y, 5.0), None);
+        // Parallel to the x and y slabs, between them: enters at z = 0.
+        assert_eq!(at(DVec3::new(0.25, 0.5, -1.0), DVec3::Z, 5.0), Some(1.0));
+        // Starting inside, whatever the direction.
+        assert_eq!(at(DVec3::splat(0.5), -DVec3::ONE, 0.1), Some(0.0));
+        // An empty box is never entered.
+        let empty = Aabb::EMPTY;
+        assert_eq!(entry(&empty, DVec3::ZERO, DVec3::ONE, 1.0), None);
+    }
 }
