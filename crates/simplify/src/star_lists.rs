@@ -227,51 +227,51 @@ impl StarLists {
         };
     }
 
-    /// Before the pool grows past its allocation: slides every span down
-    /// over the garbage when that frees at least an eighth of the pool,
-    /// and reserves an eighth more (not double: the pool is the largest
-    /// array of a run) when it does not or that is not enough.
+    /// Before the pool grows past its allocation: compacts it when that
+    /// frees at least an eighth of the pool, and gives it an eighth more
+    /// room (not double: the pool is the largest array of a run) when it
+    /// does not or that is not enough.
     fn make_room(&mut self, need: usize) {
         if self.garbage >= self.pool.len() / 8 {
-            self.compact();
+            self.compact(need);
         }
         if self.pool.len() + need > self.pool.capacity() {
             self.pool.reserve_exact(need + self.pool.len() / 8);
         }
     }
 
-    /// Slides every span down in pool order, leaving no garbage; each
-    /// keeps its room. Spans without room point at the start, which any
-    /// pool has (an empty range there), wherever they pointed before.
-    fn compact(&mut self) {
+    /// Copies every star into a new pool in vertex order, leaving no
+    /// garbage; each keeps its room. Spans without room point at the
+    /// start, which any pool has (an empty range there), wherever they
+    /// pointed before. The new pool is allocated with the room the caller
+    /// needs, as `make_room` would reserve it.
+    ///
+    /// A copy, not a slide in place: sliding needs the spans in pool
+    /// order, and sorting them was most of the cost of a compaction; the
+    /// copy lives as long as the compaction (the old pool is freed at
+    /// once), and a star's place in the pool changes nothing else.
+    fn compact(&mut self, need: usize) {
+        let live = self.pool.len() - self.garbage;
+        let cap = if live + need > self.pool.capacity() {
+            live + need + live / 8
+        } else {
+            self.pool.capacity()
+        };
+        let mut pool = Vec::with_capacity(cap);
         for s in &mut self.span {
             if s.cap == 0 {
                 s.start = 0;
+                continue;
             }
-        }
-        // Start and vertex packed in one key: sorting plain integers is a
-        // few times faster than sorting vertices by a start looked up in
-        // `span` at every comparison (this sort was most of a compaction).
-        let mut order: Vec<u64> = self
-            .span
-            .iter()
-            .enumerate()
-            .filter(|(_, s)| s.cap > 0 && s.cap != LARGE)
-            .map(|(v, s)| (u64::from(s.start) << 32) | v as u64)
-            .collect();
-        order.sort_unstable();
-        let mut next = 0usize;
-        for key in order {
-            let v = key as u32;
-            let s = &mut self.span[v as usize];
+            if s.cap == LARGE {
+                continue;
+            }
             let (from, len) = (s.start as usize, s.len as usize);
-            if from != next {
-                self.pool.copy_within(from..from + len, next);
-                s.start = next as u32;
-            }
-            next += s.cap as usize;
+            s.start = pool.len() as u32;
+            pool.extend_from_slice(&self.pool[from..from + len]);
+            pool.resize(pool.len() + (s.cap as usize - len), 0);
         }
-        self.pool.truncate(next);
+        self.pool = pool;
         self.garbage = 0;
     }
 }
