@@ -443,6 +443,22 @@ fn face_normal(c: &Complex, pos: &[DVec3], f: u32) -> DVec3 {
     polygon_normal(&p)
 }
 
+/// Margin by which a triangle's plane must be farther than the best match
+/// so far for the triangle to be skipped (see `match_point`): relative to
+/// that match and, for matches at rounding level (a point on the output
+/// surface), to the point's squared distance from the triangle's corner;
+/// rounding in the distances is ~10⁻¹⁶ of those.
+const PLANE_MARGIN: f64 = 1e-9;
+
+/// Whether the plane through `p0` with unit normal `n` is so far from `x`
+/// that no point of a triangle in it can be nearer than `best` (a squared
+/// distance), rounding included.
+fn plane_rules_out(n: DVec3, p0: DVec3, x: DVec3, best: f64) -> bool {
+    let r = x - p0;
+    let across = n.dot(r);
+    across * across > best * (1.0 + PLANE_MARGIN) + PLANE_MARGIN * r.length_squared()
+}
+
 /// The closest point to input vertex `i` on the faces around the output
 /// vertex it went to, among faces that face its way (within 60°, see
 /// [`FACING`]; polygons as fans). None when that point is on the outline
@@ -471,6 +487,16 @@ fn match_point(
         }
         let face = c.face(f);
         let p0 = c.pos[face[0] as usize];
+        // A triangle is no nearer than its plane: when the plane is
+        // already farther than the best match (with a margin far above
+        // rounding, so that no match changes), the closest point on it,
+        // the costly part of a match, is not needed. Polygons may be
+        // warped, their fan triangles off the face's plane.
+        if let (3, Some((best, _, _))) = (face.len(), &best) {
+            if plane_rules_out(n, p0, x, *best) {
+                continue;
+            }
+        }
         for t in 1..face.len() - 1 {
             let (a, b) = (c.pos[face[t] as usize], c.pos[face[t + 1] as usize]);
             let (q, bary) = closest_point_on_triangle(x, p0, a, b);
@@ -598,6 +624,38 @@ fn keep_faces_unfolded(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_plane_rules_out_only_triangles_farther_than_the_best_match() {
+        // Hand case: the plane z = 0, a point 2 above it: nothing in the
+        // plane is nearer than 4 (squared), so a best match of 3.9 rules
+        // the plane out and one of 4 (a tie at best) does not.
+        let (n, p0, x) = (DVec3::Z, DVec3::ZERO, DVec3::new(5.0, 1.0, 2.0));
+        assert!(plane_rules_out(n, p0, x, 3.9));
+        assert!(!plane_rules_out(n, p0, x, 4.0));
+        // A point on the plane, far from the corner, with a best match at
+        // rounding level: not ruled out.
+        assert!(!plane_rules_out(n, p0, DVec3::new(1e3, 0.0, 1e-14), 0.0));
+        // Sound on many triangles: whenever the plane rules a triangle
+        // out, its closest point is farther than the best match.
+        let mut rng = wildlod_testkit::SplitMix64(29);
+        let mut u = || rng.next_f64() * 2.0 - 1.0;
+        let mut ruled_out = 0;
+        for _ in 0..20_000 {
+            let [a, b, c, x] = [(); 4].map(|_| DVec3::new(u(), u(), u()));
+            let Some(n) = (b - a).cross(c - a).try_normalize() else {
+                continue;
+            };
+            let (q, _) = closest_point_on_triangle(x, a, b, c);
+            let d2 = (x - q).length_squared();
+            let best = d2 * (0.5 + u().abs());
+            if plane_rules_out(n, a, x, best) {
+                ruled_out += 1;
+                assert!(d2 > best, "ruled out at {d2} against {best}");
+            }
+        }
+        assert!(ruled_out > 1_000, "the bound ruled out only {ruled_out}");
+    }
 
     #[test]
     fn slivers_have_no_normal_to_match_along() {
