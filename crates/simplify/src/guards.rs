@@ -218,36 +218,46 @@ pub(crate) fn pinches(c: &Complex, i: u32, j: u32) -> bool {
     }
     // Second rule: a far side of a face of each (triangles: the side
     // opposite the center; other polygons: every side not touching it).
-    let far = |v: u32, other: u32, &(f, p, q, n): &(u32, u32, u32, usize)| {
-        let mut out: smallvec::SmallVec<[(u32, u32); 4]> = smallvec::SmallVec::new();
+    // Sides are reported to `visit` in order, without a list per face:
+    // this check runs at every pop of the queue.
+    let far = |v: u32,
+               other: u32,
+               &(f, p, q, n): &(u32, u32, u32, usize),
+               visit: &mut dyn FnMut(u32, u32) -> bool|
+     -> bool {
         let face = c.face(f);
         if face.contains(&other) {
-            return out;
+            return false;
         }
         if n == 3 {
-            out.push((p.min(q), p.max(q)));
-        } else {
-            for k in 0..n {
-                let (a, b) = (face[k], face[(k + 1) % n]);
-                if a != v && b != v {
-                    out.push((a.min(b), a.max(b)));
-                }
-            }
+            return visit(p.min(q), p.max(q));
         }
-        out
-    };
-    // `j`'s far sides once, not once per face of `i`.
-    let far_j: smallvec::SmallVec<[(u32, u32); 16]> =
-        sj.iter().flat_map(|cj| far(j, i, cj)).collect();
-    for ci in &si {
-        for (a, b) in far(i, j, ci) {
-            if !far_j.contains(&(a, b)) {
-                continue;
-            }
-            let cap = (pi + pj + c.pos[a as usize] + c.pos[b as usize]) / 4.0;
-            if faces_away(c, ci.0, cap) {
+        for k in 0..n {
+            let (a, b) = (face[k], face[(k + 1) % n]);
+            if a != v && b != v && visit(a.min(b), a.max(b)) {
                 return true;
             }
+        }
+        false
+    };
+    // `j`'s far sides once, not once per face of `i`.
+    let mut far_j: smallvec::SmallVec<[(u32, u32); 16]> = smallvec::SmallVec::new();
+    for cj in &sj {
+        far(j, i, cj, &mut |a, b| {
+            far_j.push((a, b));
+            false
+        });
+    }
+    for ci in &si {
+        let found = far(i, j, ci, &mut |a, b| {
+            if !far_j.contains(&(a, b)) {
+                return false;
+            }
+            let cap = (pi + pj + c.pos[a as usize] + c.pos[b as usize]) / 4.0;
+            faces_away(c, ci.0, cap)
+        });
+        if found {
+            return true;
         }
     }
     false
