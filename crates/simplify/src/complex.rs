@@ -652,6 +652,80 @@ impl Complex {
         self.scan_boundary_neighbors(v, out);
     }
 
+    /// Appends to `out` the face-side neighbours `k` of `v` whose side
+    /// `v`–`k` has exactly two faces turning by more than the angle whose
+    /// cosine is `cos` (a sharp crease of the current mesh; faces wound
+    /// against each other are compared with one normal reversed, as for
+    /// the input's crease planes), in the order of `v`'s faces.
+    ///
+    /// It first rules out the common case: when every face's normal is
+    /// within half the angle of the first one's, no two faces turn by more
+    /// than the angle.
+    pub fn crease_neighbors(&self, v: u32, cos: f64, out: &mut Vec<u32>) {
+        // Each face's neighbours of `v` (after it, before it) and normal.
+        let mut corners: SmallVec<[(u32, u32, DVec3); 12]> = SmallVec::new();
+        for &f in &self.vert_faces[v as usize] {
+            let face = self.face(f);
+            let n = face.len();
+            let Some(k) = face.iter().position(|&w| w == v) else {
+                continue;
+            };
+            let p = |t: usize| self.pos[face[t % n] as usize];
+            let normal = if n == 3 {
+                (p(1) - p(0)).cross(p(2) - p(0))
+            } else {
+                (0..n).map(|t| p(t).cross(p(t + 1))).sum()
+            };
+            corners.push((face[(k + 1) % n], face[(k + n - 1) % n], normal));
+        }
+        let Some(&(_, _, m)) = corners.first() else {
+            return;
+        };
+        // cos(θ/2)² = (1 + cos θ) / 2.
+        let half2 = 0.5 * (1.0 + cos);
+        let mm = m.length_squared();
+        let smooth = corners.iter().all(|&(_, _, n)| {
+            let d = m.dot(n);
+            d > 0.0 && d * d >= half2 * mm * n.length_squared()
+        });
+        if smooth {
+            return;
+        }
+        // Each side at `v` is reported once, from its first occurrence in
+        // face order, and only when exactly one other face has it.
+        for a in 0..corners.len() {
+            for forward in [true, false] {
+                let (after, before, n0) = corners[a];
+                let k = if forward { after } else { before };
+                let mut seen: SmallVec<[(usize, bool); 2]> = SmallVec::new();
+                let mut count = 0;
+                for (b, &(after_b, before_b, _)) in corners.iter().enumerate() {
+                    for (w, walks) in [(after_b, true), (before_b, false)] {
+                        if w == k {
+                            count += 1;
+                            if seen.len() < 2 {
+                                seen.push((b, walks));
+                            }
+                        }
+                    }
+                }
+                if count != 2 || seen[0] != (a, forward) {
+                    continue;
+                }
+                let (b, forward1) = seen[1];
+                let n1 = if forward1 == forward {
+                    -corners[b].2
+                } else {
+                    corners[b].2
+                };
+                let scale = n0.length() * n1.length();
+                if scale > 0.0 && n0.dot(n1) < cos * scale {
+                    out.push(k);
+                }
+            }
+        }
+    }
+
     /// [`Complex::boundary_neighbors`] found from `v`'s faces: the sides
     /// of its star, sorted, those that occur once.
     fn scan_boundary_neighbors(&self, v: u32, out: &mut Vec<u32>) {

@@ -566,10 +566,20 @@ pub(crate) struct CostModel {
 pub(crate) struct Scratch {
     pub a: Vec<u32>,
     pub b: Vec<u32>,
+    pub crease: Vec<u32>,
     pub attributes: AttrScratch,
 }
 
 impl CostModel {
+    /// Whether the crease area term applies (see
+    /// [`Metric::crease_area_weight`]): with the border's area term, and
+    /// not where attributes steer (their hard edges are seams).
+    pub fn crease_area_applies(&self, attributes: Option<&AttributeState>) -> bool {
+        self.metric.boundary_area
+            && self.metric.crease_area_weight > 0.0
+            && !attributes.is_some_and(AttributeState::steers)
+    }
+
     /// Whether evaluation needs to know which vertices are on a border.
     pub fn needs_border(&self) -> bool {
         self.metric.boundary_area || self.lock_borders
@@ -587,6 +597,7 @@ impl CostModel {
         q: &[StoredQuadric],
         reg: &[Isotropic],
         border: &[bool],
+        crease: &[bool],
         locked: &[bool],
         attributes: Option<&AttributeState>,
         e: u32,
@@ -624,6 +635,31 @@ impl CostModel {
                 }
             }
             total += area.scaled(w);
+        }
+        // The same memoryless term at sharp creases, for endpoints `crease`
+        // flags (see `Metric::crease_area_weight`).
+        let at_crease = |v: u32| crease.get(v as usize).copied().unwrap_or(false);
+        if (at_crease(i) || at_crease(j)) && self.crease_area_applies(attributes) {
+            let cos = self.metric.crease_angle.to_radians().cos();
+            let mut area = Quadric::ZERO;
+            s.crease.clear();
+            if at_crease(i) {
+                c.crease_neighbors(i, cos, &mut s.crease);
+            }
+            for &k in &s.crease {
+                area += Quadric::boundary_area(pi, c.pos[k as usize]);
+            }
+            s.crease.clear();
+            if at_crease(j) {
+                c.crease_neighbors(j, cos, &mut s.crease);
+            }
+            for &k in &s.crease {
+                // The edge (i, j) itself was counted from i's side.
+                if k != i {
+                    area += Quadric::boundary_area(pj, c.pos[k as usize]);
+                }
+            }
+            total += area.scaled(self.metric.boundary_area_weight * self.metric.crease_area_weight);
         }
         if self.metric.gluing_weight > 0.0
             && c.edges[e as usize].is_virtual()
@@ -785,7 +821,7 @@ mod tests {
             .unwrap();
         let eval = |joint, a: Option<&AttributeState>, s: &mut Scratch| {
             model(joint)
-                .evaluate(&c, &stored(&c, &q), &[], &border, &[], a, e, s)
+                .evaluate(&c, &stored(&c, &q), &[], &border, &[], &[], a, e, s)
                 .unwrap()
         };
         let surface = eval(false, None, &mut s);
@@ -1064,8 +1100,8 @@ mod tests {
         let mut s = Scratch::default();
         for e in 0..c.edges.len() as u32 {
             assert_eq!(
-                with.evaluate(&c, &stored(&c, &q), &[], &[], &[], None, e, &mut s),
-                without.evaluate(&c, &stored(&c, &q), &[], &[], &[], None, e, &mut s)
+                with.evaluate(&c, &stored(&c, &q), &[], &[], &[], &[], None, e, &mut s),
+                without.evaluate(&c, &stored(&c, &q), &[], &[], &[], &[], None, e, &mut s)
             );
         }
     }
@@ -1088,7 +1124,7 @@ mod tests {
         let mut s = Scratch::default();
         let e = c.edge_between(0, 2).unwrap();
         let ev = m
-            .evaluate(&c, &stored(&c, &q), &[], &[], &[], None, e, &mut s)
+            .evaluate(&c, &stored(&c, &q), &[], &[], &[], &[], None, e, &mut s)
             .unwrap();
         let plain = CostModel {
             area_floor: 0.0,
@@ -1099,7 +1135,7 @@ mod tests {
             },
             lock_borders: false,
         }
-        .evaluate(&c, &stored(&c, &q), &[], &[], &[], None, e, &mut s)
+        .evaluate(&c, &stored(&c, &q), &[], &[], &[], &[], None, e, &mut s)
         .unwrap();
         assert!(ev.cost > plain.cost, "{ev:?} vs {plain:?}");
     }
@@ -1131,7 +1167,17 @@ mod tests {
             metric: base,
             lock_borders: false,
         }
-        .evaluate(&c, &sq, &[], &[], &[], None, e, &mut Scratch::default())
+        .evaluate(
+            &c,
+            &sq,
+            &[],
+            &[],
+            &[],
+            &[],
+            None,
+            e,
+            &mut Scratch::default(),
+        )
         .unwrap();
         let eq5 = CostModel {
             area_floor: 0.0,
@@ -1142,7 +1188,17 @@ mod tests {
             },
             lock_borders: false,
         }
-        .evaluate(&c, &sq, &[], &[], &[], None, e, &mut Scratch::default())
+        .evaluate(
+            &c,
+            &sq,
+            &[],
+            &[],
+            &[],
+            &[],
+            None,
+            e,
+            &mut Scratch::default(),
+        )
         .unwrap();
         // Same placement; the cost drops by exactly Q1(p1) + Q2(p2) = 0 + 1/16.
         assert_eq!(plain.position, eq5.position);
@@ -1187,7 +1243,9 @@ mod tests {
             lock_borders: false,
         };
         let mut s = Scratch::default();
-        let ev = m.evaluate(&c, &q, &[], &[], &[], None, e, &mut s).unwrap();
+        let ev = m
+            .evaluate(&c, &q, &[], &[], &[], &[], None, e, &mut s)
+            .unwrap();
         // Each vertex has area share 1/2 and lies in z = 0: the planes are
         // indifferent within the plane, the gluing term 2·(1/2)·|x−p|² per
         // endpoint is least at the midpoint (2, 0, 0): 2·(1/2)·(1 + 1).
@@ -1204,7 +1262,7 @@ mod tests {
             lock_borders: false,
         };
         let ev = free
-            .evaluate(&c, &q, &[], &[], &[], None, e, &mut s)
+            .evaluate(&c, &q, &[], &[], &[], &[], None, e, &mut s)
             .unwrap();
         assert!(ev.cost < 1e-12);
     }
@@ -1223,7 +1281,7 @@ mod tests {
         // Every vertex of the hinge is on the border.
         for e in 0..c.edges.len() as u32 {
             assert_eq!(
-                m.evaluate(&c, &stored(&c, &q), &[], &[], &[], None, e, &mut s),
+                m.evaluate(&c, &stored(&c, &q), &[], &[], &[], &[], None, e, &mut s),
                 None
             );
         }
@@ -1271,6 +1329,39 @@ mod tests {
             let b = border_planes(&c, &planes, 0.0, 3.0, 0.2);
             assert_eq!(b.at(0).eval(p), 0.0, "{idx:?}");
         }
+    }
+
+    #[test]
+    fn crease_neighbors_are_the_sharp_sides_of_the_current_mesh() {
+        // The 90° fold of the test above: side 0–1 is a crease, seen from
+        // both its ends; the other sides have one face each.
+        let pos = vec![DVec3::ZERO, DVec3::X, DVec3::Y, DVec3::new(0.0, 0.0, -1.0)];
+        let at = |pos: &[DVec3], idx: &[u32], v: u32, cos: f64| {
+            let (c, _) = Complex::new(pos.to_vec(), &[0, 3, 6], idx);
+            let mut out = Vec::new();
+            c.crease_neighbors(v, cos, &mut out);
+            out
+        };
+        let fold = [0, 1, 2, 1, 0, 3];
+        assert_eq!(at(&pos, &fold, 0, 0.2), vec![1]);
+        assert_eq!(at(&pos, &fold, 1, 0.2), vec![0]);
+        assert!(at(&pos, &fold, 2, 0.2).is_empty());
+        // Below the angle (90° is not above 95°): none.
+        assert!(at(&pos, &fold, 0, 95f64.to_radians().cos()).is_empty());
+        // Folded by 60° only: none at 78°.
+        let mut blunt = pos.clone();
+        blunt[3] = DVec3::new(0.0, -0.5, -0.75f64.sqrt());
+        assert!(at(&blunt, &fold, 0, 0.2).is_empty());
+        // Flat, wound either way: none (a flipped face's normal turns by
+        // 180°, the surface by nothing).
+        let mut flat = pos;
+        flat[3] = DVec3::new(0.0, -1.0, 0.0);
+        assert!(at(&flat, &fold, 0, 0.2).is_empty());
+        assert!(at(&flat, &[0, 1, 2, 0, 1, 3], 0, 0.2).is_empty());
+        // The flipped face on the fold: still the 90° crease.
+        let mut flipped_fold = flat.clone();
+        flipped_fold[3] = DVec3::new(0.0, 0.0, -1.0);
+        assert_eq!(at(&flipped_fold, &[0, 1, 2, 0, 1, 3], 0, 0.2), vec![1]);
     }
 
     #[test]
