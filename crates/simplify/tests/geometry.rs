@@ -566,6 +566,7 @@ fn hair_thin_spur_keeps_its_height_under_the_area_floor() {
             o.metric.area_floor = floor;
             o.metric.pinch_cost = 0.0;
             o.metric.face_weight_floor = 0.0;
+            o.metric.crease_area_weight = 0.0;
             o.metric.regularized_choice = true;
         })
     };
@@ -590,6 +591,7 @@ fn hair_thin_spur_keeps_its_height_under_the_face_weight_floor() {
         hair_height_lost(0.05, |o| {
             o.metric.face_weight_floor = floor;
             o.metric.pinch_cost = 0.0;
+            o.metric.crease_area_weight = 0.0;
         })
     };
     let with = lost(0.5);
@@ -613,12 +615,37 @@ fn hair_thin_spur_survives_a_twentieth_under_the_pinch_cost() {
         hair_height_lost(0.05, |o| {
             o.metric.pinch_cost = pinch;
             o.metric.face_weight_floor = 0.0;
+            o.metric.crease_area_weight = 0.0;
         })
     };
     let with = lost(1.0);
     assert!(with <= 0.02 * h, "lost {with} of {h} with the pinch cost");
     let without = lost(0.0);
     assert!(without >= 0.3 * h, "lost only {without} of {h} without it");
+}
+
+/// The same spur at 5% with neither the pinch cost nor the face weight
+/// floor: its sides meet the sheet at sharp creases, and the crease area
+/// term (`Metric::crease_area_weight`) charges shortening it for the area
+/// it sweeps against them, as a border would. Each of the three keeps the
+/// spur alone; the tests above turn this one off to see the others.
+#[test]
+fn hair_thin_spur_keeps_its_height_under_the_crease_area_term() {
+    let h = HAIR.1;
+    let lost = |weight: f64| {
+        hair_height_lost(0.05, |o| {
+            o.metric.crease_area_weight = weight;
+            o.metric.pinch_cost = 0.0;
+            o.metric.face_weight_floor = 0.0;
+        })
+    };
+    let with = lost(1.0);
+    assert!(with <= 0.02 * h, "lost {with} of {h} with the crease term");
+    let without = lost(0.0);
+    assert!(
+        without >= 0.3 * h,
+        "lost only {without} of {h} without the crease term"
+    );
 }
 
 /// Pinching is ranked last, not forbidden: a torus cannot be triangulated
