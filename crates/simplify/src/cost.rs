@@ -1365,6 +1365,55 @@ mod tests {
     }
 
     #[test]
+    fn crease_area_term_charges_the_area_swept_against_a_crease_side() {
+        // The 90° fold again, vertex 2 locked: collapsing 0–2 puts the
+        // vertex at 2 = (0, 1, 0). Vertex 0 is on the crease 0–1 (along
+        // x), so the term adds ½·|(p − p0) × (p1 − p0)|² = ½·|Y × X|² = ½
+        // (twice the squared area of the triangle it sweeps), times the
+        // border term's weight 1 and the crease weight 1.
+        let pos = vec![DVec3::ZERO, DVec3::X, DVec3::Y, DVec3::new(0.0, 0.0, -1.0)];
+        let (c, _) = Complex::new(pos, &[0, 3, 6], &[0, 1, 2, 1, 0, 3]);
+        let metric = Metric::default();
+        let q = stored(
+            &c,
+            &vertex_quadrics(&c, &metric, &[], EdgeImportance::default()),
+        );
+        let m = CostModel {
+            area_floor: 0.0,
+            attributes_move_vertices: false,
+            metric,
+            lock_borders: false,
+        };
+        let e = c.edge_between(0, 2).unwrap();
+        let locked = [false, false, true, false];
+        let mut s = Scratch::default();
+        let mut eval = |crease: &[bool]| {
+            m.evaluate(&c, &q, &[], &[], crease, &locked, None, e, &mut s)
+                .unwrap()
+        };
+        let without = eval(&[false; 4]);
+        let with = eval(&[true, false, false, false]);
+        assert_eq!(with.position, DVec3::Y);
+        assert!(
+            (with.cost - without.cost - 0.5).abs() < 1e-12,
+            "{with:?} {without:?}"
+        );
+        // Weight 0: no term, whatever the flags.
+        let off = CostModel {
+            metric: Metric {
+                crease_area_weight: 0.0,
+                ..metric
+            },
+            ..m
+        };
+        let flagged = [true, false, false, false];
+        let ev = off
+            .evaluate(&c, &q, &[], &[], &flagged, &locked, None, e, &mut s)
+            .unwrap();
+        assert_eq!(ev.cost, without.cost);
+    }
+
+    #[test]
     fn border_planes_stand_on_border_sides_orthogonal_to_their_face() {
         // Two triangles of the unit square in z = 0, sharing the diagonal
         // 0–2; the four sides of the square are border sides:
