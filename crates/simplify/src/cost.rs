@@ -1161,45 +1161,31 @@ mod tests {
         assert!((carried - 0.0625).abs() < 1e-15);
         let e = c.edge_between(1, 2).unwrap();
         let sq = stored(&c, &q);
-        let plain = CostModel {
-            area_floor: 0.0,
-            attributes_move_vertices: false,
-            metric: base,
-            lock_borders: false,
-        }
-        .evaluate(
-            &c,
-            &sq,
-            &[],
-            &[],
-            &[],
-            &[],
-            None,
-            e,
-            &mut Scratch::default(),
-        )
-        .unwrap();
-        let eq5 = CostModel {
-            area_floor: 0.0,
-            attributes_move_vertices: false,
-            metric: Metric {
-                introduced_error: true,
-                ..base
-            },
-            lock_borders: false,
-        }
-        .evaluate(
-            &c,
-            &sq,
-            &[],
-            &[],
-            &[],
-            &[],
-            None,
-            e,
-            &mut Scratch::default(),
-        )
-        .unwrap();
+        let eval = |metric: Metric| {
+            CostModel {
+                area_floor: 0.0,
+                attributes_move_vertices: false,
+                metric,
+                lock_borders: false,
+            }
+            .evaluate(
+                &c,
+                &sq,
+                &[],
+                &[],
+                &[],
+                &[],
+                None,
+                e,
+                &mut Scratch::default(),
+            )
+            .unwrap()
+        };
+        let plain = eval(base);
+        let eq5 = eval(Metric {
+            introduced_error: true,
+            ..base
+        });
         // Same placement; the cost drops by exactly Q1(p1) + Q2(p2) = 0 + 1/16.
         assert_eq!(plain.position, eq5.position);
         assert!(
