@@ -745,6 +745,17 @@ impl CostModel {
 mod tests {
     use super::*;
 
+    /// The cost model of `metric` alone: no area floor, borders free,
+    /// attributes not moving vertices.
+    fn model_of(metric: Metric) -> CostModel {
+        CostModel {
+            area_floor: 0.0,
+            attributes_move_vertices: false,
+            metric,
+            lock_borders: false,
+        }
+    }
+
     /// `q` as a run stores it, each about its vertex.
     fn stored(c: &Complex, q: &[Quadric]) -> Vec<StoredQuadric> {
         q.iter()
@@ -1082,12 +1093,7 @@ mod tests {
         );
         let metric = Metric::default();
         let q = vertex_quadrics(&c, &metric, &[], EdgeImportance::default());
-        let with = CostModel {
-            area_floor: 0.0,
-            attributes_move_vertices: false,
-            metric,
-            lock_borders: false,
-        };
+        let with = model_of(metric);
         let without = CostModel {
             area_floor: 0.0,
             attributes_move_vertices: false,
@@ -1115,12 +1121,7 @@ mod tests {
             ..Metric::default()
         };
         let q = vertex_quadrics(&c, &metric, &[], EdgeImportance::default());
-        let m = CostModel {
-            area_floor: 0.0,
-            attributes_move_vertices: false,
-            metric,
-            lock_borders: false,
-        };
+        let m = model_of(metric);
         let mut s = Scratch::default();
         let e = c.edge_between(0, 2).unwrap();
         let ev = m
@@ -1222,12 +1223,7 @@ mod tests {
             &c,
             &vertex_quadrics(&c, &metric, &[], EdgeImportance::default()),
         );
-        let m = CostModel {
-            area_floor: 0.0,
-            attributes_move_vertices: false,
-            metric,
-            lock_borders: false,
-        };
+        let m = model_of(metric);
         let mut s = Scratch::default();
         let ev = m
             .evaluate(&c, &q, &[], &[], &[], &[], None, e, &mut s)
@@ -1364,12 +1360,7 @@ mod tests {
             &c,
             &vertex_quadrics(&c, &metric, &[], EdgeImportance::default()),
         );
-        let m = CostModel {
-            area_floor: 0.0,
-            attributes_move_vertices: false,
-            metric,
-            lock_borders: false,
-        };
+        let m = model_of(metric);
         let e = c.edge_between(0, 2).unwrap();
         let locked = [false, false, true, false];
         let mut s = Scratch::default();
