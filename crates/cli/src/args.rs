@@ -265,6 +265,27 @@ pub struct TuningArgs {
     /// (Knodt) always uses plain area weighting.
     #[arg(long, value_name = "K", default_value_t = wildlod_simplify::Metric::default().face_weight_floor)]
     pub face_weight_floor: f64,
+    /// Weight of the planes that hold sharp creases (CAD edges) in place:
+    /// through every side whose two faces turn by more than
+    /// --crease-angle, the plane through it orthogonal to each face,
+    /// weighted by this times the side's squared length, as a border is
+    /// held. Raise it when a part's outlines slide inward; 0 turns it off.
+    /// Not where attributes steer collapses (their hard edges are seams,
+    /// held by --seam-weight)
+    #[arg(long, value_name = "W", default_value_t = wildlod_simplify::Metric::default().crease_weight)]
+    pub crease_weight: f64,
+    /// The turn between two faces' normals, in degrees (between 0 and
+    /// 180), above which their shared side is a crease for
+    /// --crease-weight and --crease-area-weight. The default holds CAD
+    /// edges of about 90 degrees and sharper, not the folds of a scan
+    #[arg(long, value_name = "DEG", default_value_t = wildlod_simplify::Metric::default().crease_angle)]
+    pub crease_angle: f64,
+    /// Weight of the area a collapse sweeps against a crease, relative to
+    /// the same term at open borders (W's memoryless area term): it sees
+    /// the crease as simplified so far, so an edge cut into many short
+    /// sides holds as well as one long side. 0 turns it off
+    #[arg(long, value_name = "W", default_value_t = wildlod_simplify::Metric::default().crease_area_weight)]
+    pub crease_area_weight: f64,
     /// Sweeps of the final refit: once the collapses are done, every vertex
     /// moves to where its error quadric plus the input's distances to its
     /// faces are smallest, which lowers the distance between input and

@@ -478,6 +478,54 @@ fn plane_weighting_and_pinch_flags_reach_the_simplifier() {
 }
 
 #[test]
+fn crease_flags_reach_the_simplifier() {
+    // A sheet folded at a right angle (a crease at the default angle),
+    // bumped so that no collapse is free, without UVs (attributes that
+    // steer hold hard edges by seam planes instead).
+    let dir = tempfile::tempdir().unwrap();
+    let mut m = shapes::quad_grid(24, 24);
+    m.attributes.clear();
+    for p in &mut m.positions {
+        p[2] = (p[0] - 0.5).abs() + 0.02 * (7.0 * p[0]).sin() * (5.0 * p[1]).cos();
+    }
+    m.name = "fold".into();
+    let input = dir.path().join("fold.obj");
+    wildlod_io::write(
+        &Document::from_scene(Scene::from_mesh(m)),
+        &input,
+        &WriteOptions::default(),
+    )
+    .unwrap();
+    let run = |name: &str, extra: &[&str]| {
+        let out = dir.path().join(name);
+        let mut args = vec!["simplify", s(&input), "-o", s(&out), "--ratio", "0.1"];
+        args.extend_from_slice(&["--no-quads", "-q"]);
+        args.extend_from_slice(extra);
+        let o = wildlod(&args);
+        assert!(o.status.success(), "{}", stderr(&o));
+        std::fs::read(&out).unwrap()
+    };
+    let default = run("default.obj", &[]);
+    let same = |name: &str, extra: &[&str]| run(name, extra) == default;
+    assert!(same(
+        "explicit.obj",
+        &["--crease-weight", "0.25", "--crease-area-weight", "1"]
+    ));
+    assert!(!same("no_planes.obj", &["--crease-weight", "0"]));
+    assert!(!same("no_sweep.obj", &["--crease-area-weight", "0"]));
+    // Past 90 degrees the fold is no crease: both terms go.
+    assert!(!same("wide.obj", &["--crease-angle", "120"]));
+    for flag in [
+        "--crease-weight=-1",
+        "--crease-area-weight=-1",
+        "--crease-angle=0",
+        "--crease-angle=180",
+    ] {
+        refuses(&input, &dir.path().join("x.obj"), flag);
+    }
+}
+
+#[test]
 fn refit_sweeps_flag_reaches_the_simplifier() {
     let dir = tempfile::tempdir().unwrap();
     let input = torus_obj(dir.path());

@@ -75,6 +75,15 @@ pub struct Tuning {
     /// Face planes weigh at least this many mean face areas
     /// (`Metric::face_weight_floor`); 0 is off.
     pub face_weight_floor: f64,
+    /// Weight of the planes that hold sharp creases in place, per squared
+    /// side length (`Metric::crease_weight`); 0 is off.
+    pub crease_weight: f64,
+    /// The turn in degrees between two faces above which their shared side
+    /// is a crease (`Metric::crease_angle`), in (0, 180).
+    pub crease_angle: f64,
+    /// Weight of the area swept against creases, relative to the border's
+    /// (`Metric::crease_area_weight`); 0 is off.
+    pub crease_area_weight: f64,
     /// Classic quadric error simplification (Garland & Heckbert 1997).
     pub classic: bool,
     /// How much UVs steer the collapses.
@@ -119,6 +128,9 @@ impl Default for Tuning {
             pinch_distance: options.metric.pinch_distance,
             area_exponent: options.metric.area_exponent,
             face_weight_floor: options.metric.face_weight_floor,
+            crease_weight: options.metric.crease_weight,
+            crease_angle: options.metric.crease_angle,
+            crease_area_weight: options.metric.crease_area_weight,
             classic: false,
             uv_weight: attributes.tex_coord_weight,
             normal_weight: attributes.normal_weight,
@@ -149,6 +161,8 @@ impl Tuning {
             ("pinch_cost", self.pinch_cost),
             ("pinch_distance", self.pinch_distance),
             ("face_weight_floor", self.face_weight_floor),
+            ("crease_weight", self.crease_weight),
+            ("crease_area_weight", self.crease_area_weight),
             ("uv_weight", self.uv_weight),
             ("normal_weight", self.normal_weight),
             ("color_weight", self.color_weight),
@@ -164,6 +178,13 @@ impl Tuning {
                 "area_exponent",
                 "in [0, 1]",
                 self.area_exponent,
+            ));
+        }
+        if !(self.crease_angle > 0.0 && self.crease_angle < 180.0) {
+            return Err(Error::setting(
+                "crease_angle",
+                "in (0, 180)",
+                self.crease_angle,
             ));
         }
         if !(self.max_normal_turn > 0.0 && self.max_normal_turn <= 180.0) {
@@ -201,6 +222,9 @@ impl Tuning {
         options.metric.pinch_distance = self.pinch_distance;
         options.metric.area_exponent = self.area_exponent;
         options.metric.face_weight_floor = self.face_weight_floor;
+        options.metric.crease_weight = self.crease_weight;
+        options.metric.crease_angle = self.crease_angle;
+        options.metric.crease_area_weight = self.crease_area_weight;
         // Classic QEM is the plain algorithm, for comparisons.
         options.refit_sweeps = if self.classic { 0 } else { self.refit_sweeps };
         options.drop_hidden_twins = !self.keep_hidden_twins;
@@ -383,6 +407,51 @@ mod tests {
                 ..Tuning::default()
             };
             assert!(refused_as(t, "area_exponent"), "{bad}");
+        }
+    }
+
+    #[test]
+    fn crease_settings_reach_the_metric_and_are_range_checked() {
+        let d = Tuning::default().options().expect("valid");
+        assert_eq!(
+            d.metric.crease_weight,
+            Options::default().metric.crease_weight
+        );
+        let o = Tuning {
+            crease_weight: 1.5,
+            crease_angle: 45.0,
+            crease_area_weight: 0.0,
+            ..Tuning::default()
+        }
+        .options()
+        .expect("valid");
+        assert_eq!(
+            (
+                o.metric.crease_weight,
+                o.metric.crease_angle,
+                o.metric.crease_area_weight
+            ),
+            (1.5, 45.0, 0.0)
+        );
+        for bad in [-1.0, f64::NAN, f64::INFINITY] {
+            let t = Tuning {
+                crease_weight: bad,
+                ..Tuning::default()
+            };
+            assert!(refused_as(t, "crease_weight"), "{bad}");
+            let t = Tuning {
+                crease_area_weight: bad,
+                ..Tuning::default()
+            };
+            assert!(refused_as(t, "crease_area_weight"), "{bad}");
+        }
+        // 0 would make every side a crease, 180 none: both are other flags.
+        for bad in [0.0, 180.0, -5.0, f64::NAN] {
+            let t = Tuning {
+                crease_angle: bad,
+                ..Tuning::default()
+            };
+            assert!(refused_as(t, "crease_angle"), "{bad}");
         }
     }
 

@@ -8,7 +8,7 @@ use wildlod_pipeline::{NormalSetting, SeamSetting, Tuning};
 
 /// The names `**options` accepts: the fields of [`Tuning`], and
 /// `normal_mode` for `normals` (in `simplify`, `normals` is the stream).
-pub const OPTION_NAMES: [&str; 25] = [
+pub const OPTION_NAMES: [&str; 28] = [
     "virtual_radius",
     "keep_topology",
     "lock_borders",
@@ -23,6 +23,9 @@ pub const OPTION_NAMES: [&str; 25] = [
     "pinch_distance",
     "area_exponent",
     "face_weight_floor",
+    "crease_weight",
+    "crease_angle",
+    "crease_area_weight",
     "refit_sweeps",
     "keep_hidden_twins",
     "classic",
@@ -102,6 +105,9 @@ pub fn tuning(py: Python<'_>, options: Option<&Bound<'_, PyDict>>) -> PyResult<T
             "pinch_distance" => t.pinch_distance = value.extract()?,
             "area_exponent" => t.area_exponent = value.extract()?,
             "face_weight_floor" => t.face_weight_floor = value.extract()?,
+            "crease_weight" => t.crease_weight = value.extract()?,
+            "crease_angle" => t.crease_angle = value.extract()?,
+            "crease_area_weight" => t.crease_area_weight = value.extract()?,
             "refit_sweeps" => t.refit_sweeps = value.extract()?,
             "keep_hidden_twins" => t.keep_hidden_twins = value.extract()?,
             "classic" => t.classic = value.extract()?,

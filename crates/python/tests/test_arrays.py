@@ -278,3 +278,23 @@ def test_pinch_distance_reaches_the_simplifier():
     with pytest.raises(ValueError, match="pinch_distance"):
         wildlod.simplify(pos, tris, faces_target=8, pinch_distance=-1.0)
     assert "pinch_distance" in wildlod.option_names()
+
+
+def test_crease_settings_reach_the_simplifier():
+    # A sheet folded at a right angle along x = 12 (a crease at every
+    # setting's default angle), bumped so that no collapse is free: the
+    # crease planes, the area swept against the crease and the angle that
+    # finds it each change which collapses go first.
+    pos, quads = grid(24)
+    pos[:, 2] += np.abs(pos[:, 0] - 12.0)
+    run = lambda **o: wildlod.simplify(pos, quads, ratio=0.1, no_quads=True, **o)["positions"]  # noqa: E731
+    default = run()
+    assert np.array_equal(default, run(crease_weight=0.25, crease_area_weight=1.0))
+    assert not np.array_equal(default, run(crease_weight=0.0))
+    assert not np.array_equal(default, run(crease_area_weight=0.0))
+    # Past 90 degrees the fold is no crease: both terms go.
+    assert not np.array_equal(default, run(crease_angle=120.0))
+    for name, bad in [("crease_weight", -1.0), ("crease_area_weight", -1.0), ("crease_angle", 180.0)]:
+        with pytest.raises(ValueError, match=name):
+            wildlod.simplify(pos, quads, ratio=0.1, **{name: bad})
+        assert name in wildlod.option_names()
