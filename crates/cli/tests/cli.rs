@@ -513,7 +513,8 @@ fn crease_flags_reach_the_simplifier() {
     ));
     assert!(!same("no_planes.obj", &["--crease-weight", "0"]));
     assert!(!same("no_sweep.obj", &["--crease-area-weight", "0"]));
-    // Past 90 degrees the fold is no crease: both terms go.
+    // With the angle above the fold's 90 degrees, the fold is no crease:
+    // both terms go.
     assert!(!same("wide.obj", &["--crease-angle", "120"]));
     for flag in [
         "--crease-weight=-1",

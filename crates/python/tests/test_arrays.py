@@ -281,8 +281,8 @@ def test_pinch_distance_reaches_the_simplifier():
 
 
 def test_crease_settings_reach_the_simplifier():
-    # A sheet folded at a right angle along x = 12 (a crease at every
-    # setting's default angle), bumped so that no collapse is free: the
+    # A sheet folded at a right angle along x = 12 (a crease at the default
+    # angle of 78 degrees), bumped so that no collapse is free: the
     # crease planes, the area swept against the crease and the angle that
     # finds it each change which collapses go first.
     pos, quads = grid(24)
@@ -292,7 +292,8 @@ def test_crease_settings_reach_the_simplifier():
     assert np.array_equal(default, run(crease_weight=0.25, crease_area_weight=1.0))
     assert not np.array_equal(default, run(crease_weight=0.0))
     assert not np.array_equal(default, run(crease_area_weight=0.0))
-    # Past 90 degrees the fold is no crease: both terms go.
+    # With the angle above the fold's 90 degrees, the fold is no crease:
+    # both terms go.
     assert not np.array_equal(default, run(crease_angle=120.0))
     for name, bad in [("crease_weight", -1.0), ("crease_area_weight", -1.0), ("crease_angle", 180.0)]:
         with pytest.raises(ValueError, match=name):
