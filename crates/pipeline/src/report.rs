@@ -38,6 +38,14 @@ pub struct MeshJson {
     /// Went below the target by more than one triangle because the last
     /// collapse took faces with their twins, which go together.
     pub twin_slack: bool,
+    /// The share (0 to 1) of the textured surface whose kept UVs fold or
+    /// stretch beyond 4× the input's texel density; null without textured
+    /// UVs.
+    pub uv_damage: Option<f64>,
+    /// With attributes that steer: whether their steering was kept (the
+    /// result was within the geometric tolerance of a run where they did
+    /// not steer) and the distances both runs measured; null otherwise.
+    pub steering: Option<SteeringJson>,
     /// Wall time.
     pub seconds: f64,
 }
@@ -57,9 +65,34 @@ impl MeshJson {
             split_polygons: r.report.split_polygons,
             hidden_twins: r.report.hidden_twins,
             twin_slack: r.report.twin_slack,
+            uv_damage: r.report.uv_damage,
+            steering: r.report.steering.map(|s| SteeringJson {
+                kept: s.kept,
+                hausdorff: s.hausdorff,
+                chamfer: s.chamfer,
+                geometry_hausdorff: s.geometry_hausdorff,
+                geometry_chamfer: s.geometry_chamfer,
+            }),
             seconds: r.seconds,
         }
     }
+}
+
+/// `steering` of a mesh in a report: see
+/// [`wildlod_simplify::SteeringOutcome`] (distances relative to the
+/// diagonal).
+#[derive(Clone, Copy, Debug, serde::Serialize)]
+pub struct SteeringJson {
+    /// The steered result is the output.
+    pub kept: bool,
+    /// The steered result's largest distance to the input.
+    pub hausdorff: f64,
+    /// The steered result's mean distance to the input.
+    pub chamfer: f64,
+    /// The unsteered result's largest distance to the input.
+    pub geometry_hausdorff: f64,
+    /// The unsteered result's mean distance to the input.
+    pub geometry_chamfer: f64,
 }
 
 /// The stable JSON name of a stop reason.

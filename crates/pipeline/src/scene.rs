@@ -63,6 +63,10 @@ pub fn simplify_scene<P: MeshProgress>(
     } else {
         options.see_through_materials.clone()
     };
+    let uv_sets = options
+        .material_uv_sets
+        .clone()
+        .unwrap_or_else(|| wildlod_simplify::material_uv_sets(scene));
     let instances = scene.instance_counts();
     for (m, target) in targets.iter().enumerate() {
         let Some(mesh) = scene.meshes.get(m) else {
@@ -77,6 +81,7 @@ pub fn simplify_scene<P: MeshProgress>(
         let options = Options {
             target: *target,
             see_through_materials: see_through.clone(),
+            material_uv_sets: Some(uv_sets.clone()),
             face_instances: if k > 1 {
                 vec![u32::try_from(k).unwrap_or(u32::MAX); mesh.faces.len()]
             } else {

@@ -559,6 +559,31 @@ pub(crate) struct CostModel {
     pub area_floor: f64,
     /// [`crate::AttributeOptions::attributes_move_vertices`].
     pub attributes_move_vertices: bool,
+    /// How much more a collapse's geometric cost may be where attributes
+    /// place its vertex (Hoppe's joint placement) than where the surface
+    /// alone would: `tolerance² − 1` for
+    /// [`crate::AttributeOptions::geometry_tolerance`] (costs are squared
+    /// distances times area).
+    pub attribute_slack: f64,
+    /// Squared [`crate::AttributeOptions::invisible_distance`]: appearance
+    /// may always steer below it, whatever the budget.
+    pub invisible_distance2: f64,
+    /// The file's geometric error budget, in cost units (area times
+    /// squared distance): appearance may lift a collapse's rank up to it,
+    /// never higher, and never lowers a rank. The budget is
+    /// `geometry_tolerance²` times the level a run on the positions alone
+    /// ends at for the same target ([`crate::Report::cost_level`]): the
+    /// greedy order of the attributes' run then makes every collapse of
+    /// the surface cheaper than that before it lets appearance hold one.
+    /// A collapse whose seam or texture would suffer waits, at most until
+    /// every collapse of the surface within the budget is made; the
+    /// output's distance to the input then stays within about the
+    /// tolerance of a geometry-only run's, whatever the attributes say.
+    /// Infinite: appearance steers without bound (Hoppe 1999 as written).
+    pub appearance_budget: f64,
+    /// Whether the regularization's travel cost counts as appearance (with
+    /// steering attributes, [`crate::AttributeOptions::regularized_choice`]).
+    pub regularization_looks: bool,
 }
 
 /// Reusable buffers of one evaluating thread.
@@ -574,10 +599,14 @@ impl CostModel {
     /// Whether the crease area term applies (see
     /// [`Metric::crease_area_weight`]): with the border's area term, and
     /// not where attributes steer (their hard edges are seams).
-    pub fn crease_area_applies(&self, attributes: Option<&AttributeState>) -> bool {
-        self.metric.boundary_area
-            && self.metric.crease_area_weight > 0.0
-            && !attributes.is_some_and(AttributeState::steers)
+    pub fn crease_area_applies(&self) -> bool {
+        self.metric.boundary_area && self.metric.crease_area_weight > 0.0
+    }
+
+    /// What moving the surface by the invisible distance costs over `area`.
+    #[inline]
+    fn invisible_cost(&self, area: f64) -> f64 {
+        self.invisible_distance2 * area.max(0.0)
     }
 
     /// Whether evaluation needs to know which vertices are on a border.
@@ -639,7 +668,7 @@ impl CostModel {
         // The same memoryless term at sharp creases, for endpoints `crease`
         // flags (see `Metric::crease_area_weight`).
         let at_crease = |v: u32| crease.get(v as usize).copied().unwrap_or(false);
-        if (at_crease(i) || at_crease(j)) && self.crease_area_applies(attributes) {
+        if (at_crease(i) || at_crease(j)) && self.crease_area_applies() {
             let cos = self.metric.crease_angle.to_radians().cos();
             let mut area = Quadric::ZERO;
             s.crease.clear();
@@ -676,63 +705,99 @@ impl CostModel {
             (self.lock_borders && bi) || locked.get(i as usize).copied().unwrap_or(false);
         let mut fixed_j =
             (self.lock_borders && bj) || locked.get(j as usize).copied().unwrap_or(false);
-        // The surface's own quadric, before attributes join it: where the
-        // vertex goes unless attributes may move it.
+        // The surface's own quadric: what the collapse does to the geometry.
+        // Attributes add an appearance quadric that steers, within bounds
+        // (see `CostModel::attribute_slack`).
         let geometry = total;
-        if let Some(a) = attributes {
-            let t = a.terms(c, i, j, &mut s.attributes)?;
-            total += t.quadric;
-            fixed_i |= t.fixed_i;
-            fixed_j |= t.fixed_j;
-        }
-        let (position, cost) = if fixed_i || fixed_j {
-            if fixed_i && fixed_j {
-                return None;
+        let appearance = match attributes {
+            Some(a) => {
+                let t = a.terms(c, i, j, &mut s.attributes)?;
+                fixed_i |= t.fixed_i;
+                fixed_j |= t.fixed_j;
+                Some(t.quadric)
             }
-            let p = if fixed_i { pi } else { pj };
-            (p, total.eval(p).max(0.0))
+            None => None,
+        };
+        if fixed_i && fixed_j {
+            return None;
+        }
+        let r = match (reg.get(i as usize), reg.get(j as usize)) {
+            (Some(ri), Some(rj)) => Some(ri.quadric() + rj.quadric()),
+            _ => None,
+        };
+        // What ranks a collapse geometrically: the planes and area terms,
+        // with the regularization only where it is asked to choose.
+        let ranked = match &r {
+            Some(r) if !self.metric.regularized_choice => geometry.minus(r),
+            _ => geometry,
+        };
+        let position = if fixed_i {
+            pi
+        } else if fixed_j {
+            pj
         } else {
             // Solved without the regularization, which only steadies the
             // free directions (see `place_exact`); with no record of it,
             // the regularized solve.
-            let joint = self.attributes_move_vertices || attributes.is_none();
-            let placed = if joint { &total } else { &geometry };
-            let r = match (reg.get(i as usize), reg.get(j as usize)) {
-                (Some(ri), Some(rj)) => Some(ri.quadric() + rj.quadric()),
-                _ => None,
+            let by_geometry = |q: &Quadric| match &r {
+                Some(r) if self.metric.regularized_choice => place_exact(q, r, pi, pj, REACH),
+                Some(r) => place_by_planes(q, r, pi, pj, REACH),
+                None => place(q, pi, pj, REACH),
             };
-            let pl = match &r {
-                Some(r) if self.metric.regularized_choice => place_exact(placed, r, pi, pj, REACH),
-                Some(r) => place_by_planes(placed, r, pi, pj, REACH),
-                None => place(placed, pi, pj, REACH),
-            };
-            if joint {
-                (pl.position, pl.error)
-            } else {
-                // Attributes are fitted at the placed vertex and cost what
-                // they lose there (the regularization's share taken out
-                // unless it ranks too).
-                let cost = match &r {
-                    Some(r) if !self.metric.regularized_choice => total.minus(r).eval(pl.position),
-                    _ => total.eval(pl.position),
-                };
-                (pl.position, cost.max(0.0))
+            let at = by_geometry(&geometry).position;
+            match &appearance {
+                // Hoppe's joint placement over position and attributes, kept
+                // only where it costs the surface no more than the slack.
+                Some(app) if self.attributes_move_vertices => {
+                    let joint = match &r {
+                        Some(r) => place_exact(&(geometry + *app), r, pi, pj, REACH),
+                        None => place(&(geometry + *app), pi, pj, REACH),
+                    }
+                    .position;
+                    let bound = ranked.eval(at).max(0.0) * (1.0 + self.attribute_slack)
+                        + self.invisible_cost(qi.weight + qj.weight);
+                    if ranked.eval(joint) <= bound {
+                        joint
+                    } else {
+                        at
+                    }
+                }
+                _ => at,
             }
         };
+        // A fixed endpoint's collapse is ranked by the whole quadric, as
+        // the solve cannot set the regularization aside there.
+        let mut cost = if fixed_i || fixed_j {
+            geometry.eval(position)
+        } else {
+            ranked.eval(position)
+        }
+        .max(0.0);
         // Knodt Eq. 5: what the collapse adds to the error the endpoints
         // already carry. Never negative: the quadric sum at the optimum is
         // at least each part's own minimum (up to rounding).
-        let cost = if self.metric.introduced_error {
+        if self.metric.introduced_error {
             // What the endpoints carry, measured as the cost is: without
             // the regularization unless it ranks.
             let carried = |v: u32, qv: &Quadric, p: DVec3| match reg.get(v as usize) {
                 Some(rv) if !self.metric.regularized_choice => qv.minus(&rv.quadric()).eval(p),
                 _ => qv.eval(p),
             };
-            (cost - carried(i, &qi, pi) - carried(j, &qj, pj)).max(0.0)
-        } else {
-            cost
-        };
+            cost = (cost - carried(i, &qi, pi) - carried(j, &qj, pj)).max(0.0);
+        }
+        if let Some(app) = &appearance {
+            // Appearance steers within the file's geometric error budget:
+            // it may lift a collapse's rank up to the budget, never beyond
+            // (see `CostModel::appearance_budget`).
+            let mut looks = app.eval(position).max(0.0);
+            if let (Some(r), true) = (&r, self.regularization_looks) {
+                looks += r.eval(position).max(0.0);
+            }
+            let ceiling = self
+                .appearance_budget
+                .max(self.invisible_cost(qi.weight + qj.weight));
+            cost = (cost + looks).min(cost.max(ceiling));
+        }
         let cost = floored(cost, qi.weight + qj.weight, self.area_floor);
         if !cost.is_finite() {
             return None;
@@ -751,6 +816,10 @@ mod tests {
         CostModel {
             area_floor: 0.0,
             attributes_move_vertices: false,
+            attribute_slack: f64::INFINITY,
+            invisible_distance2: 0.0,
+            appearance_budget: f64::INFINITY,
+            regularization_looks: false,
             metric,
             lock_borders: false,
         }
@@ -822,6 +891,10 @@ mod tests {
             lock_borders: false,
             area_floor: 0.0,
             attributes_move_vertices: joint,
+            attribute_slack: f64::INFINITY,
+            invisible_distance2: 0.0,
+            appearance_budget: f64::INFINITY,
+            regularization_looks: false,
         };
         let border = vec![true; c.pos.len()];
         let mut s = Scratch::default();
@@ -1097,6 +1170,10 @@ mod tests {
         let without = CostModel {
             area_floor: 0.0,
             attributes_move_vertices: false,
+            attribute_slack: f64::INFINITY,
+            invisible_distance2: 0.0,
+            appearance_budget: f64::INFINITY,
+            regularization_looks: false,
             metric: Metric {
                 boundary_area: false,
                 ..metric
@@ -1130,6 +1207,10 @@ mod tests {
         let plain = CostModel {
             area_floor: 0.0,
             attributes_move_vertices: false,
+            attribute_slack: f64::INFINITY,
+            invisible_distance2: 0.0,
+            appearance_budget: f64::INFINITY,
+            regularization_looks: false,
             metric: Metric {
                 boundary_area: false,
                 ..metric
@@ -1166,6 +1247,10 @@ mod tests {
             CostModel {
                 area_floor: 0.0,
                 attributes_move_vertices: false,
+                attribute_slack: f64::INFINITY,
+                invisible_distance2: 0.0,
+                appearance_budget: f64::INFINITY,
+                regularization_looks: false,
                 metric,
                 lock_borders: false,
             }
@@ -1237,6 +1322,10 @@ mod tests {
         let free = CostModel {
             area_floor: 0.0,
             attributes_move_vertices: false,
+            attribute_slack: f64::INFINITY,
+            invisible_distance2: 0.0,
+            appearance_budget: f64::INFINITY,
+            regularization_looks: false,
             metric: Metric {
                 gluing_weight: 0.0,
                 ..metric
@@ -1256,6 +1345,10 @@ mod tests {
         let m = CostModel {
             area_floor: 0.0,
             attributes_move_vertices: false,
+            attribute_slack: f64::INFINITY,
+            invisible_distance2: 0.0,
+            appearance_budget: f64::INFINITY,
+            regularization_looks: false,
             metric: Metric::default(),
             lock_borders: true,
         };

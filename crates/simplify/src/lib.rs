@@ -30,6 +30,7 @@ mod attributes;
 mod complex;
 mod cost;
 mod error;
+mod fidelity;
 mod guards;
 mod heap;
 mod history;
@@ -48,6 +49,7 @@ mod stored;
 mod symmetry;
 mod tangent;
 mod twins;
+mod uv_health;
 mod virtual_edges;
 
 pub use attributes::{
@@ -62,10 +64,10 @@ pub use options::{
     Target,
 };
 pub use quadric::{place, place_by_planes, place_exact, Placement, Quadric, FREE_DIRECTION};
-pub use report::{Rejections, Report, StopReason};
+pub use report::{Rejections, Report, SteeringOutcome, StopReason};
 pub use scene::{
-    see_through_materials, simplify_scene, simplify_scene_with_progress, GroupReport, GroupSpace,
-    MeshOutcome, SceneReport,
+    material_uv_sets, see_through_materials, simplify_scene, simplify_scene_with_progress,
+    GroupReport, GroupSpace, MeshOutcome, SceneReport,
 };
 pub use simplify::{
     simplify_polygons, simplify_polygons_with_progress, simplify_triangles,

@@ -3,13 +3,14 @@
 //! ([`crate::AttributeOptions`]), and the result put back into a mesh.
 
 use glam::DVec3;
-use wildlod_mesh::{Mesh, Semantic, Skinning, ABSENT};
+use wildlod_mesh::{Attribute, Mesh, Semantic, Skinning, ABSENT};
 
-use crate::attributes::{AttributeInput, AttributeStream, SkinStream, StreamKind};
+use crate::attributes::{AttributeInput, AttributeStream, FittedStream, SkinStream, StreamKind};
 use crate::error::Error;
 use crate::options::{NormalMode, Options};
 use crate::report::Report;
 use crate::simplify::simplify_with_attributes_and_progress;
+use crate::uv_health::uv_damage;
 
 /// Simplifies a mesh with its attributes fitted, not copied (Hoppe 1999;
 /// Knodt 2024 §3): every UV set, normal, tangent, color and morph delta is
@@ -69,21 +70,44 @@ pub fn simplify_mesh_with_progress(
             };
             &with_joints
         };
-    let streams: Vec<AttributeStream<'_>> = mesh
+    // UV sets steer only where a texture samples them: a set read on some
+    // faces and not others goes in as two streams, the read corners (which
+    // steer) and the others (fitted only), joined again below.
+    let steer = steering_faces(mesh, options);
+    let split: Vec<Option<[Vec<u32>; 2]>> = mesh
         .attributes
         .iter()
-        .map(|a| {
-            let (weight, seams, kind) = stream_settings(&a.semantic, options);
-            AttributeStream {
-                components: a.components as usize,
-                values: &a.values,
-                indices: &a.indices,
-                weight,
-                seams,
-                kind,
+        .zip(&steer)
+        .map(|(a, faces)| {
+            let faces = faces.as_ref().filter(|f| f.contains(&true))?;
+            let mut parts = [a.indices.clone(), a.indices.clone()];
+            for (f, &read) in faces.iter().enumerate() {
+                let corners = mesh.faces.offsets[f] as usize..mesh.faces.offsets[f + 1] as usize;
+                parts[usize::from(read)][corners].fill(ABSENT);
             }
+            Some(parts)
         })
         .collect();
+    let mut streams: Vec<AttributeStream<'_>> = Vec::new();
+    // Per mesh attribute, its streams: one, or (read, unread).
+    let mut stream_of: Vec<(usize, Option<usize>)> = Vec::new();
+    for ((a, faces), parts) in mesh.attributes.iter().zip(&steer).zip(&split) {
+        let (weight, seams, kind) = stream_settings(&a.semantic, options);
+        let first = streams.len();
+        match parts {
+            Some([read, unread]) => {
+                stream_of.push((first, Some(first + 1)));
+                streams.push(stream(a, read, weight, seams, kind));
+                streams.push(stream(a, unread, 0.0, seams, kind));
+            }
+            None => {
+                // Read nowhere: fitted only.
+                let weight = if faces.is_some() { 0.0 } else { weight };
+                stream_of.push((first, None));
+                streams.push(stream(a, &a.indices, weight, seams, kind));
+            }
+        }
+    }
     let skin = mesh.skinning.as_ref().map(|s| SkinStream {
         influences: s.influences as usize,
         joints: &s.joints,
@@ -117,7 +141,13 @@ pub fn simplify_mesh_with_progress(
         attributes: mesh.attributes.clone(),
         skinning: None,
     };
-    for (a, fitted) in out.attributes.iter_mut().zip(s.attributes) {
+    let mut fitted_streams: Vec<Option<FittedStream>> =
+        s.attributes.into_iter().map(Some).collect();
+    for (a, &(first, second)) in out.attributes.iter_mut().zip(&stream_of) {
+        let mut fitted = fitted_streams[first].take().unwrap_or_default();
+        if let Some(other) = second.and_then(|k| fitted_streams[k].take()) {
+            join_streams(&mut fitted, other);
+        }
         a.values = fitted.values;
         a.indices = fitted.indices;
         if a.semantic == Semantic::Tangent && a.components == 4 {
@@ -127,11 +157,24 @@ pub fn simplify_mesh_with_progress(
             }
         }
     }
-    if options.attributes.normals == NormalMode::Recompute {
-        for a in &mut out.attributes {
-            if a.semantic == Semantic::Normal && a.components == 3 {
+    let mut report = s.report;
+    // How well the kept UVs still show the textures (see `uv_health.rs`).
+    for (k, read) in steer.iter().enumerate() {
+        if read.as_ref().is_some_and(|r| !r.contains(&true)) {
+            continue;
+        }
+        let damage = uv_damage(mesh, &out, &s.face_origin, k, read.as_deref());
+        report.uv_damage = match (report.uv_damage, damage) {
+            (Some(a), Some(b)) => Some(a.max(b)),
+            (a, b) => a.or(b),
+        };
+    }
+    for a in &mut out.attributes {
+        if a.semantic == Semantic::Normal && a.components == 3 {
+            if options.attributes.normals == NormalMode::Recompute {
                 recompute_normals(&out.positions, &out.faces, a);
             }
+            report.stray_normals += fix_stray_normals(&out.positions, &out.faces, a);
         }
     }
     if let Some(k) = out
@@ -162,7 +205,73 @@ pub fn simplify_mesh_with_progress(
         });
     }
     out.compact();
-    Ok((out, s.report))
+    Ok((out, report))
+}
+
+/// A per-corner stream of `a`'s values.
+fn stream<'a>(
+    a: &'a Attribute,
+    indices: &'a [u32],
+    weight: f64,
+    seams: bool,
+    kind: StreamKind,
+) -> AttributeStream<'a> {
+    AttributeStream {
+        components: a.components as usize,
+        values: &a.values,
+        indices,
+        weight,
+        seams,
+        kind,
+    }
+}
+
+/// Per mesh attribute, which faces it steers on, where that is not every
+/// face: `Some` for a UV set when [`Options::material_uv_sets`] is known
+/// and some face's material does not sample it (see there); `None`
+/// otherwise (the stream steers everywhere by its weight).
+fn steering_faces(mesh: &Mesh, options: &Options) -> Vec<Option<Vec<bool>>> {
+    let Some(sets) = &options.material_uv_sets else {
+        return vec![None; mesh.attributes.len()];
+    };
+    let part_sets: Vec<u32> = mesh
+        .parts
+        .iter()
+        .map(|p| {
+            p.material
+                .and_then(|m| sets.get(m as usize).copied())
+                .unwrap_or(0)
+        })
+        .collect();
+    mesh.attributes
+        .iter()
+        .map(|a| {
+            let Semantic::TexCoord(k) = a.semantic else {
+                return None;
+            };
+            let bit = if k < 32 { 1u32 << k } else { 0 };
+            let faces: Vec<bool> = mesh
+                .face_parts
+                .iter()
+                .map(|&p| part_sets.get(p as usize).is_some_and(|s| s & bit != 0))
+                .collect();
+            (!faces.iter().all(|&r| r)).then_some(faces)
+        })
+        .collect()
+}
+
+/// Joins the fitted halves of a stream given as two (see
+/// [`steering_faces`]): every corner takes the value of the half that has
+/// one.
+fn join_streams(first: &mut FittedStream, second: FittedStream) {
+    let m = first.components.max(1);
+    let offset = (first.values.len() / m) as u32;
+    for (x, &y) in first.indices.iter_mut().zip(&second.indices) {
+        if *x == ABSENT && y != ABSENT {
+            *x = y + offset;
+        }
+    }
+    first.values.extend_from_slice(&second.values);
 }
 
 /// The faces of [`Options::see_through_materials`], when the caller named
@@ -239,6 +348,111 @@ fn recompute_normals(
     }
 }
 
+/// A normal farther than this from every face it shades points away from
+/// the surface it lights: it shades a face as if seen edge-on or from
+/// behind (a black shard). 75°, not 90°: at grazing angles a lit face is
+/// already dark, and a smooth coarse level's normals stay far within this
+/// of some face they shade (a sphere at 1% of its triangles: about 30°).
+const STRAY_NORMAL_DEGREES: f64 = 75.0;
+
+/// Replaces every normal value that points more than
+/// [`STRAY_NORMAL_DEGREES`] away from every face it shades (its corners'
+/// faces) by the area-weighted normal of those faces, or, where even that
+/// leaves it stray (faces turning every way), by its largest face's normal.
+/// Each value is one wedge, so the input's hard edges stay hard. Returns
+/// how many values were replaced.
+///
+/// A fitted normal is a least-squares blend of the normals merged into its
+/// wedge: a facade's normal merged with those of the recesses that were
+/// flattened into it can point along the wall. Such a normal is a defect,
+/// whatever the fit says.
+fn fix_stray_normals(
+    positions: &[[f32; 3]],
+    faces: &wildlod_mesh::Faces,
+    normals: &mut wildlod_mesh::Attribute,
+) -> usize {
+    let count = normals.value_count();
+    let cos = STRAY_NORMAL_DEGREES.to_radians().cos();
+    let p = |v: u32| DVec3::from(positions[v as usize].map(f64::from));
+    let face_normals: Vec<DVec3> = faces
+        .iter()
+        .map(|face| {
+            let mut n = DVec3::ZERO;
+            for k in 0..face.len() {
+                n += p(face[k]).cross(p(face[(k + 1) % face.len()]));
+            }
+            n
+        })
+        .collect();
+    let value = |values: &[f32], i: usize| {
+        DVec3::new(
+            values[3 * i] as f64,
+            values[3 * i + 1] as f64,
+            values[3 * i + 2] as f64,
+        )
+    };
+    // Per value: whether some face it shades is within the bound.
+    let mut agrees = vec![false; count];
+    let mut used = vec![false; count];
+    let mut corner = 0usize;
+    for (f, face) in faces.iter().enumerate() {
+        let n = face_normals[f];
+        for _ in face {
+            let i = normals.indices[corner];
+            corner += 1;
+            if i == ABSENT {
+                continue;
+            }
+            let i = i as usize;
+            used[i] = true;
+            let len = n.length();
+            if len > 0.0 && value(&normals.values, i).dot(n) >= cos * len {
+                agrees[i] = true;
+            }
+        }
+    }
+    let stray: Vec<usize> = (0..count).filter(|&i| used[i] && !agrees[i]).collect();
+    if stray.is_empty() {
+        return 0;
+    }
+    let mut sum = vec![DVec3::ZERO; count];
+    let mut largest = vec![DVec3::ZERO; count];
+    let mut corner = 0usize;
+    for (f, face) in faces.iter().enumerate() {
+        let n = face_normals[f];
+        for _ in face {
+            let i = normals.indices[corner];
+            corner += 1;
+            if i == ABSENT || agrees[i as usize] {
+                continue;
+            }
+            let i = i as usize;
+            sum[i] += n;
+            if n.length_squared() > largest[i].length_squared() {
+                largest[i] = n;
+            }
+        }
+    }
+    let mut fixed = 0;
+    for i in stray {
+        let (s, l) = (sum[i], largest[i]);
+        let smooth = s.normalize_or_zero();
+        // The blend agrees with its largest face unless the faces turn
+        // every way; then that face's own normal does.
+        let n = if smooth.dot(l) >= cos * l.length() {
+            smooth
+        } else {
+            l.normalize_or_zero()
+        };
+        if n == DVec3::ZERO {
+            continue;
+        }
+        normals.values[3 * i..3 * i + 3].copy_from_slice(&[n.x as f32, n.y as f32, n.z as f32]);
+        fixed += 1;
+    }
+    fixed
+}
+
 /// Joint influences per vertex from the mesh's skinning (each vertex takes
 /// the entry of its first corner); empty when the mesh is not skinned. The
 /// input of Knodt's joint-difference term (Knodt 2024 Eq. 3,
@@ -264,4 +478,71 @@ pub fn vertex_joints(mesh: &Mesh) -> Vec<Vec<(u32, f32)>> {
             .collect();
     }
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use wildlod_mesh::Faces;
+
+    /// A unit square in z = 0 as two triangles, and a normal stream with
+    /// one value per corner of the first triangle and one shared value on
+    /// the second: `normals[0..3]` for triangle 0, `normals[3]` for
+    /// triangle 1.
+    fn square(normals: [[f32; 3]; 4]) -> (Vec<[f32; 3]>, Faces, Attribute) {
+        let positions = vec![
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [1.0, 1.0, 0.0],
+            [0.0, 1.0, 0.0],
+        ];
+        let faces = Faces::from_triangles(&[0, 1, 2, 0, 2, 3]);
+        let a = Attribute {
+            semantic: Semantic::Normal,
+            components: 3,
+            values: normals.iter().flatten().copied().collect(),
+            indices: vec![0, 1, 2, 3, 3, 3],
+            format: Default::default(),
+        };
+        (positions, faces, a)
+    }
+
+    #[test]
+    fn normals_pointing_away_from_every_face_they_shade_are_replaced() {
+        let tilt = |deg: f32| {
+            let r = deg.to_radians();
+            [r.sin(), 0.0, r.cos()]
+        };
+        // 60° and 74° off the face stay (a coarse smooth surface's normals
+        // lean that far); 76° and 180° are replaced by the face's normal.
+        let (p, f, mut a) = square([tilt(60.0), tilt(74.0), tilt(76.0), [0.0, 0.0, -1.0]]);
+        assert_eq!(fix_stray_normals(&p, &f, &mut a), 2);
+        assert_eq!(&a.values[0..3], &tilt(60.0));
+        assert_eq!(&a.values[3..6], &tilt(74.0));
+        assert_eq!(&a.values[6..9], &[0.0, 0.0, 1.0]);
+        assert_eq!(&a.values[9..12], &[0.0, 0.0, 1.0]);
+    }
+
+    #[test]
+    fn a_normal_within_the_bound_of_one_of_its_faces_stays() {
+        // A hinge: the value shared by both faces of a 90° fold points along
+        // the first face's plane (90° from it) but within 0° of the second.
+        let positions = vec![
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [0.0, 1.0, 0.0],
+            [0.0, 0.0, 1.0],
+        ];
+        // Triangle (0,1,2) faces +z; triangle (0,3,1) faces +y.
+        let faces = Faces::from_triangles(&[0, 1, 2, 0, 3, 1]);
+        let mut a = Attribute {
+            semantic: Semantic::Normal,
+            components: 3,
+            values: vec![0.0, 1.0, 0.0],
+            indices: vec![0; 6],
+            format: Default::default(),
+        };
+        assert_eq!(fix_stray_normals(&positions, &faces, &mut a), 0);
+        assert_eq!(a.values, vec![0.0, 1.0, 0.0]);
+    }
 }

@@ -580,6 +580,29 @@ pub struct AttributeOptions {
     /// 0.0014 to 0.0020 (`docs/evaluation.md`, "Placed and ranked by the
     /// planes").
     pub regularized_choice: bool,
+    /// How much farther from the input than a geometry-only run the
+    /// surface may end because attributes steered it: a collapse's cost
+    /// is its geometric cost plus its appearance cost (attribute quadrics,
+    /// seam planes, the regularization's travel), the latter capped at
+    /// `tolerance² − 1` times the former (costs are squared distances), and
+    /// Hoppe's joint placement is kept only where it costs the surface no
+    /// more than that. Attributes then reorder only collapses whose
+    /// distances lie within this factor of each other: where keeping a
+    /// seam or a shading detail would cost more, geometry wins. A UV set
+    /// that no texture reads, a hard normal edge on a crease, never outbids
+    /// the surface. ≥ 1; `f64::INFINITY` lets attributes steer without
+    /// bound (Hoppe 1999 as written).
+    ///
+    /// Default 1.15 (issue 31's bound: a default output's Hausdorff and
+    /// Chamfer distances within 1.15× of the geometry-only output's).
+    pub geometry_tolerance: f64,
+    /// A distance, relative to the bounding-box diagonal, below which
+    /// attributes steer freely: appearance may always add what moving the
+    /// surface by this much over the collapse's area costs. Flat regions,
+    /// where every geometric cost is 0, would otherwise give attributes no
+    /// say at all. Default 1e-4 (issue 31: Hausdorff differences below
+    /// 1e-4 of the diagonal are not visible on any screen).
+    pub invisible_distance: f64,
 }
 
 impl Default for AttributeOptions {
@@ -594,6 +617,8 @@ impl Default for AttributeOptions {
             normals: NormalMode::Fit,
             attributes_move_vertices: true,
             regularized_choice: true,
+            geometry_tolerance: 1.15,
+            invisible_distance: 1e-4,
         }
     }
 }
@@ -677,6 +702,17 @@ pub struct Options {
     /// [`Options::see_through_faces`]. Empty: none. The pipeline fills it
     /// from the file's materials (alpha mode blend).
     pub see_through_materials: Vec<u32>,
+    /// Which UV sets each material's textures sample, per material (ids
+    /// into the scene's materials), as a bitmask (bit `k`: `TEXCOORD_k`).
+    /// A UV set steers collapses ([`AttributeOptions::tex_coord_weight`])
+    /// only on faces whose material samples a texture through it: UVs no
+    /// texture reads show nothing, and an architectural export's box-mapped
+    /// UVs under plain colors would otherwise decide which walls survive.
+    /// Faces without a material sample nothing. They are still fitted.
+    /// `None` (default): not known, every UV set steers everywhere (plain
+    /// arrays, a mesh without its scene). [`crate::simplify_scene`] fills
+    /// it from the scene's materials.
+    pub material_uv_sets: Option<Vec<u32>>,
     /// How many times a renderer draws each input face (one count per input
     /// face): a mesh shown by several nodes is stored once and drawn once
     /// per node. Each face counts that many times in the triangle budget
@@ -709,6 +745,7 @@ impl Default for Options {
             drop_hidden_twins: true,
             see_through_faces: Vec::new(),
             see_through_materials: Vec::new(),
+            material_uv_sets: None,
             face_instances: Vec::new(),
         }
     }

@@ -41,6 +41,26 @@ pub struct Rejections {
     pub error_limit: usize,
 }
 
+/// Whether the attributes' steering was kept (see
+/// [`crate::AttributeOptions::geometry_tolerance`]), with the distances
+/// both runs measured, relative to the input's bounding-box diagonal
+/// (sampled at vertices and face centres, both directions).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct SteeringOutcome {
+    /// The steered result was as close to the input as the tolerance
+    /// asks, and is the output; otherwise the result of the run in which
+    /// attributes were fitted but did not steer is.
+    pub kept: bool,
+    /// The steered result's largest distance to the input.
+    pub hausdorff: f64,
+    /// The steered result's mean distance to the input.
+    pub chamfer: f64,
+    /// The unsteered result's largest distance to the input.
+    pub geometry_hausdorff: f64,
+    /// The unsteered result's mean distance to the input.
+    pub geometry_chamfer: f64,
+}
+
 /// The outcome of a simplification run.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Report {
@@ -67,6 +87,11 @@ pub struct Report {
     pub parallel_passes: usize,
     /// Virtual edges added between separate components (W §4.1.1).
     pub virtual_edges: usize,
+    /// The rank (the loop's cost units: area times squared distance on the
+    /// unit-diagonal mesh, with every term) below which 99% of the loop's
+    /// collapses were made: the level the run ended at. Collapses of the
+    /// parallel first phase are not counted (they are cheaper).
+    pub cost_level: f64,
     /// Largest error of a collapse made, as a distance relative to the
     /// bounding-box diagonal (root mean square distance to the planes the
     /// collapsed vertex accumulated).
@@ -86,6 +111,20 @@ pub struct Report {
     /// split into smaller pieces before simplifying (their pieces are
     /// output faces of the same input face).
     pub split_polygons: usize,
+    /// Output normal values that pointed more than 75° away from every face
+    /// they shade and were replaced by their faces' normal (see
+    /// [`crate::simplify_mesh`]).
+    pub stray_normals: usize,
+    /// The share (0 to 1) of the output's textured surface whose kept UVs
+    /// fold over or stretch beyond 4× the input's texel density (see
+    /// [`crate::simplify_mesh`]): where the input's textures no longer show
+    /// as they did, and re-baking would. `None` without textured UVs.
+    pub uv_damage: Option<f64>,
+    /// With attributes that steer a triangle-count target: whether their
+    /// steering was kept, and why (see
+    /// [`crate::AttributeOptions::geometry_tolerance`]). `None` when
+    /// nothing steered.
+    pub steering: Option<SteeringOutcome>,
     /// With [`crate::Options::record_error_curve`]: after every collapse of
     /// the global loop, the triangles left and [`Report::error`] so far, in
     /// order (so both columns are monotone). Empty otherwise.

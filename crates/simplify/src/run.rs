@@ -107,6 +107,18 @@ fn symmetry_importance(p: &Prepared, options: &Options, metric: &Metric) -> (Vec
     (weights, result.truncated)
 }
 
+/// The rank below which 99% of a run's collapses were made: the level a
+/// greedy run ends at, robust to the few collapses a pinch price or a
+/// forced last step put far above it.
+fn cost_level(made: &mut [f32]) -> f64 {
+    if made.is_empty() {
+        return 0.0;
+    }
+    let k = (made.len() * 99 / 100).min(made.len() - 1);
+    let (_, x, _) = made.select_nth_unstable_by(k, f32::total_cmp);
+    f64::from(*x)
+}
+
 /// How many vertices carry area (a positive quadric weight): the vertices
 /// the reduction factor of the tie tolerance counts from.
 fn area_vertices(q: &[StoredQuadric]) -> usize {
@@ -227,6 +239,9 @@ pub(crate) struct Run<'o> {
     star: Vec<u32>,
     star_verts: Vec<u32>,
     changed: Vec<u32>,
+    /// The rank of every collapse the loop made, for
+    /// [`Report::cost_level`].
+    made: Vec<f32>,
 }
 
 impl<'o> Run<'o> {
@@ -272,15 +287,13 @@ impl<'o> Run<'o> {
         } else {
             p.complex.triangles
         };
-        // Attributes that steer hold their hard edges by seam planes (see
-        // `Metric::crease_weight`).
+        // A crease is a geometric feature first: its planes hold it whatever
+        // the attributes. Seams are held by their own planes too: they keep
+        // a seam's vertices on the seam's curve, where the layout needs
+        // them (see `AttributeState::seam_planes`).
         let steering = attrs.as_ref().is_some_and(AttributeState::steers);
-        let planes_metric = Metric {
-            crease_weight: if steering { 0.0 } else { metric.crease_weight },
-            ..metric
-        };
         let (mut quadrics, reg) =
-            vertex_quadric_parts(&p.complex, &planes_metric, &p.weights, importance, budget);
+            vertex_quadric_parts(&p.complex, &metric, &p.weights, importance, budget);
         if let Some(a) = &attrs {
             let planes = a.seam_planes(&p.complex, options.attributes.seam_weight);
             for (v, (q, plane)) in quadrics.iter_mut().zip(planes).enumerate() {
@@ -293,14 +306,16 @@ impl<'o> Run<'o> {
         // Attributes keep the regularization choosing (see
         // `AttributeOptions::regularized_choice`).
         let model = CostModel {
-            metric: Metric {
-                regularized_choice: metric.regularized_choice
-                    || (steering && options.attributes.regularized_choice),
-                ..metric
-            },
+            metric,
             lock_borders: options.guards.lock_borders,
             attributes_move_vertices: options.attributes.attributes_move_vertices,
             area_floor: metric.area_floor.max(0.0) * area / faces.max(1) as f64,
+            attribute_slack: options.attributes.geometry_tolerance.powi(2) - 1.0,
+            invisible_distance2: options.attributes.invisible_distance.powi(2),
+            appearance_budget: p.appearance_budget,
+            regularization_looks: steering
+                && options.attributes.regularized_choice
+                && !metric.regularized_choice,
         };
         let report = Report {
             input_triangles: p.input_triangles,
@@ -349,6 +364,7 @@ impl<'o> Run<'o> {
             star: Vec::new(),
             star_verts: Vec::new(),
             changed: Vec::new(),
+            made: Vec::new(),
         };
         run.progress_start = run.p.complex.triangles;
         run.area_vertices = area_vertices(&run.quadrics);
@@ -418,6 +434,7 @@ impl<'o> Run<'o> {
             star: Vec::new(),
             star_verts: Vec::new(),
             changed: Vec::new(),
+            made: Vec::new(),
         };
         run.init_queue();
         run
@@ -483,7 +500,7 @@ impl<'o> Run<'o> {
         // flags on. Vertices a collapse puts on a new crease are not
         // flagged: finding creases at every evaluation cost a smooth scan
         // 44% more.
-        self.crease = if self.model.crease_area_applies(self.attrs.as_ref()) {
+        self.crease = if self.model.crease_area_applies() {
             let cos = self.model.metric.crease_angle.to_radians().cos();
             (0..c.pos.len() as u32)
                 .into_par_iter()
@@ -549,6 +566,7 @@ impl<'o> Run<'o> {
             return;
         }
         self.collapse_until(f64::INFINITY, progress);
+        self.report.cost_level = cost_level(&mut self.made);
     }
 
     /// The greedy loop, paused before the first collapse that costs more
@@ -673,6 +691,7 @@ impl<'o> Run<'o> {
                 }
                 continue;
             }
+            self.made.push(cost as f32);
             self.collapse(e, i, j, ev);
             self.report.error = self.report.error.max(dist);
             if self.options.record_error_curve {

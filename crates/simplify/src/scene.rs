@@ -188,6 +188,12 @@ pub fn simplify_scene_with_progress(
             options.see_through_materials.clone()
         },
         see_through_faces: Vec::new(),
+        material_uv_sets: Some(
+            options
+                .material_uv_sets
+                .clone()
+                .unwrap_or_else(|| material_uv_sets(scene)),
+        ),
         ..options.clone()
     };
     let placements = placements(scene);
@@ -803,6 +809,20 @@ pub fn see_through_materials(scene: &Scene) -> Vec<u32> {
         .enumerate()
         .filter(|(_, m)| m.alpha_mode == wildlod_mesh::AlphaMode::Blend)
         .map(|(i, _)| i as u32)
+        .collect()
+}
+
+/// Per material, the UV sets its textures sample, as a bitmask (see
+/// [`Options::material_uv_sets`]).
+pub fn material_uv_sets(scene: &Scene) -> Vec<u32> {
+    scene
+        .materials
+        .iter()
+        .map(|m| {
+            m.texture_refs()
+                .filter(|t| t.tex_coord < 32)
+                .fold(0u32, |bits, t| bits | 1 << t.tex_coord)
+        })
         .collect()
 }
 

@@ -7,12 +7,15 @@ use glam::DVec3;
 use wildlod_mesh::weld::weld_positions;
 use wildlod_mesh::Faces;
 
-use crate::attributes::{AttributeInput, AttributeState, FittedSkin, FittedStream};
+use crate::attributes::{
+    AttributeInput, AttributeState, AttributeStream, FittedSkin, FittedStream, SkinStream,
+};
 use crate::complex::Complex;
 use crate::error::Error;
+use crate::fidelity::fidelity;
 use crate::history::History;
 use crate::options::Options;
-use crate::report::Report;
+use crate::report::{Report, SteeringOutcome};
 use crate::run::Run;
 
 /// The simplified polygons and how they map to the input.
@@ -136,6 +139,103 @@ pub fn simplify_with_attributes_and_progress(
     progress: &dyn Fn(f64),
 ) -> Result<Simplified, Error> {
     check_input(positions, faces, options)?;
+    let tolerance = options.attributes.geometry_tolerance;
+    if !(tolerance >= 1.0) {
+        return Err(Error::BadOption {
+            name: "attributes.geometry_tolerance",
+            value: tolerance,
+        });
+    }
+    let t = &options.target;
+    let counted = t.ratio.is_some() || t.triangles.is_some();
+    if !steers(attributes) || tolerance.is_infinite() || !counted {
+        // Nothing steers, the user lets it steer without bound, or an
+        // error target bounds every collapse's distance already.
+        return simplify_once(
+            positions,
+            faces,
+            attributes,
+            options,
+            f64::INFINITY,
+            progress,
+        );
+    }
+    // Attributes steer within the geometric error of a run that lets
+    // them fit but not steer, and keep that run's result unless theirs is
+    // as close to the input (see `AttributeOptions::geometry_tolerance`).
+    let plain = AttributeInput {
+        streams: attributes
+            .streams
+            .iter()
+            .map(|s| AttributeStream { weight: 0.0, ..*s })
+            .collect(),
+        skin: attributes.skin.map(|s| SkinStream { weight: 0.0, ..s }),
+        face_groups: attributes.face_groups,
+    };
+    let geometry = simplify_once(positions, faces, &plain, options, f64::INFINITY, &|f| {
+        progress(0.4 * f)
+    })?;
+    let budget = tolerance.powi(2) * geometry.report.cost_level;
+    let steered = simplify_once(positions, faces, attributes, options, budget, &|f| {
+        progress(0.4 + 0.6 * f)
+    })?;
+    let input = (positions, faces);
+    let g = fidelity(input, (&geometry.positions, &geometry.faces));
+    let s = fidelity(input, (&steered.positions, &steered.faces));
+    let diagonal = diagonal(positions, faces);
+    let a = &options.attributes;
+    let within = |steered: f64, plain: f64, invisible: f64| {
+        steered <= (tolerance * plain).max(plain + invisible * diagonal)
+    };
+    let kept = within(s.hausdorff, g.hausdorff, a.invisible_distance)
+        && within(s.chamfer, g.chamfer, a.invisible_distance / 10.0);
+    let mut out = if kept { steered } else { geometry };
+    out.report.steering = Some(SteeringOutcome {
+        kept,
+        hausdorff: s.hausdorff / diagonal,
+        chamfer: s.chamfer / diagonal,
+        geometry_hausdorff: g.hausdorff / diagonal,
+        geometry_chamfer: g.chamfer / diagonal,
+    });
+    Ok(out)
+}
+
+/// Whether any attribute steers collapses.
+fn steers(attributes: &AttributeInput<'_>) -> bool {
+    attributes
+        .streams
+        .iter()
+        .any(|s| s.weight > 0.0 && s.kind != crate::StreamKind::Carried)
+        || attributes.skin.is_some_and(|s| s.weight > 0.0)
+}
+
+/// The diagonal of the bounding box of the positions faces use (1 when
+/// there is none).
+fn diagonal(positions: &[[f32; 3]], faces: &Faces) -> f64 {
+    let (mut lo, mut hi) = (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY));
+    for &v in &faces.indices {
+        let p = DVec3::from(positions[v as usize].map(f64::from));
+        lo = lo.min(p);
+        hi = hi.max(p);
+    }
+    let d = (hi - lo).length();
+    if d > 0.0 && d.is_finite() {
+        d
+    } else {
+        1.0
+    }
+}
+
+/// One run of the pipeline, appearance within `appearance_budget` (see
+/// `CostModel::appearance_budget`).
+fn simplify_once(
+    positions: &[[f32; 3]],
+    faces: &Faces,
+    attributes: &AttributeInput<'_>,
+    options: &Options,
+    appearance_budget: f64,
+    progress: &dyn Fn(f64),
+) -> Result<Simplified, Error> {
     // Polygons above a few dozen corners are worked on in pieces (see
     // `large_polygons.rs`): otherwise their collapses cost O(k²) each. The
     // per-corner streams and per-face groups follow the pieces.
@@ -209,6 +309,8 @@ pub fn simplify_with_attributes_and_progress(
     } else {
         Vec::new()
     };
+    let mut prepared = prepared;
+    prepared.appearance_budget = appearance_budget;
     let mut run = Run::new(prepared, options, attrs);
     run.start(progress);
     run.collapse_loop(progress);
@@ -356,6 +458,9 @@ pub(crate) struct Prepared {
     /// an untouched vertex keeps (the input's positions are the caller's:
     /// not copied).
     pub rep: Vec<u32>,
+    /// The geometric error budget within which appearance steers (see
+    /// `CostModel::appearance_budget`); infinite by default.
+    pub appearance_budget: f64,
 }
 
 pub(crate) fn prepare(
@@ -427,6 +532,7 @@ pub(crate) fn prepare(
         }
     }
     Prepared {
+        appearance_budget: f64::INFINITY,
         rep,
         complex,
         cleaned: cleaned.degenerate + cleaned.duplicate,

@@ -11,7 +11,8 @@ use wildlod_pipeline::{
     SeamSetting, Tuning, MIN_TRIANGLES,
 };
 use wildlod_simplify::{
-    simplify_scene_with_progress, Options, Rejections, Report, SceneReport, StopReason, Target,
+    simplify_scene_with_progress, Options, Rejections, Report, SceneReport, SteeringOutcome,
+    StopReason, Target,
 };
 
 use super::with_flag_names;
@@ -292,6 +293,24 @@ fn whole_report(r: &SceneReport) -> Report {
         split_polygons: r.groups.iter().map(|g| g.report.split_polygons).sum(),
         hidden_twins: r.groups.iter().map(|g| g.report.hidden_twins).sum(),
         collapses: r.groups.iter().map(|g| g.report.collapses).sum(),
+        stray_normals: r.groups.iter().map(|g| g.report.stray_normals).sum(),
+        uv_damage: r
+            .groups
+            .iter()
+            .filter_map(|g| g.report.uv_damage)
+            .reduce(f64::max),
+        // The file's steering: kept where every group kept its own.
+        steering: r
+            .groups
+            .iter()
+            .filter_map(|g| g.report.steering)
+            .reduce(|a, b| SteeringOutcome {
+                kept: a.kept && b.kept,
+                hausdorff: a.hausdorff.max(b.hausdorff),
+                chamfer: a.chamfer.max(b.chamfer),
+                geometry_hausdorff: a.geometry_hausdorff.max(b.geometry_hausdorff),
+                geometry_chamfer: a.geometry_chamfer.max(b.geometry_chamfer),
+            }),
         ..Report::default()
     }
 }

@@ -440,6 +440,7 @@ fn build_chunk<'a>(
     let floor = RING_FLOOR * ring;
     let prepared = Prepared {
         complex,
+        appearance_budget: f64::INFINITY,
         cleaned: 0,
         hidden_twins: 0,
         ratio_base: triangles,

@@ -1,0 +1,164 @@
+//! How far a result is from its input, measured on the surfaces: the check
+//! behind [`crate::AttributeOptions::geometry_tolerance`].
+//!
+//! Attributes steer collapses by their own errors, which no quadric bound
+//! ties to the distance a viewer sees: a different order of equally cheap
+//! collapses can move the worst spot of a surface by more than any bound on
+//! their ranks promises. So the promise is checked where it is made, on the
+//! results: both directions of the distance between the input and a result,
+//! measured at the vertices and face centres of each surface (dense on the
+//! input; on a coarse result its vertices, where errors concentrate, and
+//! the middles of its faces, where a cut-off feature shows).
+
+use glam::DVec3;
+use rayon::prelude::*;
+use wildlod_geometry::TriangleSet;
+use wildlod_mesh::Faces;
+
+/// Distances between two surfaces, in the units of their positions.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub(crate) struct Fidelity {
+    /// The largest distance from a sample of either surface to the other
+    /// (Hausdorff, as sampled).
+    pub hausdorff: f64,
+    /// The mean of the two directions' area-weighted mean distances
+    /// (Chamfer, as sampled).
+    pub chamfer: f64,
+}
+
+/// A surface as triangles (the fans polygons are drawn with) and its
+/// samples: every vertex a face uses, weighted by a third of its faces'
+/// areas, and every triangle's centre, weighted by the rest.
+struct Surface {
+    set: TriangleSet,
+    samples: Vec<(DVec3, f64)>,
+}
+
+impl Surface {
+    fn new(positions: &[[f32; 3]], faces: &Faces) -> Surface {
+        let p: Vec<DVec3> = positions
+            .iter()
+            .map(|x| DVec3::from(x.map(f64::from)))
+            .collect();
+        let mut triangles: Vec<[u32; 3]> = Vec::new();
+        for face in faces.iter() {
+            for k in 1..face.len().saturating_sub(1) {
+                triangles.push([face[0], face[k], face[k + 1]]);
+            }
+        }
+        let mut vertex_area = vec![0.0f64; p.len()];
+        let mut samples = Vec::with_capacity(triangles.len());
+        for t in &triangles {
+            let [a, b, c] = t.map(|v| p[v as usize]);
+            let area = 0.5 * (b - a).cross(c - a).length();
+            if !area.is_finite() {
+                continue;
+            }
+            for &v in t {
+                vertex_area[v as usize] += area / 6.0;
+            }
+            samples.push(((a + b + c) / 3.0, area / 2.0));
+        }
+        samples.extend(
+            vertex_area
+                .iter()
+                .enumerate()
+                .filter(|(_, &w)| w > 0.0)
+                .map(|(v, &w)| (p[v], w)),
+        );
+        Surface {
+            set: TriangleSet::new(&p, &triangles),
+            samples,
+        }
+    }
+
+    /// The largest and the weighted mean distance from this surface's
+    /// samples to `other`.
+    fn to(&self, other: &Surface) -> (f64, f64) {
+        let (max, sum, weight) = self
+            .samples
+            .par_iter()
+            .map(|&(x, w)| {
+                let d = other.set.distance2(x).map_or(0.0, f64::sqrt);
+                (d, d * w, w)
+            })
+            .reduce(
+                || (0.0, 0.0, 0.0),
+                |a, b| (a.0.max(b.0), a.1 + b.1, a.2 + b.2),
+            );
+        (max, if weight > 0.0 { sum / weight } else { 0.0 })
+    }
+}
+
+/// The sampled distances between an input and a result of simplifying it.
+pub(crate) fn fidelity(input: (&[[f32; 3]], &Faces), output: (&[[f32; 3]], &Faces)) -> Fidelity {
+    let a = Surface::new(input.0, input.1);
+    let b = Surface::new(output.0, output.1);
+    if b.samples.is_empty() || a.samples.is_empty() {
+        return Fidelity::default();
+    }
+    let (h1, c1) = a.to(&b);
+    let (h2, c2) = b.to(&a);
+    Fidelity {
+        hausdorff: h1.max(h2),
+        chamfer: 0.5 * (c1 + c2),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn square(z: f32) -> (Vec<[f32; 3]>, Faces) {
+        (
+            vec![[0.0, 0.0, z], [1.0, 0.0, z], [1.0, 1.0, z], [0.0, 1.0, z]],
+            Faces::from_triangles(&[0, 1, 2, 0, 2, 3]),
+        )
+    }
+
+    #[test]
+    fn a_surface_is_at_distance_zero_from_itself() {
+        let (p, f) = square(0.0);
+        assert_eq!(fidelity((&p, &f), (&p, &f)), Fidelity::default());
+    }
+
+    #[test]
+    fn a_parallel_copy_is_at_its_offset_both_ways() {
+        let (p, f) = square(0.0);
+        let (q, g) = square(0.25);
+        let d = fidelity((&p, &f), (&q, &g));
+        assert!((d.hausdorff - 0.25).abs() < 1e-7, "{d:?}");
+        assert!((d.chamfer - 0.25).abs() < 1e-7, "{d:?}");
+    }
+
+    #[test]
+    fn a_cut_off_spike_counts_in_the_hausdorff_distance_and_by_area_in_the_mean() {
+        // A square with a tent of height 1 over its middle, against the flat
+        // square: the tent's apex is 1 away.
+        let p = vec![
+            [0.0, 0.0, 0.0],
+            [2.0, 0.0, 0.0],
+            [2.0, 2.0, 0.0],
+            [0.0, 2.0, 0.0],
+            [1.0, 1.0, 1.0],
+        ];
+        let f = Faces::from_triangles(&[0, 1, 4, 1, 2, 4, 2, 3, 4, 3, 0, 4]);
+        let (q, g) = (
+            vec![
+                [0.0, 0.0, 0.0],
+                [2.0, 0.0, 0.0],
+                [2.0, 2.0, 0.0],
+                [0.0, 2.0, 0.0],
+            ],
+            Faces::from_triangles(&[0, 1, 2, 0, 2, 3]),
+        );
+        let d = fidelity((&p, &f), (&q, &g));
+        assert!((d.hausdorff - 1.0).abs() < 1e-7, "{d:?}");
+        // Tent → flat: four centroids at height 1/3 weighing half their
+        // triangle's area √2 each, the apex at 1 weighing 4·√2/6, corners
+        // at 0: mean 1/3. Flat → tent: the two centroids lie √2/3 below
+        // the tent (weight 1 each of 4), the corners on it: mean √2/6.
+        let expected = 0.5 * (1.0 / 3.0 + 2f64.sqrt() / 6.0);
+        assert!((d.chamfer - expected).abs() < 1e-7, "{d:?} {expected}");
+    }
+}
