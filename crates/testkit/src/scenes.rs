@@ -1597,7 +1597,9 @@ const FOLD_GUTTER: f64 = 0.12;
 /// a cube sphere of six 48 × 48 grids (27,648 triangles, closed, smooth
 /// normals without seams), each cube face cut into 6 × 6 charts of 8 × 8
 /// cells, every chart its own UV island in a 15 × 15 grid of atlas slots
-/// with gutters (12% of a slot on each side) between them. The 512 × 512
+/// with gutters (12% of a slot on each side) between them (the islands
+/// of three cube faces are mirrored, as atlases often have them; none is
+/// folded). The 512 × 512
 /// base-color texture gives each island its own color and pattern
 /// (checks, stripes either way, diagonals) and paints the gutters black.
 /// One part, one material.

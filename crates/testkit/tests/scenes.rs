@@ -569,6 +569,8 @@ fn uv_fold_mesh_has_216_unfolded_islands_inside_their_slots() {
     let uv = m.attribute(&Semantic::TexCoord(0)).unwrap();
     let img = wildlod_io::decode_image(&s.textures[0].source).unwrap();
     let mut signs = [0; 2];
+    // Winding of each island (keyed by the slot its first face is in).
+    let mut island_sign: HashMap<(u32, u32), bool> = HashMap::new();
     for f in 0..m.face_count() {
         let r = m.faces.corner_range(f);
         let t: Vec<&[f32]> = r.map(|c| uv.value(uv.indices[c])).collect();
@@ -576,6 +578,9 @@ fn uv_fold_mesh_has_216_unfolded_islands_inside_their_slots() {
             (t[1][0] - t[0][0]) * (t[2][1] - t[0][1]) - (t[2][0] - t[0][0]) * (t[1][1] - t[0][1]);
         assert!(area.abs() > 1e-8, "face {f} has no UV area");
         signs[usize::from(area > 0.0)] += 1;
+        let slot = ((t[0][0] * 15.0) as u32, (t[0][1] * 15.0) as u32);
+        let first = *island_sign.entry(slot).or_insert(area > 0.0);
+        assert_eq!(first, area > 0.0, "face {f} is folded in its island");
         // The face's UV centroid samples the island, never the gutter.
         let c = [
             (t[0][0] + t[1][0] + t[2][0]) / 3.0,
@@ -588,7 +593,8 @@ fn uv_fold_mesh_has_216_unfolded_islands_inside_their_slots() {
         );
     }
     // UV charts are mirrored on half of the cube's faces, but never
-    // folded within a chart: no chart mixes windings.
+    // folded within a chart (checked above).
+    assert_eq!(island_sign.len(), 216);
     assert!(signs[0] > 0 && signs[1] > 0);
     // The gutter between slots is black.
     assert_eq!(img.texel(0, 0), [0.0, 0.0, 0.0, 1.0]);
