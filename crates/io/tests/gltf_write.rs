@@ -808,3 +808,86 @@ fn a_missing_image_file_is_a_warning_and_its_uri_is_kept() {
         assert_eq!(json["images"][0]["uri"], "gone.png");
     }
 }
+
+#[test]
+fn animations_of_a_scene_built_in_code_are_written_from_their_tracks() {
+    use wildlod_mesh::{Animation, Interpolation, Node, Track, TrackPath, IDENTITY};
+    // A cube under a node moved by (0, 2, 0) that turns 90° about y in
+    // three keys, and slides in two keys of the same times' first and last.
+    let mut scene = Scene::from_mesh(shapes::cube());
+    let mut moved = IDENTITY;
+    moved[13] = 2.0;
+    scene.nodes.push(Node {
+        name: "spinner".into(),
+        matrix: moved,
+        children: vec![0],
+        ..Node::default()
+    });
+    scene.roots = vec![1];
+    let h = std::f32::consts::FRAC_1_SQRT_2;
+    let s = (std::f32::consts::PI / 8.0).sin();
+    let c = (std::f32::consts::PI / 8.0).cos();
+    scene.animations.push(Animation {
+        name: "spin".into(),
+        channels: 2,
+        duration: 1.0,
+        tracks: vec![
+            Track {
+                node: 1,
+                path: TrackPath::Rotation,
+                interpolation: Interpolation::Linear,
+                times: vec![0.0, 0.5, 1.0],
+                values: vec![0.0, 0.0, 0.0, 1.0, 0.0, s, 0.0, c, 0.0, h, 0.0, h],
+            },
+            Track {
+                node: 1,
+                path: TrackPath::Translation,
+                interpolation: Interpolation::Step,
+                times: vec![0.0, 1.0],
+                values: vec![0.0, 2.0, 0.0, 1.0, 2.0, 0.0],
+            },
+        ],
+    });
+    let dir = tempfile::tempdir().expect("temp dir");
+    let (back, warnings, json) =
+        write_read(&Document::from_scene(scene.clone()), dir.path(), "spin.glb");
+    assert!(warnings.is_empty(), "{warnings:?}");
+    assert_eq!(back.scene.animations, scene.animations);
+    assert_eq!(back.scene.nodes, scene.nodes);
+    // The animated node is written as TRS (glTF forbids a matrix there).
+    let node = &json["nodes"][1];
+    assert!(node.get("matrix").is_none(), "{node}");
+    assert_eq!(node["translation"], json!([0.0, 2.0, 0.0]));
+    // Key times are bounded, as glTF requires of animation inputs.
+    let input = json["animations"][0]["samplers"][0]["input"]
+        .as_u64()
+        .expect("input");
+    assert_eq!(json["accessors"][input as usize]["max"], json!([1.0]));
+}
+
+#[test]
+fn tracks_gltf_cannot_hold_are_left_out_with_a_warning() {
+    use wildlod_mesh::{Animation, Interpolation, Track, TrackPath};
+    let mut scene = Scene::from_mesh(shapes::cube());
+    scene.animations.push(Animation {
+        name: "broken".into(),
+        channels: 1,
+        duration: 1.0,
+        tracks: vec![Track {
+            node: 0,
+            path: TrackPath::Scale,
+            interpolation: Interpolation::Linear,
+            times: vec![0.0, 1.0],
+            values: vec![1.0; 5],
+        }],
+    });
+    let dir = tempfile::tempdir().expect("temp dir");
+    let (back, warnings, _) = write_read(&Document::from_scene(scene), dir.path(), "b.glb");
+    assert!(back.scene.animations.is_empty());
+    assert!(
+        warnings
+            .iter()
+            .any(|w| w.contains("track 0") && w.contains("5 values")),
+        "{warnings:?}"
+    );
+}

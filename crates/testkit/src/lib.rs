@@ -1,5 +1,6 @@
 //! Test support: where the shared corpus is, and what to do when it is not;
-//! a deterministic random generator for meshes made in tests.
+//! a deterministic random generator for meshes made in tests; scenes
+//! generated in code that are unlike the corpus ([`scenes`]).
 //!
 //! The corpus (real meshes from public sources) is not part of the
 //! repository; CI places `shared/` beside the checkout. Tests that read it
@@ -8,6 +9,13 @@
 
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
+
+pub mod scenes;
+
+pub use scenes::{
+    bent_tube, border_segments, city_block, distance_to_segments, double_sided_sheet,
+    filleted_block, flat_tiling, house, outlier_terrain, terrain_outliers, uv_fold_mesh,
+};
 
 /// The corpus root: `$WILDLOD_CORPUS` if set, else `../shared/corpus` beside
 /// the repository root. `None` when it does not exist and we are not in CI.

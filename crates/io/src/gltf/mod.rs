@@ -6,6 +6,7 @@
 //! back unchanged, rebuilding only the meshes and the binary data they use.
 
 mod accessor;
+mod animation_json;
 mod bin;
 mod encode;
 mod glb;

@@ -6,23 +6,50 @@ use serde_json::{json, Map, Value};
 use wildlod_mesh::{AlphaMode, ImageSource, Material, Sampler, Scene, TextureRef, Wrap, IDENTITY};
 
 use super::accessor::Component;
+use super::animation_json::decompose;
 use super::bin::Bin;
 use super::images::ImageWriter;
 use crate::ErrorKind;
 
 /// Nodes; `mesh_map` gives the written index of every scene mesh (`None`
 /// when it was dropped for having no triangles). Meshes no node reaches
-/// get a root node of their own so they are displayed.
-pub(crate) fn nodes(scene: &Scene, mesh_map: &[Option<usize>]) -> (Vec<Value>, Vec<u32>) {
+/// get a root node of their own so they are displayed. Nodes marked in
+/// `animated` are written as translation, rotation and scale (glTF forbids
+/// `matrix` on an animation's target), with a warning where their matrix
+/// has no such form.
+pub(crate) fn nodes(
+    scene: &Scene,
+    mesh_map: &[Option<usize>],
+    animated: &[bool],
+    warnings: &mut Vec<String>,
+) -> (Vec<Value>, Vec<u32>) {
     let mut out: Vec<Value> = scene
         .nodes
         .iter()
-        .map(|n| {
+        .enumerate()
+        .map(|(i, n)| {
             let mut o = Map::new();
             if !n.name.is_empty() {
                 o.insert("name".into(), json!(n.name));
             }
-            if n.matrix != IDENTITY {
+            if animated.get(i).copied().unwrap_or(false) {
+                let trs = decompose(&n.matrix);
+                if !trs.exact {
+                    warnings.push(format!(
+                        "node {i} is animated but its matrix is not a translation, rotation and \
+                         scale (it has shear); written as the nearest such transform"
+                    ));
+                }
+                if trs.translation != [0.0; 3] {
+                    o.insert("translation".into(), json!(trs.translation));
+                }
+                if trs.rotation != [0.0, 0.0, 0.0, 1.0] {
+                    o.insert("rotation".into(), json!(trs.rotation));
+                }
+                if trs.scale != [1.0; 3] {
+                    o.insert("scale".into(), json!(trs.scale));
+                }
+            } else if n.matrix != IDENTITY {
                 o.insert("matrix".into(), json!(n.matrix));
             }
             if let Some(m) = n

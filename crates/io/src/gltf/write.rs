@@ -16,7 +16,7 @@ use super::encode::{encode_mesh, EncodeOptions};
 use super::images::ImageWriter;
 use super::load::{self, QUANTIZATION};
 use super::passthrough::Passthrough;
-use super::{glb, rewrite, scene_json, uri};
+use super::{animation_json, glb, rewrite, scene_json, uri};
 use crate::{Document, ErrorKind, Format, OutputFiles};
 
 /// Writes `doc` to `path` as `.gltf` (with a `.bin` beside it) or `.glb`.
@@ -67,7 +67,16 @@ pub(crate) fn write_with_lods(
     let mut bin = Bin::default();
     let (mut json, mut used_quantization, mesh_map) = match pass {
         Some(p) => rewrite::from_passthrough(&doc.scene, p, &mut bin, &mut images, &mut warnings)?,
-        None => from_scene(&doc.scene, &mut bin, &mut images, &mut warnings)?,
+        // A glTF source's animations index its own JSON, which a changed
+        // graph no longer matches: they are dropped (with the warning of
+        // `graph_unchanged`). Any other scene's tracks are written.
+        None => from_scene(
+            &doc.scene,
+            doc.gltf.is_none(),
+            &mut bin,
+            &mut images,
+            &mut warnings,
+        )?,
     };
     if let Some(lods) = lods {
         let opts = EncodeOptions {
@@ -136,9 +145,11 @@ fn array<'a>(json: &'a Value, key: &str) -> &'a [Value] {
         .unwrap_or(&[])
 }
 
-/// The JSON of a document built from the scene alone.
+/// The JSON of a document built from the scene alone; its animations
+/// written from their tracks when `with_animations`.
 fn from_scene(
     scene: &Scene,
+    with_animations: bool,
     bin: &mut Bin,
     images: &mut ImageWriter,
     warnings: &mut Vec<String>,
@@ -165,15 +176,17 @@ fn from_scene(
         mesh_map[mi] = Some(meshes.len());
         meshes.push(Value::Object(m));
     }
-    let (nodes, roots) = scene_json::nodes(scene, &mesh_map);
+    let (animations, animated) = if with_animations {
+        (
+            animation_json::animations(scene, bin, warnings),
+            animation_json::animated_nodes(scene),
+        )
+    } else {
+        (Vec::new(), Vec::new())
+    };
+    let (nodes, roots) = scene_json::nodes(scene, &mesh_map, &animated, warnings);
     let skins = scene_json::skins(scene, bin);
     let (textures, imgs, samplers) = scene_json::textures(scene, bin, images)?;
-    if !scene.animations.is_empty() {
-        warnings.push(format!(
-            "{} animations are not written: the scene holds only their summaries",
-            scene.animations.len()
-        ));
-    }
     let mut out = Map::new();
     out.insert(
         "asset".into(),
@@ -193,6 +206,7 @@ fn from_scene(
     out.insert("textures".into(), Value::Array(textures));
     out.insert("images".into(), Value::Array(imgs));
     out.insert("samplers".into(), Value::Array(samplers));
+    out.insert("animations".into(), Value::Array(animations));
     Ok((Value::Object(out), false, mesh_map))
 }
 
