@@ -35,6 +35,8 @@ mod sampling;
 mod shading;
 mod texture;
 
-pub use compare::{compare, CompareOptions, Comparison, DEFAULT_SEED};
+pub use compare::{
+    compare, CompareOptions, Comparison, OutlierVertex, DEFAULT_SEED, MAX_NAMED_OUTLIERS,
+};
 pub use eval_mesh::{EvalMesh, FaceCounts, InstanceCounts};
 pub use pose::posed;

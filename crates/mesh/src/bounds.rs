@@ -195,15 +195,16 @@ pub fn robust_bounds(
         outliers: Vec::new(),
         points: points_seen,
     };
-    for i in 0..points_seen {
-        let p = [columns[0][i], columns[1][i], columns[2][i]];
+    let [xs, ys, zs] = &columns;
+    for (i, ((&x, &y), &z)) in xs.iter().zip(ys).zip(zs).enumerate() {
+        let p = [x, y, z];
         if out.is_outlier(p) {
             out.outliers.push(i);
             continue;
         }
-        for k in 0..3 {
-            out.min[k] = out.min[k].min(p[k]);
-            out.max[k] = out.max[k].max(p[k]);
+        for ((lo, hi), c) in out.min.iter_mut().zip(&mut out.max).zip(p) {
+            *lo = lo.min(c);
+            *hi = hi.max(c);
         }
     }
     out
@@ -221,7 +222,10 @@ mod tests {
     fn heightfield(n: usize, h: impl Fn(f64, f64) -> f64) -> Vec<[f64; 3]> {
         (0..n * n)
             .map(|i| {
-                let (x, y) = ((i % n) as f64 / (n - 1) as f64, (i / n) as f64 / (n - 1) as f64);
+                let (x, y) = (
+                    (i % n) as f64 / (n - 1) as f64,
+                    (i / n) as f64 / (n - 1) as f64,
+                );
                 [x, y, h(x, y)]
             })
             .collect()
@@ -258,9 +262,14 @@ mod tests {
         let z_at_limit = (b.limit.powi(2) - 80.0).sqrt();
         assert!((reach(z_at_limit) - b.limit).abs() < 1e-9);
         pts[8][2] = 0.999 * z_at_limit;
-        assert!(robust_bounds(pts.iter().copied(), &rule()).outliers.is_empty());
+        assert!(robust_bounds(pts.iter().copied(), &rule())
+            .outliers
+            .is_empty());
         pts[8][2] = 1.001 * z_at_limit;
-        assert_eq!(robust_bounds(pts.iter().copied(), &rule()).outliers, vec![8]);
+        assert_eq!(
+            robust_bounds(pts.iter().copied(), &rule()).outliers,
+            vec![8]
+        );
     }
 
     #[test]
@@ -286,7 +295,9 @@ mod tests {
         // diagonal of the quartile box, so a small height is no outlier.
         let mut pts = heightfield(10, |_, _| 0.0);
         pts[3][2] = 0.5;
-        assert!(robust_bounds(pts.iter().copied(), &rule()).outliers.is_empty());
+        assert!(robust_bounds(pts.iter().copied(), &rule())
+            .outliers
+            .is_empty());
         // A dense object (900 points in a 0.1 cube) on a ground quad 20
         // times its size: the quad's corners stay in.
         let mut scene: Vec<[f64; 3]> = (0..900)
@@ -295,7 +306,12 @@ mod tests {
                 [a as f64 / 90.0, b as f64 / 90.0, c as f64 / 90.0]
             })
             .collect();
-        scene.extend([[-1.0, -1.0, 0.0], [1.0, -1.0, 0.0], [1.0, 1.0, 0.0], [-1.0, 1.0, 0.0]]);
+        scene.extend([
+            [-1.0, -1.0, 0.0],
+            [1.0, -1.0, 0.0],
+            [1.0, 1.0, 0.0],
+            [-1.0, 1.0, 0.0],
+        ]);
         let b = robust_bounds(scene.iter().copied(), &rule());
         assert!(b.outliers.is_empty(), "{:?}", b.outliers);
         assert_eq!((b.min[0], b.max[0]), (-1.0, 1.0));
@@ -313,7 +329,10 @@ mod tests {
         // are still outliers rather than NaN comparisons.
         pts[7] = [1e300, 1e300, 0.0];
         pts[9] = [0.5, 0.5, f64::MAX];
-        assert_eq!(robust_bounds(pts.iter().copied(), &rule()).outliers, vec![7, 9]);
+        assert_eq!(
+            robust_bounds(pts.iter().copied(), &rule()).outliers,
+            vec![7, 9]
+        );
     }
 
     #[test]
