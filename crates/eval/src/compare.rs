@@ -7,11 +7,10 @@ use serde::Serialize;
 use wildlod_geometry::TriangleSet;
 use wildlod_mesh::bounds::{OutlierRule, RobustBounds};
 
+use crate::appearance::appearance;
 use crate::eval_mesh::{EvalMesh, FaceCounts};
 use crate::paired::Paired;
 use crate::sampling::{chunk_count, chunk_len, AreaSampler, Side, Stream, CHUNK};
-use crate::shading::normal_chamfers;
-use crate::texture::texture_chamfer;
 
 /// The default seed ("wildlod" in ASCII): fixed, so that two runs of the
 /// same comparison agree bit for bit.
@@ -520,18 +519,13 @@ pub fn compare(reference: &EvalMesh, candidate: &EvalMesh, options: &CompareOpti
         &ref_set,
         options,
     );
-    let texture = texture_chamfer(
+    let looks = appearance(
         (reference, &ref_sampler),
         (candidate, &cand_sampler),
         options.texture_samples,
         options.seed,
     );
-    let normals = normal_chamfers(
-        (reference, &ref_sampler),
-        (candidate, &cand_sampler),
-        options.texture_samples,
-        options.seed,
-    );
+    let texture = looks.texture;
     if texture.is_none() && options.texture_samples > 0 {
         for (name, m) in [("reference", reference), ("candidate", candidate)] {
             if !m.has_texture() {
@@ -588,7 +582,7 @@ pub fn compare(reference: &EvalMesh, candidate: &EvalMesh, options: &CompareOpti
     });
     let u2 = unit * unit;
     let mean = |p: Option<Paired>| p.map(|p| p.mean());
-    let (normal, shading) = (normals.map(|n| n.0), normals.map(|n| n.1));
+    let (normal, shading) = (looks.normal, looks.shading);
     Comparison {
         diagonal,
         diagonal_with_outliers: full_diagonal,

@@ -27,6 +27,7 @@
 //! W = Liu, Zhang, Yuksel 2025, *Simplifying Textured Triangle Meshes in the
 //! Wild*; Knodt 2024, *Single Edge Collapse Quad-Dominant Mesh Reduction*.
 
+mod appearance;
 mod compare;
 mod eval_mesh;
 mod paired;

@@ -54,28 +54,37 @@ impl<T: Send + Sync> SampleSet<T> {
         }
     }
 
-    /// Mean over these samples of `diff` to the nearest sample of `to`
-    /// (nearest by position; the lowest index on ties).
-    pub(crate) fn mean_to(&self, to: &SampleSet<T>, diff: &(dyn Fn(&T, &T) -> f64 + Sync)) -> f64 {
-        let sums: Vec<f64> = self
+    /// Means over these samples of the `N` differences `diff` gives
+    /// between a sample's value and that of the nearest sample of `to`
+    /// (nearest by position; the lowest index on ties): one nearest-sample
+    /// search serves every metric.
+    pub(crate) fn means_to<const N: usize>(
+        &self,
+        to: &SampleSet<T>,
+        diff: &(dyn Fn(&T, &T) -> [f64; N] + Sync),
+    ) -> [f64; N] {
+        let sums: Vec<[f64; N]> = self
             .points
             .par_chunks(CHUNK)
             .zip(self.values.par_chunks(CHUNK))
             .map(|(pts, vals)| {
-                let mut sum = 0.0;
+                let mut sum = [0.0; N];
                 for (&p, v) in pts.iter().zip(vals) {
                     let nearest = to.tree.nearest(p, f64::INFINITY, |j| {
                         to.points[j as usize].distance_squared(p)
                     });
                     if let Some((j, _)) = nearest {
-                        sum += diff(v, &to.values[j as usize]);
+                        for (s, d) in sum.iter_mut().zip(diff(v, &to.values[j as usize])) {
+                            *s += d;
+                        }
                     }
                 }
                 sum
             })
             .collect();
         // Summed in chunk order: the same total whatever the thread count.
-        sums.iter().sum::<f64>() / self.points.len() as f64
+        let n = self.points.len() as f64;
+        std::array::from_fn(|k| sums.iter().map(|s| s[k]).sum::<f64>() / n)
     }
 }
 
@@ -97,17 +106,22 @@ impl Paired {
         0.5 * (self.ref_to_cand + self.cand_to_ref)
     }
 
-    /// Measures `diff` between the three sample sets of a comparison: the
-    /// reference's, the candidate's, and the reference's second sampling.
-    pub(crate) fn measure<T: Send + Sync>(
+    /// Measures the `N` differences `diff` gives between the three sample
+    /// sets of a comparison: the reference's, the candidate's, and the
+    /// reference's second sampling.
+    pub(crate) fn measure<T: Send + Sync, const N: usize>(
         [reference, candidate, floor]: [&SampleSet<T>; 3],
-        diff: &(dyn Fn(&T, &T) -> f64 + Sync),
-    ) -> Paired {
-        Paired {
-            ref_to_cand: reference.mean_to(candidate, diff),
-            cand_to_ref: candidate.mean_to(reference, diff),
-            floor: 0.5 * (reference.mean_to(floor, diff) + floor.mean_to(reference, diff)),
-        }
+        diff: &(dyn Fn(&T, &T) -> [f64; N] + Sync),
+    ) -> [Paired; N] {
+        let r2c = reference.means_to(candidate, diff);
+        let c2r = candidate.means_to(reference, diff);
+        let r2f = reference.means_to(floor, diff);
+        let f2r = floor.means_to(reference, diff);
+        std::array::from_fn(|k| Paired {
+            ref_to_cand: r2c[k],
+            cand_to_ref: c2r[k],
+            floor: 0.5 * (r2f[k] + f2r[k]),
+        })
     }
 }
 

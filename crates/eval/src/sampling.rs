@@ -11,13 +11,15 @@ use crate::eval_mesh::EvalMesh;
 /// Samples per chunk: the unit of parallel work and of seeding.
 pub(crate) const CHUNK: usize = 2048;
 
-/// Independent sample streams of one comparison, so that drawing texture
-/// samples does not move the geometric ones.
+/// Independent sample streams of one comparison, so that drawing the
+/// samples of the paired metrics does not move the geometric ones.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(crate) enum Stream {
+    /// Points measured against the other surface (Hausdorff, Chamfer).
     Surface = 1,
-    Texture = 2,
-    Normal = 3,
+    /// Points paired with the other surface's (texture, normal and
+    /// shading-normal Chamfer).
+    Paired = 2,
 }
 
 /// Which sample set of a comparison a stream feeds. Each surface draws its
@@ -173,7 +175,7 @@ mod tests {
         assert!(a.windows(2).all(|w| w[0] == w[1]));
         let x = chunk_rng(1, Stream::Surface, r, 0).next_u64();
         let y = chunk_rng(1, Stream::Surface, r, 1).next_u64();
-        let z = chunk_rng(1, Stream::Texture, r, 0).next_u64();
+        let z = chunk_rng(1, Stream::Paired, r, 0).next_u64();
         let w = chunk_rng(2, Stream::Surface, r, 0).next_u64();
         let c = chunk_rng(1, Stream::Surface, Side::Candidate, 0).next_u64();
         let f = chunk_rng(1, Stream::Surface, Side::Floor, 0).next_u64();
@@ -249,7 +251,7 @@ mod tests {
         let mut n = 0;
         let (mut sx, mut sy, mut inner) = (0.0, 0.0, 0);
         for c in 0..20 {
-            for p in s.chunk(&e, 4, (Stream::Texture, Side::Candidate), c, CHUNK) {
+            for p in s.chunk(&e, 4, (Stream::Paired, Side::Candidate), c, CHUNK) {
                 n += 1;
                 sx += p.point.x;
                 sy += p.point.y;
