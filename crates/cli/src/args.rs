@@ -371,8 +371,8 @@ pub struct CompareArgs {
     /// Area samples per surface for the distances.
     #[arg(long, default_value_t = 100_000)]
     pub samples: usize,
-    /// Samples per surface for the texture Chamfer distance.
-    #[arg(long, default_value_t = 10_000)]
+    /// Samples per surface for the texture and normal Chamfer distances.
+    #[arg(long, default_value_t = 40_000)]
     pub texture_samples: usize,
     /// Seed of the sampling.
     #[arg(long, default_value_t = wildlod_eval::DEFAULT_SEED)]

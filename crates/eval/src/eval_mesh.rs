@@ -5,11 +5,13 @@
 use glam::DVec3;
 use serde::Serialize;
 use wildlod_geometry::Aabb;
+use wildlod_mesh::bounds::{robust_bounds, OutlierRule, RobustBounds};
 use wildlod_mesh::disjoint_sets::DisjointSets;
 use wildlod_mesh::shapes::triangulate;
+use wildlod_mesh::tangents::generate_tangents;
 use wildlod_mesh::transform::transformed;
 use wildlod_mesh::weld::weld_positions;
-use wildlod_mesh::{Image, Mesh, Scene, Semantic};
+use wildlod_mesh::{Attribute, ComponentFormat, Image, Mesh, Scene, Semantic};
 
 /// Face counts as the file has them (before triangulation).
 ///
@@ -78,6 +80,34 @@ impl std::fmt::Debug for ColorSource<'_> {
 /// white.
 const DEFAULT_SOURCE: u32 = 0;
 
+/// Normal map index of a triangle without one.
+const NO_NORMAL_MAP: u32 = u32::MAX;
+
+/// What a material reads from the scene: its color source, the UV set of
+/// its base color texture, and its normal map (index into
+/// `EvalMesh::normal_maps`) with the UV set that map uses.
+#[derive(Clone, Copy, Debug)]
+struct MaterialSource {
+    color: u32,
+    color_uv: Option<u32>,
+    normal_map: Option<(u32, u32)>,
+}
+
+/// The normal-map data of every triangle corner, kept only once some
+/// triangle has a normal map (empty otherwise).
+#[derive(Clone, Debug, Default)]
+struct Shading {
+    /// True once some triangle has a normal map: the vectors below then
+    /// have an entry for every triangle.
+    active: bool,
+    /// Normal map of every triangle ([`NO_NORMAL_MAP`] for none).
+    maps: Vec<u32>,
+    /// UV of every triangle corner in its normal map's set.
+    uvs: Vec<[f32; 2]>,
+    /// Tangent (xyz, handedness w) of every triangle corner.
+    tangents: Vec<[f32; 4]>,
+}
+
 /// A world-space triangle set for measuring.
 ///
 /// Every instance of the scene is moved by its world matrix and
@@ -103,11 +133,17 @@ pub struct EvalMesh<'a> {
     /// Color source of every triangle.
     sources: Vec<u32>,
     colors: Vec<ColorSource<'a>>,
+    /// Decoded normal maps the materials use.
+    normal_maps: Vec<&'a Image>,
+    shading: Shading,
     /// Welded vertices used by triangles, one position index each: the
     /// vertex sample points.
     vertices: Vec<u32>,
     counts: FaceCounts,
     instances: Vec<InstanceCounts>,
+    /// First position index of every instance: positions of instance `i`
+    /// are `instance_first[i]..instance_first[i + 1]`.
+    instance_first: Vec<u32>,
 }
 
 /// What is computed once per stored mesh, however often it is instanced.
@@ -167,7 +203,7 @@ impl<'a> EvalMesh<'a> {
             }],
             ..EvalMesh::default()
         };
-        // Color source and UV set of every material.
+        // Color source, normal map and their UV sets for every material.
         let mut material_source = Vec::with_capacity(scene.materials.len());
         for m in &scene.materials {
             let tex = m.base_color_texture;
@@ -176,8 +212,16 @@ impl<'a> EvalMesh<'a> {
                 image,
                 factor: m.base_color,
             });
-            let uv_set = image.and(tex).map(|t| t.tex_coord);
-            material_source.push((out.colors.len() as u32 - 1, uv_set));
+            let normal_map = m.normal_texture.and_then(|t| {
+                let image = images.get(t.texture as usize)?.as_ref()?;
+                out.normal_maps.push(image);
+                Some((out.normal_maps.len() as u32 - 1, t.tex_coord))
+            });
+            material_source.push(MaterialSource {
+                color: out.colors.len() as u32 - 1,
+                color_uv: image.and(tex).map(|t| t.tex_coord),
+                normal_map,
+            });
         }
         let mut infos: Vec<Option<MeshInfo>> = Vec::new();
         infos.resize_with(scene.meshes.len(), || None);
@@ -190,6 +234,7 @@ impl<'a> EvalMesh<'a> {
                 counts: info.counts,
             });
             let moved = triangulate(&transformed(mesh, &matrix));
+            out.instance_first.push(out.positions.len() as u32);
             out.push_triangulated(&moved, &info.vertices, &material_source);
         }
         out
@@ -210,18 +255,18 @@ impl<'a> EvalMesh<'a> {
             mesh: 0,
             counts: info.counts,
         });
+        out.instance_first.push(0);
         out.push_triangulated(&triangulate(mesh), &info.vertices, &[]);
         out
     }
 
     /// Appends a triangulated, world-space mesh. `vertices` are its vertex
-    /// sample positions; `material_source` maps a material to its color
-    /// source and UV set.
+    /// sample positions; `material_source` says what each material reads.
     fn push_triangulated(
         &mut self,
         tri: &Mesh,
         vertices: &[u32],
-        material_source: &[(u32, Option<u32>)],
+        material_source: &[MaterialSource],
     ) {
         let base = self.positions.len() as u32;
         let np = tri.positions.len();
@@ -230,20 +275,58 @@ impl<'a> EvalMesh<'a> {
         let finite = |v: u32| (v as usize) < np && self.positions[(base + v) as usize].is_finite();
         self.vertices
             .extend(vertices.iter().filter(|&&v| finite(v)).map(|&v| base + v));
+        let source_of = |part: usize| {
+            tri.parts
+                .get(part)
+                .and_then(|p| material_source.get(p.material? as usize))
+        };
         // The UV stream of every part, when its material is textured.
-        let part_source: Vec<(u32, Option<&wildlod_mesh::Attribute>)> = tri
-            .parts
-            .iter()
-            .map(|part| {
-                let Some(&(source, set)) =
-                    part.material.and_then(|m| material_source.get(m as usize))
-                else {
-                    return (DEFAULT_SOURCE, None);
-                };
-                let uv = set.and_then(|s| tri.attribute(&Semantic::TexCoord(s)));
-                (source, uv)
+        let part_source: Vec<(u32, Option<&Attribute>)> = (0..tri.parts.len())
+            .map(|part| match source_of(part) {
+                Some(m) => (
+                    m.color,
+                    m.color_uv
+                        .and_then(|s| tri.attribute(&Semantic::TexCoord(s))),
+                ),
+                None => (DEFAULT_SOURCE, None),
             })
             .collect();
+        let normals = tri
+            .attribute(&Semantic::Normal)
+            .filter(|a| a.components == 3);
+        // Per-corner shading normals: the mesh's, or the face's own (what
+        // glTF renderers use without normals).
+        let mut corner_normals: Vec<[f32; 3]> = vec![[0.0, 0.0, 1.0]; tri.faces.corner_count()];
+        for f in 0..tri.faces.len() {
+            let face = tri.faces.face(f);
+            if face.len() != 3 || !face.iter().all(|&v| finite(v)) {
+                continue;
+            }
+            let [a, b, c] = [0, 1, 2].map(|k| self.positions[(base + face[k]) as usize]);
+            let own = (b - a).cross(c - a).normalize_or_zero();
+            for c in tri.faces.corner_range(f) {
+                corner_normals[c] = normals
+                    .and_then(|a| {
+                        let i = *a.indices.get(c)?;
+                        let v = (i as usize) < a.value_count();
+                        v.then(|| a.value(i))
+                    })
+                    .filter(|v| v.iter().all(|x| x.is_finite()))
+                    .map(|v| [v[0], v[1], v[2]])
+                    .unwrap_or([own.x as f32, own.y as f32, own.z as f32]);
+            }
+        }
+        let normal_maps = NormalMapCorners::new(tri, &corner_normals, |part| {
+            source_of(part).and_then(|m| m.normal_map)
+        });
+        if normal_maps.is_some() && !self.shading.active {
+            // The first normal map: the triangles before it have none.
+            self.shading.active = true;
+            let t = self.sources.len();
+            self.shading.maps.resize(t, NO_NORMAL_MAP);
+            self.shading.uvs.resize(3 * t, [0.0; 2]);
+            self.shading.tangents.resize(3 * t, [0.0; 4]);
+        }
         let mut tris = Vec::with_capacity(tri.faces.len());
         for f in 0..tri.faces.len() {
             let face = tri.faces.face(f);
@@ -255,22 +338,8 @@ impl<'a> EvalMesh<'a> {
                 .get(part)
                 .copied()
                 .unwrap_or((DEFAULT_SOURCE, None));
-            let normals = tri
-                .attribute(&Semantic::Normal)
-                .filter(|a| a.components == 3);
-            let [a, b, c] = [0, 1, 2].map(|k| self.positions[(base + face[k]) as usize]);
-            let own = (b - a).cross(c - a).normalize_or_zero();
             for c in tri.faces.corner_range(f) {
-                let n = normals
-                    .and_then(|a| {
-                        let i = *a.indices.get(c)?;
-                        let v = (i as usize) < a.value_count();
-                        v.then(|| a.value(i))
-                    })
-                    .filter(|v| v.iter().all(|x| x.is_finite()))
-                    .map(|v| [v[0], v[1], v[2]])
-                    .unwrap_or([own.x as f32, own.y as f32, own.z as f32]);
-                self.normals.push(n);
+                self.normals.push(corner_normals[c]);
                 let value = uv.and_then(|a| {
                     let i = *a.indices.get(c)?;
                     if a.components < 2 || i as usize >= a.value_count() {
@@ -280,6 +349,23 @@ impl<'a> EvalMesh<'a> {
                     Some([v[0], v[1]])
                 });
                 self.uvs.push(value.unwrap_or([0.0; 2]));
+            }
+            if self.shading.active {
+                let map = normal_maps.as_ref().and_then(|n| n.triangle(tri, f));
+                match map {
+                    Some((index, corners)) => {
+                        self.shading.maps.push(index);
+                        for (uv, tangent) in corners {
+                            self.shading.uvs.push(uv);
+                            self.shading.tangents.push(tangent);
+                        }
+                    }
+                    None => {
+                        self.shading.maps.push(NO_NORMAL_MAP);
+                        self.shading.uvs.extend([[0.0; 2]; 3]);
+                        self.shading.tangents.extend([[0.0; 4]; 3]);
+                    }
+                }
             }
             tris.push([face[0] + base, face[1] + base, face[2] + base]);
             self.sources.push(source);
@@ -302,6 +388,31 @@ impl<'a> EvalMesh<'a> {
     /// of every instance.
     pub fn vertex_samples(&self) -> &[u32] {
         &self.vertices
+    }
+
+    /// Where position `p` comes from: (instance index, stored mesh index,
+    /// vertex index in that mesh), or `None` past the positions.
+    pub fn locate(&self, p: u32) -> Option<(usize, u32, u32)> {
+        if p as usize >= self.positions.len() {
+            return None;
+        }
+        let i = self
+            .instance_first
+            .partition_point(|&f| f <= p)
+            .checked_sub(1)?;
+        let mesh = self.instances.get(i)?.mesh;
+        Some((i, mesh, p - self.instance_first[i]))
+    }
+
+    /// The robust bounds ([`wildlod_mesh::bounds`]) of the vertex samples;
+    /// outliers are indices into [`EvalMesh::vertex_samples`].
+    pub fn robust_bounds(&self, rule: &OutlierRule) -> RobustBounds {
+        robust_bounds(
+            self.vertices
+                .iter()
+                .map(|&v| self.positions[v as usize].to_array()),
+            rule,
+        )
     }
 
     /// Face counts of all instances together.
@@ -403,7 +514,7 @@ pub(crate) fn linear_to_srgb(c: f32) -> f32 {
 }
 
 impl EvalMesh<'_> {
-    /// Shading normal (unit) at barycentrics `bary` of triangle `t`: the
+    /// Vertex normal (unit) at barycentrics `bary` of triangle `t`: the
     /// corners' normals interpolated and normalized (zero where they cancel).
     pub fn normal_at(&self, t: usize, bary: [f64; 3]) -> DVec3 {
         let n = &self.normals[3 * t..3 * t + 3];
@@ -412,6 +523,151 @@ impl EvalMesh<'_> {
             sum += w * DVec3::from(corner.map(f64::from));
         }
         sum.normalize_or_zero()
+    }
+
+    /// True when some triangle has a (decoded) normal map.
+    pub fn has_normal_map(&self) -> bool {
+        self.shading.maps.iter().any(|&m| m != NO_NORMAL_MAP)
+    }
+
+    /// Shading normal (unit) at barycentrics `bary` of triangle `t`, as a
+    /// glTF renderer lights it: the vertex normal ([`EvalMesh::normal_at`])
+    /// where the triangle has no normal map; otherwise the normal map's
+    /// texel (bilinear, decoded as `2 · texel − 1`) taken from the tangent
+    /// frame built from interpolated data, as glTF's reference shader does:
+    /// `N` the interpolated normal, `T` the interpolated tangent made
+    /// orthogonal to `N`, `B = (N × T) · w` with `w` the tangent's
+    /// handedness, and the normal `T x + B y + N z`. Tangents are the
+    /// file's, else MikkTSpace's ([`wildlod_mesh::tangents`]) from the map's
+    /// UV set. The material's normal scale is not in the mesh model and
+    /// counts as 1. Where the frame is degenerate the vertex normal stays.
+    pub fn shading_normal_at(&self, t: usize, bary: [f64; 3]) -> DVec3 {
+        let n = self.normal_at(t, bary);
+        let Some(&map) = self.shading.maps.get(t) else {
+            return n;
+        };
+        let Some(image) = self.normal_maps.get(map as usize) else {
+            return n;
+        };
+        let corners = 3 * t..3 * t + 3;
+        let (mut uv, mut tangent, mut w) = ([0.0f64; 2], DVec3::ZERO, 0.0);
+        for ((c_uv, c_t), &b) in self.shading.uvs[corners.clone()]
+            .iter()
+            .zip(&self.shading.tangents[corners])
+            .zip(&bary)
+        {
+            uv[0] += b * f64::from(c_uv[0]);
+            uv[1] += b * f64::from(c_uv[1]);
+            tangent += b * DVec3::new(c_t[0].into(), c_t[1].into(), c_t[2].into());
+            w += b * f64::from(c_t[3]);
+        }
+        let Some(tangent) = (tangent - n * n.dot(tangent)).try_normalize() else {
+            return n;
+        };
+        let bitangent = n.cross(tangent) * if w < 0.0 { -1.0 } else { 1.0 };
+        let texel = image.sample_bilinear([uv[0] as f32, uv[1] as f32]);
+        let [x, y, z] = [0, 1, 2].map(|k| 2.0 * f64::from(texel[k]) - 1.0);
+        (tangent * x + bitangent * y + n * z)
+            .try_normalize()
+            .unwrap_or(n)
+    }
+}
+
+/// One UV set a normal map reads: its number, its stream, and the tangent
+/// of every corner in it.
+struct TangentSet<'m> {
+    set: u32,
+    uvs: &'m Attribute,
+    tangents: Vec<Option<[f32; 4]>>,
+}
+
+/// The normal-map UV and tangent of one triangle corner.
+type MapCorner = ([f32; 2], [f32; 4]);
+
+/// The normal-map UV and tangent of every corner of a triangulated mesh's
+/// faces that have a normal map.
+struct NormalMapCorners<'m> {
+    /// Normal map and UV set of every part (`None`: no map).
+    part_maps: Vec<Option<(u32, u32)>>,
+    /// Every UV set a part's normal map reads.
+    sets: Vec<TangentSet<'m>>,
+}
+
+impl<'m> NormalMapCorners<'m> {
+    /// `None` when no part of `tri` has a normal map with its UV set.
+    /// `corner_normals` are the shading normals MikkTSpace builds the
+    /// frames from when the mesh stores no tangents.
+    fn new(
+        tri: &'m Mesh,
+        corner_normals: &[[f32; 3]],
+        part_map: impl Fn(usize) -> Option<(u32, u32)>,
+    ) -> Option<Self> {
+        let part_maps: Vec<Option<(u32, u32)>> = (0..tri.parts.len())
+            .map(|p| {
+                part_map(p).filter(|&(_, set)| tri.attribute(&Semantic::TexCoord(set)).is_some())
+            })
+            .collect();
+        let mut used: Vec<u32> = part_maps.iter().flatten().map(|&(_, set)| set).collect();
+        used.sort_unstable();
+        used.dedup();
+        if used.is_empty() {
+            return None;
+        }
+        let stored = tri
+            .attribute(&Semantic::Tangent)
+            .filter(|a| a.components == 4);
+        // MikkTSpace on the normals we shade with (flat ones where the file
+        // has none, as glTF prescribes), not on the file's stream alone.
+        let mut with_normals: Option<Mesh> = None;
+        let sets = used
+            .into_iter()
+            .filter_map(|set| {
+                let uvs = tri.attribute(&Semantic::TexCoord(set))?;
+                let generated = match stored {
+                    Some(_) => None,
+                    None => {
+                        let m = with_normals.get_or_insert_with(|| {
+                            let mut m = tri.clone();
+                            m.attributes.retain(|a| a.semantic != Semantic::Normal);
+                            m.attributes.push(Attribute {
+                                semantic: Semantic::Normal,
+                                components: 3,
+                                values: corner_normals.iter().flatten().copied().collect(),
+                                indices: (0..corner_normals.len() as u32).collect(),
+                                format: ComponentFormat::F32,
+                            });
+                            m
+                        });
+                        generate_tangents(m, set).ok()
+                    }
+                };
+                let tangents = (0..tri.faces.corner_count())
+                    .map(|c| {
+                        let a = stored.or(generated.as_ref())?;
+                        let v = a.corner_value(c)?;
+                        Some([v[0], v[1], v[2], v[3]])
+                    })
+                    .collect();
+                Some(TangentSet { set, uvs, tangents })
+            })
+            .collect();
+        Some(NormalMapCorners { part_maps, sets })
+    }
+
+    /// The normal map of face `f` of `tri` and the (UV, tangent) of its
+    /// three corners, or `None` when it has no map or a corner misses its
+    /// UV or tangent.
+    fn triangle(&self, tri: &Mesh, f: usize) -> Option<(u32, [MapCorner; 3])> {
+        let part = tri.face_parts.get(f).copied().unwrap_or(0) as usize;
+        let (map, set) = (*self.part_maps.get(part)?)?;
+        let ts = self.sets.iter().find(|s| s.set == set)?;
+        let r = tri.faces.corner_range(f);
+        let mut out = [([0.0; 2], [0.0; 4]); 3];
+        for (slot, c) in out.iter_mut().zip(r) {
+            let uv = ts.uvs.corner_value(c).filter(|v| v.len() >= 2)?;
+            *slot = ([uv[0], uv[1]], (*ts.tangents.get(c)?)?);
+        }
+        Some((map, out))
     }
 }
 

@@ -27,6 +27,7 @@
 //! W = Liu, Zhang, Yuksel 2025, *Simplifying Textured Triangle Meshes in the
 //! Wild*; Knodt 2024, *Single Edge Collapse Quad-Dominant Mesh Reduction*.
 
+mod appearance;
 mod compare;
 mod eval_mesh;
 mod paired;
@@ -35,6 +36,8 @@ mod sampling;
 mod shading;
 mod texture;
 
-pub use compare::{compare, CompareOptions, Comparison, DEFAULT_SEED};
+pub use compare::{
+    compare, CompareOptions, Comparison, OutlierVertex, DEFAULT_SEED, MAX_NAMED_OUTLIERS,
+};
 pub use eval_mesh::{EvalMesh, FaceCounts, InstanceCounts};
 pub use pose::posed;

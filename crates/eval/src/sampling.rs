@@ -11,20 +11,30 @@ use crate::eval_mesh::EvalMesh;
 /// Samples per chunk: the unit of parallel work and of seeding.
 pub(crate) const CHUNK: usize = 2048;
 
-/// Independent sample streams of one comparison, so that drawing texture
-/// samples does not move the geometric ones.
-///
-/// Both surfaces draw from the same stream (common random numbers): each
-/// surface's samples are still uniform by area, a reference is sampled the
-/// same way whatever it is compared with, and identical surfaces get
-/// identical samples, so the texture metric, which pairs samples with
-/// samples, is exactly 0 between identical inputs instead of showing a
-/// sampling noise floor.
+/// Independent sample streams of one comparison, so that drawing the
+/// samples of the paired metrics does not move the geometric ones.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(crate) enum Stream {
+    /// Points measured against the other surface (Hausdorff, Chamfer).
     Surface = 1,
-    Texture = 2,
-    Normal = 3,
+    /// Points paired with the other surface's (texture, normal and
+    /// shading-normal Chamfer).
+    Paired = 2,
+}
+
+/// Which sample set of a comparison a stream feeds. Each surface draws its
+/// own random numbers: with one sequence for both, a candidate that keeps
+/// input triangles unchanged (in the input's order) would get the very same
+/// sample points on them, and the metrics that pair samples with samples
+/// (texture and normal Chamfer) would fall below their own sampling floor,
+/// flattering exactly such candidates (issue 31, decision 10). `Floor` is a
+/// second, independent set on the reference: the reference against itself
+/// with another seed, the noise any candidate is measured under.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Side {
+    Reference = 0,
+    Candidate = 1,
+    Floor = 2,
 }
 
 /// SplitMix64 (Steele, Lea and Flood 2014): small, fast, and good enough
@@ -55,9 +65,12 @@ fn mix64(mut z: u64) -> u64 {
     z ^ (z >> 31)
 }
 
-/// The generator of one chunk of one stream.
-pub(crate) fn chunk_rng(seed: u64, stream: Stream, chunk: usize) -> SplitMix64 {
-    let s = mix64(seed ^ mix64((stream as u64) << 56 ^ chunk as u64));
+/// The generator of one chunk of one stream of one side. The reference
+/// side's sequence does not depend on the side tag (it is 0), so reference
+/// samples are the same as before sides existed.
+pub(crate) fn chunk_rng(seed: u64, stream: Stream, side: Side, chunk: usize) -> SplitMix64 {
+    let tag = (stream as u64) << 56 ^ (side as u64) << 48 ^ chunk as u64;
+    let s = mix64(seed ^ mix64(tag));
     SplitMix64::new(s)
 }
 
@@ -76,13 +89,16 @@ pub(crate) struct AreaSampler {
 }
 
 impl AreaSampler {
-    pub(crate) fn new(mesh: &EvalMesh) -> Self {
+    /// Samples every triangle of `mesh` for which `keep` holds (all when
+    /// `keep` is `None`).
+    pub(crate) fn new(mesh: &EvalMesh, keep: Option<&[bool]>) -> Self {
         let mut acc = 0.0;
         let cdf = (0..mesh.triangles().len())
             .map(|t| {
                 let a = mesh.triangle_area(t);
-                // Non-finite areas (overflowing coordinates) get no samples.
-                if a.is_finite() {
+                // Non-finite areas (overflowing coordinates) get no samples,
+                // nor do triangles left out (they get no interval).
+                if a.is_finite() && keep.map_or(true, |k| k[t]) {
                     acc += a;
                 }
                 acc
@@ -101,18 +117,18 @@ impl AreaSampler {
         self.total() > 0.0
     }
 
-    /// Samples `count` points of `stream` starting at sample `first` (a
+    /// Samples `count` points of `stream` for `side` starting at sample `first` (a
     /// multiple of [`CHUNK`]): the whole of one chunk, or its first part.
     /// The caller guarantees [`AreaSampler::can_sample`].
     pub(crate) fn chunk(
         &self,
         mesh: &EvalMesh,
         seed: u64,
-        stream: Stream,
+        (stream, side): (Stream, Side),
         chunk: usize,
         count: usize,
     ) -> Vec<SurfacePoint> {
-        let mut rng = chunk_rng(seed, stream, chunk);
+        let mut rng = chunk_rng(seed, stream, side, chunk);
         let total = self.total();
         let last = self.cdf.len().saturating_sub(1);
         (0..count)
@@ -152,15 +168,23 @@ mod tests {
 
     #[test]
     fn chunk_streams_differ_and_repeat() {
+        let r = Side::Reference;
         let a: Vec<u64> = (0..4)
-            .map(|_| chunk_rng(1, Stream::Surface, 0).next_u64())
+            .map(|_| chunk_rng(1, Stream::Surface, r, 0).next_u64())
             .collect();
         assert!(a.windows(2).all(|w| w[0] == w[1]));
-        let x = chunk_rng(1, Stream::Surface, 0).next_u64();
-        let y = chunk_rng(1, Stream::Surface, 1).next_u64();
-        let z = chunk_rng(1, Stream::Texture, 0).next_u64();
-        let w = chunk_rng(2, Stream::Surface, 0).next_u64();
-        assert!(x != y && x != z && x != w && y != z);
+        let x = chunk_rng(1, Stream::Surface, r, 0).next_u64();
+        let y = chunk_rng(1, Stream::Surface, r, 1).next_u64();
+        let z = chunk_rng(1, Stream::Paired, r, 0).next_u64();
+        let w = chunk_rng(2, Stream::Surface, r, 0).next_u64();
+        let c = chunk_rng(1, Stream::Surface, Side::Candidate, 0).next_u64();
+        let f = chunk_rng(1, Stream::Surface, Side::Floor, 0).next_u64();
+        let all = [x, y, z, w, c, f];
+        for i in 0..all.len() {
+            for j in 0..i {
+                assert_ne!(all[i], all[j], "streams {i} and {j}");
+            }
+        }
     }
 
     #[test]
@@ -193,9 +217,9 @@ mod tests {
             &[0, 1, 2, 3, 4, 3, 4, 5, 6],
         );
         let e = EvalMesh::from_mesh(&m);
-        let s = AreaSampler::new(&e);
+        let s = AreaSampler::new(&e, None);
         assert!((s.total() - 2.0).abs() < 1e-12);
-        let pts = s.chunk(&e, 9, Stream::Surface, 0, CHUNK);
+        let pts = s.chunk(&e, 9, (Stream::Surface, Side::Reference), 0, CHUNK);
         let mut hist = [0usize; 3];
         for p in &pts {
             hist[p.triangle as usize] += 1;
@@ -207,6 +231,11 @@ mod tests {
         assert_eq!(hist[1], 0);
         let frac = hist[0] as f64 / CHUNK as f64;
         assert!((frac - 0.25).abs() < 0.03, "{frac}");
+        // Leaving triangle 2 out puts every sample on triangle 0.
+        let s = AreaSampler::new(&e, Some(&[true, true, false]));
+        assert!((s.total() - 0.5).abs() < 1e-12);
+        let pts = s.chunk(&e, 9, (Stream::Surface, Side::Reference), 0, CHUNK);
+        assert!(pts.iter().all(|p| p.triangle == 0));
     }
 
     #[test]
@@ -218,11 +247,11 @@ mod tests {
             &[0, 1, 2],
         );
         let e = EvalMesh::from_mesh(&m);
-        let s = AreaSampler::new(&e);
+        let s = AreaSampler::new(&e, None);
         let mut n = 0;
         let (mut sx, mut sy, mut inner) = (0.0, 0.0, 0);
         for c in 0..20 {
-            for p in s.chunk(&e, 4, Stream::Texture, c, CHUNK) {
+            for p in s.chunk(&e, 4, (Stream::Paired, Side::Candidate), c, CHUNK) {
                 n += 1;
                 sx += p.point.x;
                 sy += p.point.y;

@@ -1,37 +1,38 @@
-//! Normal Chamfer distance: the texture Chamfer scheme (closest sample
-//! pairs) applied to shading normals. For every sample of one surface, the
-//! angle between its shading normal and that of the spatially closest
-//! sample of the other surface, in degrees. It measures what lighting shows
-//! of a level of detail beyond its distance to the input: smoothed edges,
-//! faceting, normals that no longer follow the surface.
+//! Normal Chamfer distances: the texture Chamfer scheme (closest sample
+//! pairs, [`crate::appearance`]) applied to normals. For every sample of
+//! one surface, the angle between its normal and that of the spatially
+//! closest sample of the other surface, in degrees. It measures what
+//! lighting shows of a level of detail beyond its distance to the input:
+//! smoothed edges, faceting, normals that no longer follow the surface.
 //!
-//! The angle ignores orientation (0° to 90°): the closest sample of a thin
-//! shell (a cup's wall, a cushion) is as likely on its other side, whose
-//! normal points the other way, and would read as a 180° error.
+//! Two normals per sample: the interpolated vertex normal
+//! ([`crate::EvalMesh::normal_at`], the *normal* Chamfer), and the shading
+//! normal a glTF renderer lights with, the normal map applied in the
+//! MikkTSpace frame ([`crate::EvalMesh::shading_normal_at`], the
+//! *shading-normal* Chamfer). Without normal maps on either side the two
+//! are equal; a level of detail that carries the input's small-scale shape
+//! in a baked normal map scores better on the second.
 
-use crate::eval_mesh::EvalMesh;
-use crate::paired::paired_chamfer;
-use crate::sampling::{AreaSampler, Stream};
+use glam::DVec3;
 
-/// Both directions of the normal Chamfer distance in degrees, `(reference →
-/// candidate, candidate → reference)`, or `None` when either mesh has no
-/// area to sample or `n` is 0.
-pub(crate) fn normal_chamfer(
-    reference: (&EvalMesh, &AreaSampler),
-    candidate: (&EvalMesh, &AreaSampler),
-    n: usize,
-    seed: u64,
-) -> Option<(f64, f64)> {
-    if n == 0 || !reference.1.can_sample() || !candidate.1.can_sample() {
-        return None;
+/// Angle in degrees between two unit vectors, orientation ignored (0° to
+/// 90°): the closest sample of a thin shell (a cup's wall, a cushion) is as
+/// likely on its other side, whose normal points the other way, and would
+/// otherwise read as a 180° error.
+pub(crate) fn unoriented_angle(a: DVec3, b: DVec3) -> f64 {
+    a.dot(b).abs().min(1.0).acos().to_degrees()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn angles_ignore_orientation() {
+        let tilted = DVec3::new(0.5, 0.0, 0.75f64.sqrt());
+        assert!((unoriented_angle(DVec3::Z, tilted) - 30.0).abs() < 1e-9);
+        assert!((unoriented_angle(-DVec3::Z, tilted) - 30.0).abs() < 1e-9);
+        assert_eq!(unoriented_angle(DVec3::X, DVec3::X), 0.0);
+        assert!((unoriented_angle(DVec3::X, DVec3::Y) - 90.0).abs() < 1e-9);
     }
-    Some(paired_chamfer(
-        reference,
-        candidate,
-        n,
-        seed,
-        Stream::Normal,
-        &|m, t, bary| m.normal_at(t, bary),
-        &|a: &glam::DVec3, b: &glam::DVec3| a.dot(*b).abs().min(1.0).acos().to_degrees(),
-    ))
 }

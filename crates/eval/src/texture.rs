@@ -1,34 +1,21 @@
 //! Texture Chamfer distance (W §5, Table 2, after Yuan et al. 2018): for
 //! samples on one surface, the L2 difference between their color and the
-//! color of the spatially closest sample of the other surface.
+//! color of the spatially closest sample of the other surface
+//! ([`crate::appearance`] pairs the samples).
 
-use crate::eval_mesh::EvalMesh;
-use crate::paired::paired_chamfer;
-use crate::sampling::{AreaSampler, Stream};
+/// L2 distance between two RGB colors (components in [0, 1]).
+pub(crate) fn color_distance(a: &[f32; 3], b: &[f32; 3]) -> f64 {
+    let d2: f32 = (0..3).map(|k| (a[k] - b[k]).powi(2)).sum();
+    f64::from(d2).sqrt()
+}
 
-/// Both directions of the texture Chamfer distance, `(reference → candidate,
-/// candidate → reference)`, or `None` when either mesh has no base color
-/// texture or no area to sample, or `n` is 0.
-pub(crate) fn texture_chamfer(
-    reference: (&EvalMesh, &AreaSampler),
-    candidate: (&EvalMesh, &AreaSampler),
-    n: usize,
-    seed: u64,
-) -> Option<(f64, f64)> {
-    let usable = |(m, s): (&EvalMesh, &AreaSampler)| m.has_texture() && s.can_sample();
-    if n == 0 || !usable(reference) || !usable(candidate) {
-        return None;
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn color_distance_is_euclidean_over_rgb() {
+        assert!((color_distance(&[0.2, 0.4, 0.6], &[0.5, 0.4, 0.2]) - 0.5).abs() < 1e-7);
+        assert_eq!(color_distance(&[0.3; 3], &[0.3; 3]), 0.0);
     }
-    Some(paired_chamfer(
-        reference,
-        candidate,
-        n,
-        seed,
-        Stream::Texture,
-        &|m, t, bary| m.color_at(t, bary),
-        &|a: &[f32; 3], b: &[f32; 3]| {
-            let d2: f32 = (0..3).map(|k| (a[k] - b[k]).powi(2)).sum();
-            f64::from(d2).sqrt()
-        },
-    ))
 }

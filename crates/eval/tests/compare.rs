@@ -369,6 +369,109 @@ fn same_seed_gives_bit_identical_results_on_one_and_two_threads() {
     assert_ne!(other.chamfer_mean, one.chamfer_mean, "the seed matters");
 }
 
+/// A bumpy 24 × 24 grid textured with a 64 × 64 image of smooth color
+/// waves plus a fine checker: detail at several scales, like a real
+/// texture.
+fn detailed_texture_scene() -> (Scene, [Option<Image>; 1]) {
+    let mut scene = textured_grid([1.0; 4]);
+    let parts = scene.meshes[0].parts.clone();
+    let bumpy = moved(shapes::quad_grid(24, 24), |p| {
+        [p[0], p[1], 0.05 * (9.0 * p[0]).sin() * (7.0 * p[1]).cos()]
+    });
+    scene.meshes[0] = Mesh { parts, ..bumpy };
+    let mut img = Image::filled(64, 64, [0.0; 4]);
+    for (i, px) in img.pixels.iter_mut().enumerate() {
+        let (x, y) = ((i % 64) as f32 / 64.0, (i / 64) as f32 / 64.0);
+        let checker = ((i % 64) / 4 + (i / 64) / 4) % 2;
+        *px = [
+            0.5 + 0.4 * (12.0 * x).sin(),
+            0.5 + 0.4 * (9.0 * y).cos(),
+            0.2 + 0.6 * checker as f32,
+            1.0,
+        ];
+    }
+    (scene, [Some(img)])
+}
+
+#[test]
+fn a_textured_surface_against_itself_is_at_the_floor_not_zero() {
+    // Each side draws its own samples, so nearest samples carry different
+    // colors even on one surface: the self-comparison is the floor (both
+    // are estimates: 5% covers their sampling error at 40k samples, see
+    // below), and the floor is in the result.
+    let (scene, images) = detailed_texture_scene();
+    let e = EvalMesh::from_scene(&scene, &images);
+    let options = CompareOptions {
+        samples: 2_000,
+        ..CompareOptions::default()
+    };
+    assert_eq!(options.texture_samples, 40_000);
+    let c = compare(&e, &e, &options);
+    let (t, floor) = (
+        c.texture_chamfer.expect("textured"),
+        c.texture_chamfer_floor.expect("textured"),
+    );
+    assert!(floor > 0.01, "{c:?}");
+    assert!(
+        (t - floor).abs() <= 0.05 * floor,
+        "{t} against the floor {floor}"
+    );
+    // The geometric distances of a surface to itself stay 0: every sample
+    // lies on the other surface.
+    assert!(c.hausdorff < 1e-12 && c.chamfer_mean < 1e-12);
+    // The floor is stable: over five seeds it varies by less than 5%, and
+    // so does the self-comparison about it.
+    let runs: Vec<(f64, f64)> = (1..=5)
+        .map(|seed| {
+            let c = compare(
+                &e,
+                &e,
+                &CompareOptions {
+                    seed,
+                    ..options.clone()
+                },
+            );
+            (
+                c.texture_chamfer.expect("textured"),
+                c.texture_chamfer_floor.expect("textured"),
+            )
+        })
+        .collect();
+    let floors: Vec<f64> = runs.iter().map(|r| r.1).collect();
+    let (lo, hi) = floors
+        .iter()
+        .fold((f64::INFINITY, 0.0f64), |(a, b), &f| (a.min(f), b.max(f)));
+    assert!(hi / lo < 1.05, "{floors:?}");
+    for (t, f) in runs {
+        assert!((t - f).abs() <= 0.05 * f, "{t} against {f}");
+    }
+}
+
+#[test]
+fn fewer_texture_samples_raise_the_floor() {
+    // The floor is the spacing of the samples made visible: with a quarter
+    // of the samples, nearest samples are about twice as far apart, and
+    // the colors they compare about twice as different on a smooth
+    // texture.
+    let (scene, images) = detailed_texture_scene();
+    let e = EvalMesh::from_scene(&scene, &images);
+    let floor = |n: usize| {
+        compare(
+            &e,
+            &e,
+            &CompareOptions {
+                samples: 1_000,
+                texture_samples: n,
+                ..CompareOptions::default()
+            },
+        )
+        .texture_chamfer_floor
+        .expect("textured")
+    };
+    let ratio = floor(10_000) / floor(40_000);
+    assert!((1.4..2.2).contains(&ratio), "{ratio}");
+}
+
 #[test]
 fn empty_candidate_is_infinitely_far_without_nan() {
     let t = shapes::torus(12, 6, 2.0, 0.5);
@@ -422,7 +525,20 @@ fn comparison_serializes_with_the_documented_keys() {
         "chamfer_squared",
         "quad_ratio",
         "texture_chamfer",
+        "texture_chamfer_floor",
+        "normal_chamfer",
+        "normal_chamfer_floor",
+        "shading_normal_chamfer",
+        "shading_normal_chamfer_ref_to_cand",
+        "shading_normal_chamfer_cand_to_ref",
+        "shading_normal_chamfer_floor",
         "diagonal",
+        "diagonal_with_outliers",
+        "outliers_reference",
+        "outliers_candidate",
+        "outlier_triangles_reference",
+        "outlier_triangles_candidate",
+        "outlier_vertices",
         "samples",
         "seed",
         "reference",
@@ -431,6 +547,10 @@ fn comparison_serializes_with_the_documented_keys() {
         assert!(json.get(key).is_some(), "missing {key}");
     }
     assert!(json["texture_chamfer"].is_null());
+    assert!(json["texture_chamfer_floor"].is_null());
+    assert!(json["normal_chamfer_floor"].as_f64().is_some());
+    assert_eq!(json["outliers_reference"], 0);
+    assert_eq!(json["outlier_vertices"], serde_json::json!([]));
     assert_eq!(json["quad_ratio"], serde_json::json!(0.0));
     for key in [
         "faces",

@@ -1,5 +1,7 @@
-//! `compare` on the real-mesh corpus: every file against itself is 0 apart,
-//! and against a copy shifted by a known amount at most that far.
+//! `compare` on the real-mesh corpus: every file against itself is 0 apart
+//! in distance and at the sampling floor in the paired metrics, no file has
+//! outliers, and against a copy shifted by a known amount it is at most
+//! that far.
 
 use std::time::Instant;
 
@@ -27,6 +29,23 @@ fn shifted(scene: &Scene, dx: f32) -> Scene {
     s
 }
 
+/// How far a self-comparison's paired metric may lie from its floor: both
+/// are estimates from 40k samples per side. Over 8 seeds on the textured
+/// corpus files the texture Chamfer distance of a file against itself lay
+/// within 7.7% of the floor (bob, whose texture is flat fields with sharp
+/// lines), the normal Chamfer distance within 3.4%; the floor's standard
+/// deviation was at most 3.3%.
+const FLOOR_TOLERANCE: f64 = 0.15;
+
+/// A flat surface has a normal floor of exactly 0, and then so must the
+/// value be.
+fn at_floor(value: Option<f64>, floor: Option<f64>) -> bool {
+    match (value, floor) {
+        (Some(v), Some(f)) => (v - f).abs() <= FLOOR_TOLERANCE * f,
+        _ => false,
+    }
+}
+
 #[test]
 fn corpus_meshes_are_zero_from_themselves_and_at_most_a_shift_from_a_shifted_copy() {
     let Some(root) = corpus("corpus_meshes_are_zero_from_themselves") else {
@@ -34,7 +53,7 @@ fn corpus_meshes_are_zero_from_themselves_and_at_most_a_shift_from_a_shifted_cop
     };
     let options = CompareOptions {
         samples: 20_000,
-        texture_samples: 2_000,
+        texture_samples: 40_000,
         ..CompareOptions::default()
     };
     for category in ["textured", "quad", "wild", "large"] {
@@ -55,9 +74,27 @@ fn corpus_meshes_are_zero_from_themselves_and_at_most_a_shift_from_a_shifted_cop
             );
             assert!(c.hausdorff < 1e-9, "{name}: {c:?}");
             assert!(c.chamfer_mean < 1e-9 && c.chamfer_squared < 1e-18);
+            // Independent samplings of one surface: the paired metrics sit
+            // at their floors, not at 0.
             if e.has_texture() {
-                assert_eq!(c.texture_chamfer, Some(0.0), "{name}");
+                assert!(c.texture_chamfer_floor > Some(0.0), "{name}");
+                assert!(
+                    at_floor(c.texture_chamfer, c.texture_chamfer_floor),
+                    "{name}: texture {:?}, floor {:?}",
+                    c.texture_chamfer,
+                    c.texture_chamfer_floor
+                );
             }
+            assert!(
+                at_floor(c.normal_chamfer, c.normal_chamfer_floor),
+                "{name}: normals {:?}, floor {:?}",
+                c.normal_chamfer,
+                c.normal_chamfer_floor
+            );
+            // No real asset of the corpus has a vertex the outlier rule
+            // would leave out.
+            assert_eq!(c.outliers_reference, 0, "{name}: {:?}", c.outlier_vertices);
+            assert_eq!(c.diagonal, c.diagonal_with_outliers);
             let counts = c.reference;
             assert_eq!(
                 counts.faces,

@@ -18,6 +18,7 @@
 //! The model holds no I/O; `wildlod-io` fills it and writes it back.
 
 mod attribute;
+pub mod bounds;
 pub mod disjoint_sets;
 mod faces;
 mod image;

@@ -14,7 +14,7 @@ use crate::Error;
 pub struct CompareFilesOptions {
     /// Area samples per surface for the distances (at least 1).
     pub samples: usize,
-    /// Samples per surface for the texture Chamfer distance.
+    /// Samples per surface for the texture and normal Chamfer distances.
     pub texture_samples: usize,
     /// Seed of the sampling.
     pub seed: u64,
@@ -31,7 +31,7 @@ impl Default for CompareFilesOptions {
     fn default() -> Self {
         CompareFilesOptions {
             samples: 100_000,
-            texture_samples: 10_000,
+            texture_samples: 40_000,
             seed: wildlod_eval::DEFAULT_SEED,
             animation: None,
             // Knodt 2024 §4 uses the first 50 frames of animation 0.

@@ -38,11 +38,23 @@ pub fn run(a: &CompareArgs) -> anyhow::Result<()> {
 /// The human-readable form.
 pub fn text(c: &Comparison) -> String {
     let opt = |v: Option<f64>| v.map_or("n/a".to_string(), |x| format!("{x:.4}"));
+    // A paired metric with its sampling floor: a difference below the
+    // floor is a tie.
+    let floored = |v: Option<f64>, floor: Option<f64>| match (v, floor) {
+        (Some(v), Some(f)) => format!("{v:.4}  (sampling floor {f:.4})"),
+        _ => opt(v),
+    };
     let mut s = String::new();
     s += &format!(
         "distances relative to the reference diagonal ({:.6}), {} samples per surface\n",
         c.diagonal, c.samples
     );
+    if c.outliers_reference > 0 {
+        s += &format!(
+            "  outliers       {} reference vertices left out (diagonal with them {:.6e})\n",
+            c.outliers_reference, c.diagonal_with_outliers
+        );
+    }
     s += &format!(
         "  Hausdorff      {:.6}  (reference→candidate {:.6}, candidate→reference {:.6})\n",
         c.hausdorff, c.hausdorff_ref_to_cand, c.hausdorff_cand_to_ref
@@ -53,8 +65,18 @@ pub fn text(c: &Comparison) -> String {
         c.chamfer_squared
     );
     s += &format!("  quad ratio     {}\n", opt(c.quad_ratio));
-    s += &format!("  texture Chamfer {}\n", opt(c.texture_chamfer));
-    s += &format!("  normal Chamfer  {} degrees\n", opt(c.normal_chamfer));
+    s += &format!(
+        "  texture Chamfer {}\n",
+        floored(c.texture_chamfer, c.texture_chamfer_floor)
+    );
+    s += &format!(
+        "  normal Chamfer  {} degrees\n",
+        floored(c.normal_chamfer, c.normal_chamfer_floor)
+    );
+    s += &format!(
+        "  shading-normal Chamfer {} degrees (normal maps applied)\n",
+        floored(c.shading_normal_chamfer, c.shading_normal_chamfer_floor)
+    );
     s += &format!(
         "  reference      {} faces ({} triangles, {} quads, {} n-gons), {} components\n",
         c.reference.faces,
