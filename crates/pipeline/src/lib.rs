@@ -27,8 +27,9 @@ mod targets;
 mod tuning;
 
 pub use chain::{
-    build_chain, chain_json, chain_paths, level_path, screen_coverage, write_chain, Level, Levels,
-    SCREEN_PIXELS,
+    build_chain, chain_json, chain_paths, coverage_for_error, level_path, normalize_weights,
+    screen_coverage, write_chain, Level, Levels, FULL_VIEW_COVERAGE, PIXEL_TOLERANCE,
+    SCREEN_PIXELS, SCREEN_WIDTH_PIXELS,
 };
 pub use compare::{
     compare_files, load_images, Animated, CompareFilesOptions, FileComparison, Frame,
