@@ -10,7 +10,9 @@
 //!   detail, glTF `MSFT_lod` with `MSFT_screencoverage` hints or one file
 //!   per level, reported as [`ChainJson`];
 //! - [`describe`]: what `info --json` prints ([`FileInfo`]);
-//! - [`compare_files`]: what `compare --json` prints.
+//! - [`compare_files`]: what `compare --json` prints;
+//! - [`report_files`] and [`write_chain_report`]: the HTML report of
+//!   `report` and `lod --report` ([`ReportJson`]).
 //!
 //! Data flows one way: io → mesh → simplify → mesh → io. Nothing here
 //! prints; progress goes to a [`MeshProgress`] the caller chooses.
@@ -19,6 +21,7 @@ mod chain;
 mod compare;
 mod error;
 mod file;
+mod html_report;
 mod info;
 mod progress;
 mod report;
@@ -36,6 +39,10 @@ pub use compare::{
 };
 pub use error::Error;
 pub use file::{lod_file, simplify_file, FileTargets};
+pub use html_report::{
+    report_files, report_page, write_chain_report, CandidateReport, ReportJson, ReportModel,
+    ReportOptions,
+};
 pub use info::{describe, FaceCounts, FileInfo, MeshInfo};
 pub use progress::{MeshProgress, NoProgress};
 pub use report::{stop_key, ChainJson, LevelJson, MeshJson, RunJson};
