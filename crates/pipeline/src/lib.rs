@@ -9,6 +9,8 @@
 //! - [`build_chain`], [`write_chain`] and [`lod_file`]: nested levels of
 //!   detail, glTF `MSFT_lod` with `MSFT_screencoverage` hints or one file
 //!   per level, reported as [`ChainJson`];
+//! - [`run_batch`]: every file of a folder, with the summary of
+//!   `batch` ([`BatchSummary`]);
 //! - [`describe`]: what `info --json` prints ([`FileInfo`]);
 //! - [`compare_files`]: what `compare --json` prints;
 //! - [`report_files`] and [`write_chain_report`]: the HTML report of
@@ -17,6 +19,7 @@
 //! Data flows one way: io → mesh → simplify → mesh → io. Nothing here
 //! prints; progress goes to a [`MeshProgress`] the caller chooses.
 
+mod batch;
 mod chain;
 mod compare;
 mod error;
@@ -29,6 +32,10 @@ mod scene;
 mod targets;
 mod tuning;
 
+pub use batch::{
+    batch_file, mesh_files, run_batch, summary_csv, summary_paths, write_summary, BatchJob,
+    BatchSettings, BatchSummary, FileResult,
+};
 pub use chain::{
     build_chain, chain_json, chain_paths, coverage_for_error, level_path, normalize_weights,
     screen_coverage, write_chain, Level, Levels, FULL_VIEW_COVERAGE, PIXEL_TOLERANCE,
