@@ -133,6 +133,9 @@ pub struct ReportArgs {
     /// Allow the output to replace an existing file given as input.
     #[arg(long)]
     pub overwrite: bool,
+    /// Print what the page shows as JSON (the keys of `wildlod.report`).
+    #[arg(long)]
+    pub json: bool,
     /// Print nothing but errors.
     #[arg(short, long)]
     pub quiet: bool,

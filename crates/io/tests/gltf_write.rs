@@ -625,13 +625,16 @@ fn extensions_extras_cameras_and_samplers_survive_a_round_trip() {
             "cameras",
             "materials",
             "samplers",
-            "asset",
             "extras",
             "nodes",
             "scenes",
         ] {
             assert_eq!(json[key], src[key], "{ext}: {key}");
         }
+        // The asset keeps its properties; the generator is now wildlod.
+        let mut asset = src["asset"].clone();
+        asset["generator"] = json!(concat!("wildlod ", env!("CARGO_PKG_VERSION")));
+        assert_eq!(json["asset"], asset, "{ext}");
         assert_eq!(
             json["meshes"][0]["primitives"][0]["extras"],
             json!({"prim": true})

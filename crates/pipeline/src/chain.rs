@@ -19,10 +19,22 @@ use crate::{
     MeshRun,
 };
 
-/// The screen height, in pixels, the coverage hints are computed for: a
-/// level takes over once its error would cover less than one pixel of an
-/// object shown on a 1080-pixel-high screen.
+/// The screen height, in pixels, the coverage hints are computed for (a
+/// 1920 × 1080 screen, [`screen_coverage`]).
 pub const SCREEN_PIXELS: f64 = 1080.0;
+
+/// The screen width, in pixels, the coverage hints are computed for.
+pub const SCREEN_WIDTH_PIXELS: f64 = 1920.0;
+
+/// The largest deviation from the input, in pixels of that screen, a
+/// level may show before the finer one above it is drawn instead.
+pub const PIXEL_TOLERANCE: f64 = 1.0;
+
+/// The screen coverage of an object whose bounding sphere just fills the
+/// screen's height: a disc of diameter [`SCREEN_PIXELS`] over the screen,
+/// π/4 · 1080/1920 ≈ 0.442. Level 0 is always shown from there up.
+pub const FULL_VIEW_COVERAGE: f64 =
+    std::f64::consts::FRAC_PI_4 * SCREEN_PIXELS / SCREEN_WIDTH_PIXELS;
 
 /// What the levels of a chain aim for, finest first.
 #[derive(Clone, Debug, PartialEq)]
@@ -255,26 +267,103 @@ pub fn build_chain<P: MeshProgress>(
     Ok(out)
 }
 
-/// `MSFT_screencoverage` of mesh `m`: for each level below the input, the
-/// screen fraction under which it takes over (its accumulated error then
-/// covers less than a pixel of [`SCREEN_PIXELS`]), never rising down the
-/// chain; last, 0: wildlod does not decide when an object may vanish.
+/// The screen coverage up to which a level whose error is `error`
+/// (relative to the diagonal of the object's bounding box) deviates from
+/// the input by at most [`PIXEL_TOLERANCE`] pixels on a 1920 × 1080 screen.
+///
+/// Screen coverage is the area of the object's bounding sphere on screen
+/// over the screen's area, as Babylon.js measures it for `MSFT_lod`. The
+/// sphere's diameter is the box's diagonal, so an object drawn `D` pixels
+/// across shows the error as `error · D` pixels, at most the tolerance
+/// while `D ≤ tolerance / error`; its coverage is then
+/// `π (D/2)² / (1920 · 1080)`. Infinite for an exact level.
+pub fn coverage_for_error(error: f64) -> f64 {
+    if error > 0.0 {
+        let d = PIXEL_TOLERANCE / error;
+        std::f64::consts::PI * (d / 2.0).powi(2) / (SCREEN_WIDTH_PIXELS * SCREEN_PIXELS)
+    } else {
+        f64::INFINITY
+    }
+}
+
+/// Four significant digits: hints read better short, and rounding to a
+/// fixed number of decimals would turn small coverages into 0.
+fn round_hint(x: f64) -> f64 {
+    if x <= 0.0 || !x.is_finite() {
+        return x;
+    }
+    let scale = 10f64.powi(3 - x.log10().floor() as i32);
+    (x * scale).round() / scale
+}
+
+/// `MSFT_screencoverage` of mesh `m`, one value per level starting with
+/// the input: level `k` is drawn while the object's screen coverage is
+/// above value `k` (and below value `k - 1`).
+///
+/// Value `k` is where level `k + 1` takes over: [`coverage_for_error`] of
+/// its accumulated error (relative to the mesh's own diagonal, as each
+/// node's bounding sphere is its mesh's), never rising down the chain. The
+/// input's value is at most [`FULL_VIEW_COVERAGE`]: an object that fills
+/// the screen's height is drawn at full detail even where the next level
+/// would stay under the tolerance. The last value is 0: wildlod does not
+/// decide when an object may vanish.
 pub fn screen_coverage(levels: &[Level], m: usize) -> Vec<f64> {
     let mut out = Vec::with_capacity(levels.len() + 1);
-    let mut last = 1.0f64;
+    let mut last = FULL_VIEW_COVERAGE;
     for l in levels {
         let e = l.mesh_errors.get(m).copied().unwrap_or(0.0);
-        let c = if e > 0.0 {
-            (1.0 / (SCREEN_PIXELS * e)).min(1.0)
-        } else {
-            1.0
-        };
-        last = last.min(c);
-        // Rounded: these are hints, and short numbers read better.
-        out.push((last * 1e4).round() / 1e4);
+        last = last.min(coverage_for_error(e));
+        out.push(round_hint(last));
     }
     out.push(0.0);
     out
+}
+
+/// Entries of `weights` (`per_entry` influences each) whose weights do
+/// not sum to one are scaled to, as the simplifier leaves the levels it
+/// makes: the input of a chain is written as its level 0, and a glTF
+/// validator refuses weights that do not sum to one within 2·10⁻⁷ per
+/// influence. Entries within 10⁻⁷ already, and entries of weight 0 (no
+/// influence to scale), stay bit for bit; nothing else changes. Returns
+/// the number of entries scaled.
+pub fn normalize_weights(weights: &mut [f32], per_entry: usize) -> usize {
+    if per_entry == 0 {
+        return 0;
+    }
+    let mut scaled = 0;
+    for entry in weights.chunks_mut(per_entry) {
+        let sum: f64 = entry.iter().map(|&w| w as f64).sum();
+        if !(sum > 0.0 && sum.is_finite()) || (sum - 1.0).abs() <= 1e-7 {
+            continue;
+        }
+        for w in entry.iter_mut() {
+            *w = (*w as f64 / sum) as f32;
+        }
+        // Rounding to f32 may leave the sum a unit in the last place off:
+        // the largest weight takes the rest, as glTF's encoders do.
+        let big = (0..entry.len()).fold(0, |b, i| if entry[i] > entry[b] { i } else { b });
+        let rest: f64 = entry
+            .iter()
+            .enumerate()
+            .filter(|&(i, _)| i != big)
+            .map(|(_, &w)| w as f64)
+            .sum();
+        entry[big] = (1.0 - rest).max(0.0) as f32;
+        scaled += 1;
+    }
+    scaled
+}
+
+/// The document written as level 0 of a chain: the input with its skin
+/// weights normalized ([`normalize_weights`]).
+fn level_zero(doc: &Document) -> Document {
+    let mut doc = doc.clone();
+    for mesh in &mut doc.scene.meshes {
+        if let Some(s) = &mut mesh.skinning {
+            normalize_weights(&mut s.weights, s.influences as usize);
+        }
+    }
+    doc
 }
 
 /// `NAME_lodK.EXT` beside `output`.
@@ -299,7 +388,8 @@ pub fn chain_paths(output: &Path, levels: usize, split: bool) -> Result<Vec<Path
 }
 
 /// Writes the chain: one glTF file with `MSFT_lod`, or one file per level
-/// (level 0 is the input as read), each all-or-nothing. Returns the files
+/// (level 0 is the input as read, its skin weights normalized), each
+/// all-or-nothing. Returns the files
 /// written and the writers' warnings.
 pub fn write_chain(
     doc: &Document,
@@ -312,6 +402,7 @@ pub fn write_chain(
     let options = WriteOptions {
         allow_overwrite_input: overwrite,
     };
+    let doc = &level_zero(doc);
     let mut warnings = Vec::new();
     if paths.len() == 1 {
         let meshes: Vec<Vec<Mesh>> = levels.iter().map(|l| l.meshes.clone()).collect();
@@ -421,9 +512,8 @@ mod tests {
         );
     }
 
-    #[test]
-    fn screen_coverage_falls_with_the_error_and_ends_at_zero() {
-        let level = |e: f64| Level {
+    fn level(e: f64) -> Level {
+        Level {
             level: 1,
             meshes: Vec::new(),
             runs: Vec::new(),
@@ -431,11 +521,65 @@ mod tests {
             error: e,
             mesh_errors: vec![e],
             seconds: 0.0,
-        };
-        // 1e-4 of the size is under a pixel until the object fills the
-        // screen; 1e-2 until it covers 1/10.8 of it.
+        }
+    }
+
+    #[test]
+    fn coverage_is_where_the_error_reaches_a_pixel_at_1080p() {
+        // An error of 1/100 of the diagonal is one pixel when the object
+        // is 100 pixels across: a disc of radius 50 over 1920 × 1080.
+        let c = coverage_for_error(0.01);
+        assert!((c - std::f64::consts::PI * 2500.0 / 2_073_600.0).abs() < 1e-15);
+        assert!((c - 0.003_787_6).abs() < 1e-7, "{c}");
+        // Half the error, twice the size, four times the area.
+        assert!((coverage_for_error(0.005) / c - 4.0).abs() < 1e-12);
+        assert_eq!(coverage_for_error(0.0), f64::INFINITY);
+        // Filling the screen's height: π/4 · 1080/1920.
+        assert!((FULL_VIEW_COVERAGE - 0.441_786_5).abs() < 1e-7);
+    }
+
+    #[test]
+    fn screen_coverage_falls_with_the_error_and_ends_at_zero() {
+        // Level 1 is exact and level 2 under a pixel until the object is
+        // 10 000 pixels across: both would take over at any size, but the
+        // input holds the full view. Level 3 (1/100: 100 pixels) takes
+        // over from 0.003788; level 4 is finer than level 3, which does
+        // not let the hint rise.
         let c = screen_coverage(&[level(0.0), level(1e-4), level(1e-2), level(5e-3)], 0);
-        assert_eq!(c, vec![1.0, 1.0, 0.0926, 0.0926, 0.0]);
+        assert_eq!(c, vec![0.4418, 0.4418, 0.003788, 0.003788, 0.0]);
+        // The input is shown above a coverage below 1 whatever the chain.
+        assert!(c[0] < 1.0);
+        // A coarse first level: the input is drawn down to its coverage.
+        let c = screen_coverage(&[level(0.02), level(0.04)], 0);
+        assert_eq!(c, vec![0.000_946_9, 0.000_236_7, 0.0]);
+    }
+
+    #[test]
+    fn hints_keep_four_significant_digits() {
+        assert_eq!(round_hint(0.123_456), 0.1235);
+        assert_eq!(round_hint(0.000_012_345_6), 0.000_012_35);
+        assert_eq!(round_hint(0.0), 0.0);
+    }
+
+    #[test]
+    fn weights_are_scaled_to_sum_one_and_normalized_ones_kept() {
+        let mut w = vec![
+            0.5, 0.3, 0.1, 0.0, // sums to 0.9: scaled
+            0.7, 0.2, 0.1, 0.0, // sums to one (within 1e-7): kept
+            0.0, 0.0, 0.0, 0.0, // no influence: kept
+        ];
+        let kept = w[4..].to_vec();
+        assert_eq!(normalize_weights(&mut w, 4), 1);
+        assert_eq!(&w[4..], &kept[..]);
+        let sum: f64 = w[..4].iter().map(|&x| x as f64).sum();
+        assert!((sum - 1.0).abs() <= 1e-7, "{sum}");
+        // The ratios stay: 5 : 3 : 1.
+        assert!((w[0] / w[2] - 5.0).abs() < 1e-5 && (w[1] / w[2] - 3.0).abs() < 1e-5);
+        assert_eq!(w[3], 0.0);
+        // A second pass changes nothing.
+        let once = w.clone();
+        assert_eq!(normalize_weights(&mut w, 4), 0);
+        assert_eq!(w, once);
     }
 
     #[test]

@@ -46,6 +46,9 @@ pub enum Error {
     /// A report could not be serialized.
     #[error("serializing the report")]
     Json(#[from] serde_json::Error),
+    /// The worker threads of a batch could not start.
+    #[error("starting the worker threads")]
+    Threads(#[from] rayon::ThreadPoolBuildError),
 }
 
 impl Error {

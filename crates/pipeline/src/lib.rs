@@ -9,16 +9,22 @@
 //! - [`build_chain`], [`write_chain`] and [`lod_file`]: nested levels of
 //!   detail, glTF `MSFT_lod` with `MSFT_screencoverage` hints or one file
 //!   per level, reported as [`ChainJson`];
+//! - [`run_batch`]: every file of a folder, with the summary of
+//!   `batch` ([`BatchSummary`]);
 //! - [`describe`]: what `info --json` prints ([`FileInfo`]);
-//! - [`compare_files`]: what `compare --json` prints.
+//! - [`compare_files`]: what `compare --json` prints;
+//! - [`report_files`] and [`write_chain_report`]: the HTML report of
+//!   `report` and `lod --report` ([`ReportJson`]).
 //!
 //! Data flows one way: io → mesh → simplify → mesh → io. Nothing here
 //! prints; progress goes to a [`MeshProgress`] the caller chooses.
 
+mod batch;
 mod chain;
 mod compare;
 mod error;
 mod file;
+mod html_report;
 mod info;
 mod progress;
 mod report;
@@ -26,15 +32,24 @@ mod scene;
 mod targets;
 mod tuning;
 
+pub use batch::{
+    batch_file, mesh_files, run_batch, summary_csv, summary_paths, write_summary, BatchJob,
+    BatchSettings, BatchSummary, FileResult,
+};
 pub use chain::{
-    build_chain, chain_json, chain_paths, level_path, screen_coverage, write_chain, Level, Levels,
-    SCREEN_PIXELS,
+    build_chain, chain_json, chain_paths, coverage_for_error, level_path, normalize_weights,
+    screen_coverage, write_chain, Level, Levels, FULL_VIEW_COVERAGE, PIXEL_TOLERANCE,
+    SCREEN_PIXELS, SCREEN_WIDTH_PIXELS,
 };
 pub use compare::{
     compare_files, load_images, Animated, CompareFilesOptions, FileComparison, Frame,
 };
 pub use error::Error;
 pub use file::{lod_file, simplify_file, FileTargets};
+pub use html_report::{
+    report_files, report_page, write_chain_report, CandidateReport, ReportJson, ReportModel,
+    ReportOptions,
+};
 pub use info::{describe, FaceCounts, FileInfo, MeshInfo};
 pub use progress::{MeshProgress, NoProgress};
 pub use report::{stop_key, ChainJson, LevelJson, MeshJson, RunJson};

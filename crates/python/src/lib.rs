@@ -15,7 +15,9 @@ use std::path::PathBuf;
 use numpy::{PyReadonlyArray1, PyReadonlyArray2};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
-use wildlod_pipeline::{CompareFilesOptions, FileTargets, Levels};
+use wildlod_pipeline::{
+    BatchJob, BatchSettings, CompareFilesOptions, FileTargets, Levels, NoProgress, ReportOptions,
+};
 
 use crate::convert::{report_dict, to_py, to_pyerr, tuning};
 
@@ -200,6 +202,130 @@ fn compare<'py>(
     with_warnings(py, to_py(py, &result.0)?, result.1)
 }
 
+/// Simplifies every mesh file below `src_dir` into `dst_dir` with the same
+/// tree, `jobs` files at once (default: the cores), as `wildlod batch`
+/// does; or, given one of `lod_ratios`, `lod_errors`, `lod_faces_targets`
+/// (finest level first), makes a chain of levels of each (`split` as in
+/// `lod_chain`). Targets of a simplified file as in `simplify_file`
+/// (none: `ratio=0.5`); `format` ('glb', 'obj'…) writes every output in
+/// one format; `skip_existing` skips files whose outputs all exist.
+///
+/// The summary is written to `summary` (`.json` or `.csv`) or to
+/// `dst_dir/wildlod-summary.json` and `.csv`, and returned: the dict of
+/// `wildlod batch --json` (`input`, `output`, `files`, `ok`, `failed`,
+/// `skipped`, `seconds`, `results`, one dict per file with `file`,
+/// `status`, `outputs`, `triangles_in`, `triangles_out`, `error`,
+/// `seconds`, `message`). A file that fails is a row with status 'failed'
+/// and the run goes on; only a run that cannot start raises.
+#[pyfunction]
+#[pyo3(signature = (
+    src_dir, dst_dir, *, ratio=None, faces_target=None, error=None, lod_ratios=None,
+    lod_errors=None, lod_faces_targets=None, split=false, format=None, jobs=None,
+    skip_existing=false, summary=None, **options
+))]
+#[allow(clippy::too_many_arguments)]
+fn batch<'py>(
+    py: Python<'py>,
+    src_dir: PathBuf,
+    dst_dir: PathBuf,
+    ratio: Option<f64>,
+    faces_target: Option<usize>,
+    error: Option<f64>,
+    lod_ratios: Option<Vec<f64>>,
+    lod_errors: Option<Vec<f64>>,
+    lod_faces_targets: Option<Vec<usize>>,
+    split: bool,
+    format: Option<String>,
+    jobs: Option<usize>,
+    skip_existing: bool,
+    summary: Option<PathBuf>,
+    options: Option<&Bound<'py, PyDict>>,
+) -> PyResult<Bound<'py, PyAny>> {
+    let tuning = tuning(py, options)?;
+    let (lr, le, lf) = (
+        lod_ratios.unwrap_or_default(),
+        lod_errors.unwrap_or_default(),
+        lod_faces_targets.unwrap_or_default(),
+    );
+    let job = if lr.is_empty() && le.is_empty() && lf.is_empty() {
+        let targets = FileTargets {
+            ratio,
+            faces: faces_target,
+            error,
+        };
+        BatchJob::Simplify(targets.checked().map_err(|e| to_pyerr(py, e))?)
+    } else {
+        BatchJob::Chain {
+            levels: Levels::from_lists(&lr, &le, &lf, "lod_").map_err(|e| to_pyerr(py, e))?,
+            split,
+        }
+    };
+    let format = match format {
+        None => None,
+        Some(ext) => {
+            let probe = PathBuf::from(format!("x.{}", ext.trim_start_matches('.')));
+            Some(
+                wildlod_io::Format::from_path(&probe)
+                    .map_err(|k| to_pyerr(py, wildlod_io::Error::new(&probe, k).into()))?,
+            )
+        }
+    };
+    let settings = BatchSettings {
+        job,
+        options: tuning.options().map_err(|e| to_pyerr(py, e))?,
+        format,
+        jobs: jobs.unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get())),
+        skip_existing,
+    };
+    let paths = wildlod_pipeline::summary_paths(&dst_dir, summary.as_deref())
+        .map_err(|e| to_pyerr(py, e))?;
+    let result = py
+        .detach(|| {
+            let s = wildlod_pipeline::run_batch(
+                &src_dir,
+                &dst_dir,
+                &settings,
+                &|_| NoProgress,
+                &|_| {},
+            )?;
+            wildlod_pipeline::write_summary(&s, &paths)?;
+            Ok(s)
+        })
+        .map_err(|e| to_pyerr(py, e))?;
+    report_dict(py, &result)
+}
+
+/// Writes the HTML report of a candidate (a level of detail) against a
+/// reference to `output`, as `wildlod report` does: both models side by
+/// side, textured, as an error heat map or as a wireframe, with the
+/// metrics of `compare` (`samples` per surface). `overwrite` allows
+/// `output` to be an input.
+///
+/// Returns the dict of `wildlod report --json` (`output`, `reference`,
+/// `reference_triangles`, `candidates` with `label`, `triangles`,
+/// `chain_error` and `metrics`, `samples`, `seconds`) plus `warnings`.
+#[pyfunction]
+#[pyo3(signature = (reference, candidate, output, *, samples=100_000, overwrite=false))]
+fn report<'py>(
+    py: Python<'py>,
+    reference: PathBuf,
+    candidate: PathBuf,
+    output: PathBuf,
+    samples: usize,
+    overwrite: bool,
+) -> PyResult<Bound<'py, PyAny>> {
+    let options = ReportOptions {
+        samples,
+        ..ReportOptions::default()
+    };
+    let (result, warnings) = py
+        .detach(|| {
+            wildlod_pipeline::report_files(&reference, &candidate, &output, &options, overwrite)
+        })
+        .map_err(|e| to_pyerr(py, e))?;
+    with_warnings(py, report_dict(py, &result)?, warnings)
+}
+
 /// Adds the readers' and writers' warnings to a report dict.
 fn with_warnings<'py>(
     _py: Python<'py>,
@@ -224,6 +350,8 @@ fn _wildlod(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(lod_chain, m)?)?;
     m.add_function(wrap_pyfunction!(info, m)?)?;
     m.add_function(wrap_pyfunction!(compare, m)?)?;
+    m.add_function(wrap_pyfunction!(batch, m)?)?;
+    m.add_function(wrap_pyfunction!(report, m)?)?;
     m.add_function(wrap_pyfunction!(option_names, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())

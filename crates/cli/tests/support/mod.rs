@@ -108,7 +108,7 @@ pub fn validate(file: &Path) -> Option<serde_json::Value> {
 
 /// Headless Chromium (Debian's package): whether it is installed, else a
 /// loud skip (a failure under CI, where `.ci/run` installs it).
-fn chromium() -> Option<PathBuf> {
+pub fn chromium() -> Option<PathBuf> {
     let path =
         PathBuf::from(std::env::var("CHROMIUM").unwrap_or_else(|_| "/usr/bin/chromium".into()));
     if path.exists() {

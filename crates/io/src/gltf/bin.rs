@@ -1,5 +1,5 @@
 //! The one binary buffer a written glTF has, with its buffer views and
-//! accessors.
+//! accessors, laid out for streaming ([`Bin::lay_out_for_streaming`]).
 
 use serde_json::{json, Map, Value};
 
@@ -10,12 +10,29 @@ pub(crate) const ARRAY_BUFFER: u32 = 34962;
 /// `bufferView.target` for indices.
 pub(crate) const ELEMENT_ARRAY_BUFFER: u32 = 34963;
 
+/// What a buffer view holds, for the order of the data in the buffer.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub(crate) enum Section {
+    /// Data every level needs: skins, animations, instancing, copied
+    /// accessors and primitives the model does not hold.
+    #[default]
+    Shared,
+    /// Images.
+    Textures,
+    /// The meshes of one level of detail (0: the input's).
+    Level(usize),
+}
+
 /// Bytes, views and accessors being written; every view is in buffer 0.
 #[derive(Default)]
 pub(crate) struct Bin {
     pub data: Vec<u8>,
     pub views: Vec<Value>,
     pub accessors: Vec<Value>,
+    /// The section of every view, parallel to `views`.
+    sections: Vec<Section>,
+    /// The section views appended now belong to.
+    pub section: Section,
 }
 
 impl Bin {
@@ -59,7 +76,43 @@ impl Bin {
         template.insert("byteLength".into(), json!(bytes.len()));
         self.data.extend_from_slice(bytes);
         self.views.push(Value::Object(template));
+        self.sections.push(self.section);
         self.views.len() - 1
+    }
+
+    /// Moves the views' bytes into the order a streaming reader wants
+    /// them: shared data (skins, animations…), then images, then the
+    /// levels of detail from the coarsest (`coarsest`) to level 0, each
+    /// section contiguous and its views in the order they were written.
+    ///
+    /// A viewer that loads `MSFT_lod` progressively over HTTP range
+    /// requests (Babylon.js) asks for one byte range per level, spanning
+    /// everything that level's nodes use: with this order the first range
+    /// is the shared data and the coarsest level only, and each finer
+    /// level is one more contiguous range after it. View indices do not
+    /// change, only their offsets; each view keeps its offset modulo 4,
+    /// so every accessor stays aligned.
+    pub(crate) fn lay_out_for_streaming(&mut self, coarsest: usize) {
+        let rank = |s: Section| match s {
+            Section::Shared => 0,
+            Section::Textures => 1,
+            Section::Level(l) => 2 + coarsest.saturating_sub(l),
+        };
+        let mut order: Vec<usize> = (0..self.views.len()).collect();
+        // Stable: views of one section keep their order.
+        order.sort_by_key(|&v| rank(self.sections[v]));
+        let mut data = Vec::with_capacity(self.data.len());
+        for v in order {
+            let view = &mut self.views[v];
+            let offset = view["byteOffset"].as_u64().unwrap_or(0) as usize;
+            let length = view["byteLength"].as_u64().unwrap_or(0) as usize;
+            while data.len() % 4 != offset % 4 {
+                data.push(0);
+            }
+            view["byteOffset"] = json!(data.len());
+            data.extend_from_slice(self.data.get(offset..offset + length).unwrap_or(&[]));
+        }
+        self.data = data;
     }
 
     /// Appends an accessor over a whole view; returns its index.
@@ -104,5 +157,56 @@ mod tests {
         let c = b.view_from(&[9; 2], 6, Map::new());
         assert_eq!(b.views[c]["byteOffset"].as_u64().unwrap() % 4, 2);
         assert_eq!(b.views[c]["byteLength"], 2);
+    }
+
+    /// The bytes of view `v`.
+    fn bytes(b: &Bin, v: usize) -> &[u8] {
+        let o = b.views[v]["byteOffset"].as_u64().unwrap() as usize;
+        let n = b.views[v]["byteLength"].as_u64().unwrap() as usize;
+        &b.data[o..o + n]
+    }
+
+    #[test]
+    fn streaming_layout_puts_shared_data_then_images_then_coarse_levels_first() {
+        // Written as a glTF writer does: level 0, shared, images, level 1,
+        // level 2 (a view of 3 bytes and one at residue 2 on the way).
+        let mut b = Bin {
+            section: Section::Level(0),
+            ..Bin::default()
+        };
+        let l0 = b.view(&[0; 8], None, None);
+        b.section = Section::Shared;
+        let shared = b.view(&[1; 3], None, None);
+        let odd = b.view_from(&[2; 2], 6, Map::new());
+        b.section = Section::Textures;
+        let image = b.view(&[3; 5], None, None);
+        b.section = Section::Level(1);
+        let l1 = b.view(&[4; 4], None, None);
+        b.section = Section::Level(2);
+        let l2a = b.view(&[5; 4], None, None);
+        let l2b = b.view(&[6; 4], None, None);
+        b.lay_out_for_streaming(2);
+        let offset = |v: usize| b.views[v]["byteOffset"].as_u64().unwrap();
+        let order = [shared, odd, image, l2a, l2b, l1, l0];
+        assert!(order.windows(2).all(|w| offset(w[0]) < offset(w[1])));
+        // Packed: each view right after the one before, up to alignment.
+        assert_eq!(
+            order.map(offset),
+            [0, 6, 8, 16, 20, 24, 28],
+            "{:?}",
+            b.views
+        );
+        assert_eq!(b.data.len(), 36);
+        for (v, byte) in [
+            (l0, 0),
+            (shared, 1),
+            (odd, 2),
+            (image, 3),
+            (l1, 4),
+            (l2a, 5),
+            (l2b, 6),
+        ] {
+            assert!(bytes(&b, v).iter().all(|&x| x == byte), "view {v}");
+        }
     }
 }

@@ -5,12 +5,18 @@
 //! are in no scene, so a viewer without the extension shows the highest
 //! level only. `extras.MSFT_screencoverage` on the base node holds one
 //! threshold per level plus the one below which nothing is drawn.
+//!
+//! A viewer swaps a node carrying `MSFT_lod` for a lower level *with its
+//! whole subtree*. So a node that shows a mesh and also has children (the
+//! truck's body, parent of its wheels) does not carry the extension: its
+//! mesh moves onto a new leaf child (identity transform, named
+//! `NAME_lod0`), which carries it, and the children stay at every level.
 
 use std::collections::HashMap;
 
 use serde_json::{json, Map, Value};
 
-use super::bin::Bin;
+use super::bin::{Bin, Section};
 use super::encode::{encode_mesh, EncodeOptions};
 use crate::{ErrorKind, LodLevels};
 
@@ -99,6 +105,7 @@ pub(crate) fn add_levels(
     let mut above: Vec<Option<usize>> = mesh_map.to_vec();
     for (l, level) in lods.levels.iter().enumerate() {
         let mut this = above.clone();
+        bin.section = Section::Level(l + 1);
         for (mi, mesh) in level.iter().enumerate() {
             let Some(base) = mesh_map[mi] else {
                 // No node shows the highest level: nothing to attach to.
@@ -150,23 +157,35 @@ pub(crate) fn add_levels(
         .cloned()
         .unwrap_or_default();
     let base_nodes = nodes.len();
+    // (node, the leaf its mesh moved to).
+    let mut moved = Vec::new();
     for i in 0..base_nodes {
         let Some(&mi) = index(nodes[i].get("mesh")).and_then(|w| scene_of.get(&w)) else {
             continue;
+        };
+        if !written.iter().any(|this| this[mi].is_some()) {
+            continue;
+        }
+        let base_name = match nodes[i].get("name").and_then(Value::as_str) {
+            Some(n) if !n.is_empty() => n.to_string(),
+            _ => format!("node{i}"),
+        };
+        // The node whose mesh the levels replace.
+        let holder = if has_children(&nodes[i]) {
+            let leaf = move_mesh_to_leaf(&mut nodes, i, &base_name);
+            moved.push((i, leaf));
+            leaf
+        } else {
+            i
         };
         let mut ids = Vec::with_capacity(written.len());
         for (l, this) in written.iter().enumerate() {
             let Some(w) = this[mi] else {
                 continue;
             };
-            let base = &nodes[i];
+            let base = &nodes[holder];
             let mut node = Map::new();
-            let name = base.get("name").and_then(Value::as_str).unwrap_or("");
-            let name = if name.is_empty() {
-                format!("node{i}_lod{}", l + 1)
-            } else {
-                format!("{name}_lod{}", l + 1)
-            };
+            let name = format!("{base_name}_lod{}", l + 1);
             node.insert("name".into(), json!(name));
             for k in ["matrix", "translation", "rotation", "scale", "skin"] {
                 if let Some(v) = base.get(k) {
@@ -196,7 +215,7 @@ pub(crate) fn add_levels(
         if ids.is_empty() {
             continue;
         }
-        let Some(base) = nodes[i].as_object_mut() else {
+        let Some(base) = nodes[holder].as_object_mut() else {
             continue;
         };
         let ext = base
@@ -217,7 +236,81 @@ pub(crate) fn add_levels(
             }
         }
     }
+    retarget_weight_animations(out, &moved);
     out.insert("meshes".into(), Value::Array(meshes));
     out.insert("nodes".into(), Value::Array(nodes));
     Ok(used_quantization)
+}
+
+fn has_children(node: &Value) -> bool {
+    node.get("children")
+        .and_then(Value::as_array)
+        .is_some_and(|c| !c.is_empty())
+}
+
+/// What moves from a node onto the leaf that takes over its mesh: the
+/// mesh and everything that describes how it is drawn.
+const MESH_KEYS: [&str; 3] = ["mesh", "skin", "weights"];
+
+/// Moves node `i`'s mesh (with its skin, morph weights and GPU instancing)
+/// onto a new child with the identity transform, named `NAME_lod0`, and
+/// returns the child's index. The node keeps its transform, children,
+/// name, other extensions and extras, so animations and joints that refer
+/// to it are unaffected.
+fn move_mesh_to_leaf(nodes: &mut Vec<Value>, i: usize, name: &str) -> usize {
+    let leaf_index = nodes.len();
+    let mut leaf = Map::new();
+    leaf.insert("name".into(), json!(format!("{name}_lod0")));
+    if let Some(node) = nodes[i].as_object_mut() {
+        for k in MESH_KEYS {
+            if let Some(v) = node.remove(k) {
+                leaf.insert(k.into(), v);
+            }
+        }
+        if let Some(ext) = node.get_mut("extensions").and_then(Value::as_object_mut) {
+            if let Some(inst) = ext.remove("EXT_mesh_gpu_instancing") {
+                leaf.insert(
+                    "extensions".into(),
+                    json!({ "EXT_mesh_gpu_instancing": inst }),
+                );
+            }
+            if ext.is_empty() {
+                node.remove("extensions");
+            }
+        }
+        match node.get_mut("children").and_then(Value::as_array_mut) {
+            Some(children) => children.push(json!(leaf_index)),
+            None => {
+                node.insert("children".into(), json!([leaf_index]));
+            }
+        }
+    }
+    nodes.push(Value::Object(leaf));
+    leaf_index
+}
+
+/// Points animation channels that drive the morph weights of a node whose
+/// mesh moved at the leaf that now holds the mesh (glTF animates weights
+/// on the node that instantiates the mesh).
+fn retarget_weight_animations(out: &mut Map<String, Value>, moved: &[(usize, usize)]) {
+    if moved.is_empty() {
+        return;
+    }
+    let leaf_of: HashMap<usize, usize> = moved.iter().copied().collect();
+    let animations = out.get_mut("animations").and_then(Value::as_array_mut);
+    for a in animations.into_iter().flatten() {
+        let channels = a.get_mut("channels").and_then(Value::as_array_mut);
+        for target in channels
+            .into_iter()
+            .flatten()
+            .filter_map(|c| c.get_mut("target"))
+        {
+            if target.get("path").and_then(Value::as_str) != Some("weights") {
+                continue;
+            }
+            if let Some(&leaf) = index(target.get("node")).and_then(|n| leaf_of.get(&n)) {
+                target["node"] = json!(leaf);
+            }
+        }
+    }
 }

@@ -10,7 +10,7 @@ use serde_json::{json, Map, Value};
 use wildlod_mesh::Scene;
 
 use super::accessor::element_size;
-use super::bin::Bin;
+use super::bin::{Bin, Section};
 use super::encode::{encode_mesh, EncodeOptions};
 use super::images::ImageWriter;
 use super::passthrough::{MeshSource, Passthrough};
@@ -52,12 +52,16 @@ pub(crate) fn from_passthrough(
     let src = &p.json;
     let mut out = src.as_object().cloned().unwrap_or_default();
     let keep = kept_accessors(src, &p.meshes);
+    bin.section = Section::Shared;
     let view_map = copy_views(p, &keep, bin)?;
     let acc_map = copy_accessors(src, &keep, &view_map, bin);
+    bin.section = Section::Level(0);
     let meshes = rebuild_meshes(scene, p, &acc_map, bin, warnings)?;
     out.insert("meshes".into(), Value::Array(meshes.json));
     remap_references(&mut out, src, &meshes.map, &acc_map);
+    bin.section = Section::Textures;
     materials_and_images(&mut out, scene, p, bin, images)?;
+    bin.section = Section::Shared;
     Ok((Value::Object(out), meshes.used_quantization, meshes.map))
 }
 

@@ -11,7 +11,7 @@ use std::path::{Path, PathBuf};
 use serde_json::{json, Map, Value};
 use wildlod_mesh::{ImageSource, Scene};
 
-use super::bin::Bin;
+use super::bin::{Bin, Section};
 use super::encode::{encode_mesh, EncodeOptions};
 use super::images::ImageWriter;
 use super::load::{self, QUANTIZATION};
@@ -85,6 +85,7 @@ pub(crate) fn write_with_lods(
         used_quantization |=
             super::lod::add_levels(&mut json, lods, &mesh_map, &mut bin, &opts, &mut warnings)?;
     }
+    bin.lay_out_for_streaming(lods.map_or(0, |l| l.levels.len()));
     let source_lists = pass.map(|p| &p.json);
     let json = finish(json, &bin, path, format, source_lists, used_quantization);
     // Refuse to write what readers would reject: the same validation the
@@ -159,6 +160,7 @@ fn from_scene(
     };
     let mut mesh_map = vec![None; scene.meshes.len()];
     let mut meshes = Vec::new();
+    bin.section = Section::Level(0);
     for (mi, mesh) in scene.meshes.iter().enumerate() {
         let enc = encode_mesh(mesh, mi, bin, &opts, warnings)?;
         if enc.primitives.is_empty() {
@@ -176,6 +178,8 @@ fn from_scene(
         mesh_map[mi] = Some(meshes.len());
         meshes.push(Value::Object(m));
     }
+    // Animations, skins: data every level shares (see `Section`).
+    bin.section = Section::Shared;
     let (animations, animated) = if with_animations {
         (
             animation_json::animations(scene, bin, warnings),
@@ -186,11 +190,13 @@ fn from_scene(
     };
     let (nodes, roots) = scene_json::nodes(scene, &mesh_map, &animated, warnings);
     let skins = scene_json::skins(scene, bin);
+    bin.section = Section::Textures;
     let (textures, imgs, samplers) = scene_json::textures(scene, bin, images)?;
+    bin.section = Section::Shared;
     let mut out = Map::new();
     out.insert(
         "asset".into(),
-        json!({"version": "2.0", "generator": concat!("wildlod ", env!("CARGO_PKG_VERSION"))}),
+        json!({"version": "2.0", "generator": GENERATOR}),
     );
     if !roots.is_empty() {
         out.insert("scene".into(), json!(0));
@@ -225,6 +231,7 @@ fn finish(
         Value::Object(o) => o,
         _ => Map::new(),
     };
+    set_generator(&mut out);
     out.insert("accessors".into(), Value::Array(bin.accessors.clone()));
     out.insert("bufferViews".into(), Value::Array(bin.views.clone()));
     if bin.data.is_empty() {
@@ -307,6 +314,27 @@ fn finish(
         out.insert("extensionsRequired".into(), json!(required));
     }
     Value::Object(out)
+}
+
+/// `asset.generator` of every file written: the tool that wrote the file
+/// (glTF 2.0 §5.2), whatever made its input.
+pub(crate) const GENERATOR: &str = concat!("wildlod ", env!("CARGO_PKG_VERSION"));
+
+/// Names wildlod as the generator, keeping the asset's other properties
+/// (version, copyright, extras); an asset that is not an object is
+/// replaced (the reader already refused a missing `version`).
+fn set_generator(out: &mut Map<String, Value>) {
+    match out.get_mut("asset").and_then(Value::as_object_mut) {
+        Some(asset) => {
+            asset.insert("generator".into(), json!(GENERATOR));
+        }
+        None => {
+            out.insert(
+                "asset".into(),
+                json!({"version": "2.0", "generator": GENERATOR}),
+            );
+        }
+    }
 }
 
 /// Names of the extensions present anywhere in `v` (keys of `extensions`

@@ -12,8 +12,10 @@ Rust without the GIL, so threads simplify at once.
 The report dicts have the keys of the command line's ``--json`` output
 (docs/cli.md): ``simplify_file`` those of ``wildlod simplify --json``,
 ``lod_chain`` those of ``wildlod lod --json``, ``info`` those of
-``wildlod info --json`` and ``compare`` those of ``wildlod compare --json``;
-file functions add ``warnings``.
+``wildlod info --json``, ``compare`` those of ``wildlod compare --json``,
+``batch`` those of ``wildlod batch --json`` (and ``wildlod-summary.json``)
+and ``report`` those of ``wildlod report --json``; file functions add
+``warnings``.
 """
 
 from __future__ import annotations
@@ -24,17 +26,28 @@ from typing import Any, Dict, List, Optional, Sequence, Union
 import numpy as np
 
 from ._errors import WildlodError, WildlodOSError
-from ._wildlod import __version__, compare, info, lod_chain, option_names, simplify_file
+from ._wildlod import (
+    __version__,
+    batch,
+    compare,
+    info,
+    lod_chain,
+    option_names,
+    report,
+    simplify_file,
+)
 from ._wildlod import _simplify
 
 __all__ = [
     "WildlodError",
     "WildlodOSError",
     "__version__",
+    "batch",
     "compare",
     "info",
     "lod_chain",
     "option_names",
+    "report",
     "simplify",
     "simplify_file",
 ]

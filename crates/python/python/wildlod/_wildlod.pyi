@@ -59,4 +59,29 @@ def compare(
     frames: int = ...,
     fps: float = ...,
 ) -> Dict[str, Any]: ...
+def batch(
+    src_dir: _Path,
+    dst_dir: _Path,
+    *,
+    ratio: Optional[float] = ...,
+    faces_target: Optional[int] = ...,
+    error: Optional[float] = ...,
+    lod_ratios: Optional[Sequence[float]] = ...,
+    lod_errors: Optional[Sequence[float]] = ...,
+    lod_faces_targets: Optional[Sequence[int]] = ...,
+    split: bool = ...,
+    format: Optional[str] = ...,
+    jobs: Optional[int] = ...,
+    skip_existing: bool = ...,
+    summary: Optional[_Path] = ...,
+    **options: Any,
+) -> Dict[str, Any]: ...
+def report(
+    reference: _Path,
+    candidate: _Path,
+    output: _Path,
+    *,
+    samples: int = ...,
+    overwrite: bool = ...,
+) -> Dict[str, Any]: ...
 def option_names() -> List[str]: ...
