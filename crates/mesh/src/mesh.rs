@@ -99,15 +99,24 @@ impl Mesh {
         any.then_some((lo, hi))
     }
 
-    /// Length of the bounding-box diagonal (0 for an empty mesh).
+    /// Length of the diagonal of the box the bulk of the positions used by
+    /// faces spans (0 for an empty mesh): [`Mesh::bounds`]' diagonal,
+    /// except that vertices far from all the others (a height of -1e30 an
+    /// exporter wrote) are left out by [`crate::bounds::robust_bounds`]'s
+    /// rule. The size errors are relative to.
     pub fn diagonal(&self) -> f64 {
-        match self.bounds() {
-            Some((lo, hi)) => (0..3)
-                .map(|k| (hi[k] as f64 - lo[k] as f64).powi(2))
-                .sum::<f64>()
-                .sqrt(),
-            None => 0.0,
+        let mut used = vec![false; self.positions.len()];
+        for &v in &self.faces.indices {
+            if let Some(u) = used.get_mut(v as usize) {
+                *u = true;
+            }
         }
+        let points = used
+            .iter()
+            .zip(&self.positions)
+            .filter(|(&u, _)| u)
+            .map(|(_, p)| p.map(f64::from));
+        crate::bounds::robust_bounds(points, &Default::default()).diagonal()
     }
 
     /// Removes positions and attribute values no corner uses, keeping the

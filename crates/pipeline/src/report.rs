@@ -46,6 +46,10 @@ pub struct MeshJson {
     /// result was within the geometric tolerance of a run where they did
     /// not steer) and the distances both runs measured; null otherwise.
     pub steering: Option<SteeringJson>,
+    /// Vertices far from the bulk of the others (a height of -1e30 an
+    /// exporter wrote): left where they were; errors are relative to the
+    /// rest's diagonal.
+    pub outliers: usize,
     /// Wall time.
     pub seconds: f64,
 }
@@ -66,6 +70,7 @@ impl MeshJson {
             hidden_twins: r.report.hidden_twins,
             twin_slack: r.report.twin_slack,
             uv_damage: r.report.uv_damage,
+            outliers: r.report.outliers.len(),
             steering: r.report.steering.map(|s| SteeringJson {
                 kept: s.kept,
                 hausdorff: s.hausdorff,

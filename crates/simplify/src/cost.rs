@@ -27,6 +27,25 @@ pub(crate) use crate::tangent::EdgeImportance;
 /// couple of edge lengths beyond a bevel being collapsed.
 const REACH: f64 = 4.0;
 
+/// No edge longer than this (in diagonals of the bulk of the input, see
+/// `Prepared::outliers`) collapses: only an edge to an outlier vertex is
+/// that long, and a quadric evaluated that far from where it was stored
+/// is rounding noise (single-precision entries times the squared travel:
+/// a collapse into a vertex at -1e30 came out at cost -3.5e51).
+const FAR: f64 = 10.0;
+
+/// The Lindstrom–Turk area quadric of the side from `p` to `k` (W Eq. 15),
+/// or nothing for a side longer than [`FAR`]: one reaching an outlier
+/// vertex, whose quadric would be rounding noise of order 1e54.
+#[inline]
+fn swept(p: DVec3, k: DVec3) -> Quadric {
+    if p.distance_squared(k) <= FAR * FAR {
+        Quadric::boundary_area(p, k)
+    } else {
+        Quadric::ZERO
+    }
+}
+
 /// Newell normal (length = twice the area) and centroid of a polygon given
 /// by its corner positions: exact for planar polygons, a least-squares-like
 /// average for warped ones.
@@ -170,7 +189,7 @@ pub(crate) fn vertex_quadrics(
     importance: EdgeImportance<'_>,
 ) -> Vec<Quadric> {
     // A budget no part is too small for.
-    vertex_quadric_terms(c, metric, weights, importance, usize::MAX, |_, q| q).0
+    vertex_quadric_terms(c, metric, weights, importance, usize::MAX, &[], |_, q| q).0
 }
 
 /// [`vertex_quadrics`] as a run stores them (each about its vertex, see
@@ -184,8 +203,9 @@ pub(crate) fn vertex_quadric_parts(
     weights: &[f64],
     importance: EdgeImportance<'_>,
     budget: usize,
+    outliers: &[bool],
 ) -> (Vec<StoredQuadric>, Vec<Isotropic>) {
-    vertex_quadric_terms(c, metric, weights, importance, budget, |v, q| {
+    vertex_quadric_terms(c, metric, weights, importance, budget, outliers, |v, q| {
         StoredQuadric::new(&q, c.pos[v])
     })
 }
@@ -198,12 +218,18 @@ fn vertex_quadric_terms<T: Send>(
     weights: &[f64],
     importance: EdgeImportance<'_>,
     budget: usize,
+    outliers: &[bool],
     store: impl Fn(usize, Quadric) -> T + Sync,
 ) -> (Vec<T>, Vec<Isotropic>) {
+    // A face reaching an outlier vertex (see `Prepared::outliers`) is no
+    // surface to keep: its plane would outweigh every other by orders of
+    // magnitude.
+    let reaches_outlier =
+        |f: u32| !outliers.is_empty() && c.face(f).iter().any(|&v| outliers[v as usize]);
     let planes: Vec<Option<(DVec3, f64, DVec3)>> = (0..c.faces.len() as u32)
         .into_par_iter()
         .map(|f| {
-            if c.faces[f as usize].len == 0 {
+            if c.faces[f as usize].len == 0 || reaches_outlier(f) {
                 None
             } else {
                 face_plane(c, f)
@@ -634,6 +660,9 @@ impl CostModel {
     ) -> Option<Evaluation> {
         let [i, j] = c.edges[e as usize].ends;
         let (pi, pj) = (c.pos[i as usize], c.pos[j as usize]);
+        if !(pi.distance_squared(pj) <= FAR * FAR) {
+            return None;
+        }
         let (qi, qj) = (q[i as usize].quadric(pi), q[j as usize].quadric(pj));
         let mut total = qi + qj;
         // `border` says which vertices have boundary edges at all; most
@@ -655,12 +684,12 @@ impl CostModel {
             let w = self.metric.boundary_area_weight;
             let mut area = Quadric::ZERO;
             for &k in &s.a {
-                area += Quadric::boundary_area(pi, c.pos[k as usize]);
+                area += swept(pi, c.pos[k as usize]);
             }
             for &k in &s.b {
                 // The edge (i, j) itself was counted from i's side.
                 if k != i {
-                    area += Quadric::boundary_area(pj, c.pos[k as usize]);
+                    area += swept(pj, c.pos[k as usize]);
                 }
             }
             total += area.scaled(w);
@@ -676,7 +705,7 @@ impl CostModel {
                 c.crease_neighbors(i, cos, &mut s.crease);
             }
             for &k in &s.crease {
-                area += Quadric::boundary_area(pi, c.pos[k as usize]);
+                area += swept(pi, c.pos[k as usize]);
             }
             s.crease.clear();
             if at_crease(j) {
@@ -685,7 +714,7 @@ impl CostModel {
             for &k in &s.crease {
                 // The edge (i, j) itself was counted from i's side.
                 if k != i {
-                    area += Quadric::boundary_area(pj, c.pos[k as usize]);
+                    area += swept(pj, c.pos[k as usize]);
                 }
             }
             total += area.scaled(self.metric.boundary_area_weight * self.metric.crease_area_weight);

@@ -85,6 +85,11 @@ pub struct Report {
     pub parallel_collapses: usize,
     /// Passes of the parallel first phase.
     pub parallel_passes: usize,
+    /// Input vertices far from the bulk of the others (by
+    /// [`wildlod_mesh::bounds::robust_bounds`]'s rule), ascending: errors
+    /// are relative to the bulk's diagonal, and these vertices stayed where
+    /// they were, their faces weighing nothing in the error.
+    pub outliers: Vec<u32>,
     /// Virtual edges added between separate components (W §4.1.1).
     pub virtual_edges: usize,
     /// The rank (the loop's cost units: area times squared distance on the

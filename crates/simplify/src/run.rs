@@ -292,8 +292,14 @@ impl<'o> Run<'o> {
         // a seam's vertices on the seam's curve, where the layout needs
         // them (see `AttributeState::seam_planes`).
         let steering = attrs.as_ref().is_some_and(AttributeState::steers);
-        let (mut quadrics, reg) =
-            vertex_quadric_parts(&p.complex, &metric, &p.weights, importance, budget);
+        let (mut quadrics, reg) = vertex_quadric_parts(
+            &p.complex,
+            &metric,
+            &p.weights,
+            importance,
+            budget,
+            &p.outliers,
+        );
         if let Some(a) = &attrs {
             let planes = a.seam_planes(&p.complex, options.attributes.seam_weight);
             for (v, (q, plane)) in quadrics.iter_mut().zip(planes).enumerate() {
@@ -323,10 +329,12 @@ impl<'o> Run<'o> {
             cleaned_faces: p.cleaned,
             hidden_twins: p.hidden_twins,
             virtual_edges: virtual_pairs.len(),
+            outliers: p.outlier_inputs.clone(),
             symmetry_truncated,
             ..Report::default()
         };
         let nv = p.complex.pos.len();
+        let locked = p.outliers.clone();
         let mut run = Run {
             history: options
                 .record_history
@@ -346,7 +354,7 @@ impl<'o> Run<'o> {
             refused_around: vec![0; nv],
             border: Vec::new(),
             crease: Vec::new(),
-            locked: Vec::new(),
+            locked,
             track_border: model.needs_border(),
             pinch_price: PinchPrices {
                 base: model.metric.pinch_cost,

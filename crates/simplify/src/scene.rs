@@ -826,29 +826,25 @@ pub fn material_uv_sets(scene: &Scene) -> Vec<u32> {
         .collect()
 }
 
+/// The diagonal of the world-space box of the bulk of the scene's drawn
+/// vertices (far outliers left out, see [`wildlod_mesh::bounds`]), 0 when
+/// there is none.
 pub(crate) fn world_diagonal(scene: &Scene) -> f64 {
-    let mut lo = [f64::INFINITY; 3];
-    let mut hi = [f64::NEG_INFINITY; 3];
+    let mut points: Vec<[f64; 3]> = Vec::new();
     for (m, world) in scene.instances() {
         let mesh = &scene.meshes[m as usize];
+        let mut used = vec![false; mesh.positions.len()];
         for &v in &mesh.faces.indices {
-            let Some(&p) = mesh.positions.get(v as usize) else {
-                continue;
-            };
-            let q = apply_point(&world, p);
-            if !q.iter().all(|c| c.is_finite()) {
-                continue;
-            }
-            for k in 0..3 {
-                lo[k] = lo[k].min(q[k] as f64);
-                hi[k] = hi[k].max(q[k] as f64);
+            if let Some(u) = used.get_mut(v as usize) {
+                *u = true;
             }
         }
+        for (v, _) in used.iter().enumerate().filter(|(_, &u)| u) {
+            let q = apply_point(&world, mesh.positions[v]);
+            points.push(q.map(f64::from));
+        }
     }
-    if lo[0] > hi[0] {
-        return 0.0;
-    }
-    (0..3).map(|k| (hi[k] - lo[k]).powi(2)).sum::<f64>().sqrt()
+    wildlod_mesh::bounds::robust_bounds(points, &Default::default()).diagonal()
 }
 
 #[cfg(test)]

@@ -4,6 +4,7 @@
 //! → assemble the output.
 
 use glam::DVec3;
+use wildlod_mesh::bounds::{robust_bounds, OutlierRule};
 use wildlod_mesh::weld::weld_positions;
 use wildlod_mesh::Faces;
 
@@ -458,6 +459,12 @@ pub(crate) struct Prepared {
     /// an untouched vertex keeps (the input's positions are the caller's:
     /// not copied).
     pub rep: Vec<u32>,
+    /// Welded vertices far from the bulk of the others (see
+    /// [`wildlod_mesh::bounds`]; empty: none): they neither move nor
+    /// vanish, and the faces they touch weigh nothing in the quadrics.
+    pub outliers: Vec<bool>,
+    /// The input vertex of each outlier, ascending.
+    pub outlier_inputs: Vec<u32>,
     /// The geometric error budget within which appearance steers (see
     /// `CostModel::appearance_budget`); infinite by default.
     pub appearance_budget: f64,
@@ -478,14 +485,27 @@ pub(crate) fn prepare(
             rep[w as usize] = v as u32;
         }
     }
-    // Normalize by the bounds of the vertices faces use.
-    let (mut lo, mut hi) = (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY));
+    // Normalize by the bounds of the bulk of the vertices faces use: a
+    // vertex far from all the others (a height of -1e30 an exporter wrote)
+    // would otherwise set the unit, and every real error would vanish
+    // beside it. Such outliers stay where they are (see `Prepared::outliers`).
+    let mut used = vec![false; nw];
     for &v in &faces.indices {
-        let p = DVec3::from(positions[v as usize].map(f64::from));
-        lo = lo.min(p);
-        hi = hi.max(p);
+        used[weld[v as usize] as usize] = true;
     }
-    let (center, diag) = if faces.indices.is_empty() {
+    let used_ids: Vec<u32> = (0..nw as u32).filter(|&w| used[w as usize]).collect();
+    let bounds = robust_bounds(
+        used_ids
+            .iter()
+            .map(|&w| positions[rep[w as usize] as usize].map(f64::from)),
+        &OutlierRule::default(),
+    );
+    let mut outliers = vec![false; if bounds.outliers.is_empty() { 0 } else { nw }];
+    for &k in &bounds.outliers {
+        outliers[used_ids[k] as usize] = true;
+    }
+    let (lo, hi) = (DVec3::from(bounds.min), DVec3::from(bounds.max));
+    let (center, diag) = if bounds.is_empty() {
         (DVec3::ZERO, 1.0)
     } else {
         (0.5 * (lo + hi), (hi - lo).length())
@@ -533,6 +553,12 @@ pub(crate) fn prepare(
     }
     Prepared {
         appearance_budget: f64::INFINITY,
+        outlier_inputs: bounds
+            .outliers
+            .iter()
+            .map(|&k| rep[used_ids[k] as usize])
+            .collect(),
+        outliers,
         rep,
         complex,
         cleaned: cleaned.degenerate + cleaned.duplicate,

@@ -184,3 +184,35 @@ fn a_city_blocks_normals_face_their_faces_fitted_or_recomputed() {
         assert_eq!(stray_normals(&out), 0, "{mode:?}");
     }
 }
+
+#[test]
+fn one_far_vertex_does_not_make_the_rest_of_the_error_vanish() {
+    // A terrain with three heights at -1e30, as broken exporters write
+    // them, against the same terrain without them: the error reported is
+    // that of the terrain, and the far vertices are named.
+    let with = scenes::outlier_terrain(100, 3);
+    let without = scenes::outlier_terrain(100, 0);
+    let (_, r_with) = simplify_scene(&with, &at_ratio(0.1)).unwrap();
+    let (_, r_without) = simplify_scene(&without, &at_ratio(0.1)).unwrap();
+    assert!(r_without.error > 0.0, "{r_without:?}");
+    let ratio = r_with.error / r_without.error;
+    assert!(
+        (0.5..=2.0).contains(&ratio),
+        "error {:e} with the outliers, {:e} without",
+        r_with.error,
+        r_without.error
+    );
+    assert!((0.5..=2.0).contains(&(r_with.world_error / r_without.world_error)));
+    let named: Vec<u32> = r_with
+        .groups
+        .iter()
+        .flat_map(|g| g.report.outliers.iter().copied())
+        .collect();
+    let mut expected = scenes::terrain_outliers(100, 3);
+    expected.sort_unstable();
+    assert_eq!(named, expected);
+    assert!(r_without
+        .groups
+        .iter()
+        .all(|g| g.report.outliers.is_empty()));
+}

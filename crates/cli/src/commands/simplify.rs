@@ -294,6 +294,11 @@ fn whole_report(r: &SceneReport) -> Report {
         hidden_twins: r.groups.iter().map(|g| g.report.hidden_twins).sum(),
         collapses: r.groups.iter().map(|g| g.report.collapses).sum(),
         stray_normals: r.groups.iter().map(|g| g.report.stray_normals).sum(),
+        outliers: r
+            .groups
+            .iter()
+            .flat_map(|g| g.report.outliers.iter().copied())
+            .collect(),
         uv_damage: r
             .groups
             .iter()
@@ -421,6 +426,19 @@ pub fn summary(name: &str, r: &Report, seconds: f64) -> String {
             r.hidden_twins,
             if r.hidden_twins == 1 { "" } else { "s" },
         ));
+    }
+    if !r.outliers.is_empty() {
+        s.push_str(&format!(
+            "; {} outlier vert{} far from the rest left in place (errors are relative to the rest)",
+            r.outliers.len(),
+            if r.outliers.len() == 1 { "ex" } else { "ices" },
+        ));
+    }
+    if r.steering.is_some_and(|s| !s.kept) {
+        s.push_str(
+            "; attributes would have cost geometry beyond the tolerance: the result of a run \
+             where they did not steer is kept",
+        );
     }
     s
 }

@@ -441,6 +441,8 @@ fn build_chunk<'a>(
     let prepared = Prepared {
         complex,
         appearance_budget: f64::INFINITY,
+        outliers: Vec::new(),
+        outlier_inputs: Vec::new(),
         cleaned: 0,
         hidden_twins: 0,
         ratio_base: triangles,
