@@ -10,142 +10,10 @@
 //! renderers do for files that break that rule). Morph target weights are
 //! not applied.
 
-use glam::{Mat3, Mat4, Quat, Vec3};
+use glam::{Mat3, Mat4, Vec3};
+use wildlod_mesh::pose::{skin_matrices, world_matrices};
 use wildlod_mesh::transform::transformed;
-use wildlod_mesh::{
-    Interpolation, Mesh, Node, Scene, Semantic, Track, TrackPath, ABSENT, IDENTITY,
-};
-
-/// A node's local transform as translation, rotation, scale.
-#[derive(Clone, Copy, Debug)]
-struct Trs {
-    t: Vec3,
-    r: Quat,
-    s: Vec3,
-}
-
-impl Trs {
-    fn of(m: &[f32; 16]) -> Trs {
-        let (s, r, t) = Mat4::from_cols_array(m).to_scale_rotation_translation();
-        Trs { t, r, s }
-    }
-
-    fn matrix(&self) -> Mat4 {
-        Mat4::from_scale_rotation_translation(self.s, self.r, self.t)
-    }
-}
-
-/// The value of a track at time `t` (`n` floats per key: 3 or 4).
-fn sample(track: &Track, n: usize, t: f32) -> Option<[f32; 4]> {
-    let keys = track.times.len();
-    let stride = if track.interpolation == Interpolation::CubicSpline {
-        3 * n
-    } else {
-        n
-    };
-    if keys == 0 || track.values.len() < keys * stride {
-        return None;
-    }
-    // The value of key k (the middle third of a cubic key).
-    let value = |k: usize| -> [f32; 4] {
-        let o = k * stride + if stride == 3 * n { n } else { 0 };
-        let mut v = [0.0; 4];
-        v[..n].copy_from_slice(&track.values[o..o + n]);
-        v
-    };
-    if t <= track.times[0] {
-        return Some(value(0));
-    }
-    if t >= track.times[keys - 1] {
-        return Some(value(keys - 1));
-    }
-    // The last key at or before t.
-    let k = track.times.partition_point(|&x| x <= t).saturating_sub(1);
-    let (t0, t1) = (track.times[k], track.times[k + 1]);
-    let dt = t1 - t0;
-    let u = if dt > 0.0 { (t - t0) / dt } else { 0.0 };
-    let (a, b) = (value(k), value(k + 1));
-    let mut out = [0.0; 4];
-    match track.interpolation {
-        Interpolation::Step => out = a,
-        Interpolation::Linear if n == 4 => {
-            let q = Quat::from_array(a).slerp(Quat::from_array(b), u);
-            out = q.to_array();
-        }
-        Interpolation::Linear => {
-            for x in 0..n {
-                out[x] = a[x] + (b[x] - a[x]) * u;
-            }
-        }
-        Interpolation::CubicSpline => {
-            let out_tangent = k * stride + 2 * n;
-            let in_tangent = (k + 1) * stride;
-            let (u2, u3) = (u * u, u * u * u);
-            for x in 0..n {
-                out[x] = (2.0 * u3 - 3.0 * u2 + 1.0) * a[x]
-                    + (u3 - 2.0 * u2 + u) * dt * track.values[out_tangent + x]
-                    + (-2.0 * u3 + 3.0 * u2) * b[x]
-                    + (u3 - u2) * dt * track.values[in_tangent + x];
-            }
-        }
-    }
-    if n == 4 {
-        let q = Quat::from_array(out).normalize();
-        out = q.to_array();
-    }
-    Some(out)
-}
-
-/// World matrix of every node at time `time` of `animation` (the rest pose
-/// when `None`). Nodes no root reaches keep their local transform.
-fn world_matrices(scene: &Scene, animation: Option<usize>, time: f32) -> Vec<Mat4> {
-    let mut local: Vec<Trs> = scene.nodes.iter().map(|n| Trs::of(&n.matrix)).collect();
-    if let Some(anim) = animation.and_then(|a| scene.animations.get(a)) {
-        for track in &anim.tracks {
-            let Some(l) = local.get_mut(track.node as usize) else {
-                continue;
-            };
-            match track.path {
-                TrackPath::Translation => {
-                    if let Some(v) = sample(track, 3, time) {
-                        l.t = Vec3::new(v[0], v[1], v[2]);
-                    }
-                }
-                TrackPath::Scale => {
-                    if let Some(v) = sample(track, 3, time) {
-                        l.s = Vec3::new(v[0], v[1], v[2]);
-                    }
-                }
-                TrackPath::Rotation => {
-                    if let Some(v) = sample(track, 4, time) {
-                        l.r = Quat::from_array(v);
-                    }
-                }
-                TrackPath::Weights => {}
-            }
-        }
-    }
-    let mut world: Vec<Option<Mat4>> = vec![None; scene.nodes.len()];
-    let mut stack: Vec<(u32, Mat4)> = scene.roots.iter().map(|&r| (r, Mat4::IDENTITY)).collect();
-    while let Some((n, parent)) = stack.pop() {
-        let Some(node) = scene.nodes.get(n as usize) else {
-            continue;
-        };
-        if world[n as usize].is_some() {
-            continue; // a node reached twice: the graph is not a forest
-        }
-        let w = parent * local[n as usize].matrix();
-        world[n as usize] = Some(w);
-        for &c in &node.children {
-            stack.push((c, w));
-        }
-    }
-    world
-        .into_iter()
-        .zip(&local)
-        .map(|(w, l)| w.unwrap_or_else(|| l.matrix()))
-        .collect()
-}
+use wildlod_mesh::{Mesh, Node, Scene, Semantic, ABSENT, IDENTITY};
 
 /// A copy of `mesh` skinned by `joints` (one matrix per skin joint): each
 /// position moves with the influences of its first skinned corner; normals
@@ -232,22 +100,9 @@ pub fn posed(scene: &Scene, animation: Option<usize>, time: f32) -> Scene {
         };
         reached[mi as usize] = true;
         let mesh = &scene.meshes[mi as usize];
-        let skin = node.skin.and_then(|s| scene.skins.get(s as usize));
-        let posed_mesh = match skin {
-            Some(skin) if mesh.skinning.is_some() => {
-                let joints: Vec<Mat4> = skin
-                    .joints
-                    .iter()
-                    .enumerate()
-                    .map(|(k, &j)| {
-                        let ibm = skin
-                            .inverse_bind_matrices
-                            .get(k)
-                            .map_or(Mat4::IDENTITY, Mat4::from_cols_array);
-                        world.get(j as usize).copied().unwrap_or(Mat4::IDENTITY) * ibm
-                    })
-                    .collect();
-                skinned(mesh, &joints)
+        let posed_mesh = match node.skin {
+            Some(skin) if mesh.skinning.is_some() && (skin as usize) < scene.skins.len() => {
+                skinned(mesh, &skin_matrices(scene, skin, &world))
             }
             _ => transformed(mesh, &world[n].to_cols_array()),
         };
@@ -276,63 +131,9 @@ fn push_instance(out: &mut Scene, mut mesh: Mesh) {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use wildlod_mesh::{Animation, ComponentFormat, Skin, Skinning};
-
-    fn track(
-        path: TrackPath,
-        interpolation: Interpolation,
-        times: &[f32],
-        values: &[f32],
-    ) -> Track {
-        Track {
-            node: 1,
-            path,
-            interpolation,
-            times: times.to_vec(),
-            values: values.to_vec(),
-        }
-    }
-
-    #[test]
-    fn tracks_interpolate_as_gltf_says() {
-        let t = track(
-            TrackPath::Translation,
-            Interpolation::Linear,
-            &[0.0, 2.0],
-            &[0.0, 0.0, 0.0, 4.0, 2.0, 0.0],
-        );
-        assert_eq!(sample(&t, 3, 0.5).unwrap()[..3], [1.0, 0.5, 0.0]);
-        // Clamped before the first and after the last key.
-        assert_eq!(sample(&t, 3, -1.0).unwrap()[..3], [0.0, 0.0, 0.0]);
-        assert_eq!(sample(&t, 3, 9.0).unwrap()[..3], [4.0, 2.0, 0.0]);
-        let step = Track {
-            interpolation: Interpolation::Step,
-            ..t.clone()
-        };
-        assert_eq!(sample(&step, 3, 1.9).unwrap()[..3], [0.0, 0.0, 0.0]);
-        // Rotation halfway from identity to 90° about z is 45° about z.
-        let q90 = Quat::from_rotation_z(std::f32::consts::FRAC_PI_2);
-        let r = track(
-            TrackPath::Rotation,
-            Interpolation::Linear,
-            &[0.0, 1.0],
-            &[0.0, 0.0, 0.0, 1.0, q90.x, q90.y, q90.z, q90.w],
-        );
-        let half = Quat::from_array(sample(&r, 4, 0.5).unwrap());
-        assert!(half.angle_between(Quat::from_rotation_z(std::f32::consts::FRAC_PI_4)) < 1e-5);
-        // A cubic spline with zero tangents: Hermite at u = 1/2 is the mean.
-        let c = track(
-            TrackPath::Translation,
-            Interpolation::CubicSpline,
-            &[0.0, 1.0],
-            &[
-                0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, // key 0: in, value, out
-                0.0, 0.0, 0.0, 2.0, 4.0, 6.0, 0.0, 0.0, 0.0, // key 1
-            ],
-        );
-        let v = sample(&c, 3, 0.5).unwrap();
-        assert!((v[0] - 1.0).abs() < 1e-6 && (v[2] - 3.0).abs() < 1e-6);
-    }
+    use wildlod_mesh::{
+        Animation, ComponentFormat, Interpolation, Skin, Skinning, Track, TrackPath,
+    };
 
     /// A unit triangle skinned half to a fixed root (joint 0) and half to a
     /// child joint (joint 1, node 1) whose translation animates from 0 to
@@ -363,12 +164,13 @@ mod tests {
             name: "lift".into(),
             channels: 1,
             duration: 1.0,
-            tracks: vec![track(
-                TrackPath::Translation,
-                Interpolation::Linear,
-                &[0.0, 1.0],
-                &[0.0, 0.0, 0.0, 0.0, 0.0, 2.0],
-            )],
+            tracks: vec![Track {
+                node: 1,
+                path: TrackPath::Translation,
+                interpolation: Interpolation::Linear,
+                times: vec![0.0, 1.0],
+                values: vec![0.0, 0.0, 0.0, 0.0, 0.0, 2.0],
+            }],
         });
         s
     }

@@ -24,6 +24,7 @@ mod faces;
 mod image;
 mod mesh;
 pub mod polygon;
+pub mod pose;
 mod scene;
 pub mod shapes;
 pub mod stats;

@@ -1024,6 +1024,7 @@ mod tests {
                 &[],
                 EdgeImportance::default(),
                 budget,
+                &[],
                 keep,
             )
             .0

@@ -38,6 +38,7 @@ mod large_polygons;
 mod mesh;
 mod options;
 mod ordering;
+mod posed;
 mod quadric;
 mod refit;
 mod report;
@@ -67,7 +68,7 @@ pub use quadric::{place, place_by_planes, place_exact, Placement, Quadric, FREE_
 pub use report::{Rejections, Report, SteeringOutcome, StopReason};
 pub use scene::{
     material_uv_sets, see_through_materials, simplify_scene, simplify_scene_with_progress,
-    GroupReport, GroupSpace, MeshOutcome, SceneReport,
+    skin_poses, GroupReport, GroupSpace, MeshOutcome, SceneReport,
 };
 pub use simplify::{
     simplify_polygons, simplify_polygons_with_progress, simplify_triangles,

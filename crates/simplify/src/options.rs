@@ -653,6 +653,17 @@ pub struct Options {
     /// heavier, so joints keep their edges. `simplify_mesh` fills this from
     /// the mesh's skinning.
     pub vertex_joints: Vec<Vec<(u32, f32)>>,
+    /// Poses the skin takes when drawn, for [`Options::vertex_joints`]:
+    /// per pose, every joint's skinning matrix (the joint's world matrix in
+    /// that pose times its inverse bind matrix; column-major, input units),
+    /// indexed by the joint ids of `vertex_joints`. A skinned mesh is never
+    /// seen at rest: each vertex's face planes become their mean over the
+    /// rest pose and these poses (see `posed.rs`), so collapses cost what
+    /// they cost as the mesh moves (an elbow keeps the rings it bends with).
+    /// Empty (default): the rest pose alone. [`crate::simplify_scene`]
+    /// fills it from the file's animations (frames spread over each), or,
+    /// without animations, from poses bending every joint.
+    pub skin_poses: Vec<Vec<[f32; 16]>>,
     /// Record every collapse (edge one-ring before, vertex one-ring after)
     /// for successive mapping (W §4.3). Default off: it costs memory.
     pub record_history: bool,
@@ -737,6 +748,7 @@ impl Default for Options {
             quad: QuadSettings::default(),
             vertex_weights: Vec::new(),
             vertex_joints: Vec::new(),
+            skin_poses: Vec::new(),
             record_history: false,
             record_error_curve: false,
             partition: Partition::default(),

@@ -300,6 +300,7 @@ impl<'o> Run<'o> {
             budget,
             &p.outliers,
         );
+        crate::posed::add_pose_terms(&mut quadrics, &p, options);
         if let Some(a) = &attrs {
             let planes = a.seam_planes(&p.complex, options.attributes.seam_weight);
             for (v, (q, plane)) in quadrics.iter_mut().zip(planes).enumerate() {

@@ -246,11 +246,24 @@ pub fn simplify_scene_with_progress(
     let passes = if common_threshold { 2 } else { 1 };
     let total_work: usize = merged.iter().map(|m| m.mesh.triangle_count()).sum();
     let mut done = 0usize;
+    // Skinned groups are measured in the poses they are drawn in.
+    let poses: Vec<Vec<Vec<[f32; 16]>>> = groups
+        .iter()
+        .map(|g| match g.space {
+            GroupSpace::Skinned { skin: Some(skin) } => skin_poses(scene, skin),
+            _ => Vec::new(),
+        })
+        .collect();
     let mut step = |g: usize, options: &Options| -> Result<(Mesh, Report), Error> {
         let work = merged[g].mesh.triangle_count();
         let start = done;
         let options = &Options {
             face_instances: face_instances[g].clone(),
+            skin_poses: if options.skin_poses.is_empty() {
+                poses[g].clone()
+            } else {
+                options.skin_poses.clone()
+            },
             ..options.clone()
         };
         let r = simplify_mesh_with_progress(&merged[g].mesh, options, &|f| {
@@ -809,6 +822,58 @@ pub fn see_through_materials(scene: &Scene) -> Vec<u32> {
         .enumerate()
         .filter(|(_, m)| m.alpha_mode == wildlod_mesh::AlphaMode::Blend)
         .map(|(i, _)| i as u32)
+        .collect()
+}
+
+/// Poses sampled per animation when a file has them: enough to see each
+/// motion's extremes (a walk cycle's swing, a bend's end) at a cost of one
+/// pass over the faces per pose.
+const FRAMES_PER_ANIMATION: usize = 8;
+
+/// At most this many poses in all, however many animations a file has.
+const MAX_POSES: usize = 32;
+
+/// How far every joint turns in the poses of a skin no animation moves:
+/// half a right angle, about two axes of its frame, each way, a range a
+/// rigged limb is built to bend through.
+const BEND_DEGREES: f32 = 45.0;
+
+/// The poses `skin` is drawn in (see [`Options::skin_poses`]): frames
+/// spread evenly over each animation of the file (both ends included), or,
+/// when it has none, every joint turned by [`BEND_DEGREES`] about its
+/// frame's x and z axes, each way (four poses).
+pub fn skin_poses(scene: &Scene, skin: u32) -> Vec<Vec<[f32; 16]>> {
+    use wildlod_mesh::pose::{bent_world_matrices, skin_matrices, world_matrices};
+    let Some(joints) = scene.skins.get(skin as usize).map(|s| &s.joints) else {
+        return Vec::new();
+    };
+    let matrices = |world: Vec<glam::Mat4>| -> Vec<[f32; 16]> {
+        skin_matrices(scene, skin, &world)
+            .iter()
+            .map(|m| m.to_cols_array())
+            .collect()
+    };
+    let animations = scene.animations.len();
+    if animations > 0 {
+        let frames = (MAX_POSES / animations).clamp(2, FRAMES_PER_ANIMATION);
+        let mut out = Vec::new();
+        for (a, anim) in scene.animations.iter().enumerate() {
+            for k in 0..frames {
+                let t = anim.duration * k as f32 / (frames - 1) as f32;
+                out.push(matrices(world_matrices(scene, Some(a), t)));
+            }
+            if out.len() >= MAX_POSES {
+                break;
+            }
+        }
+        out.truncate(MAX_POSES);
+        return out;
+    }
+    let angle = BEND_DEGREES.to_radians();
+    [glam::Vec3::X, glam::Vec3::Z]
+        .into_iter()
+        .flat_map(|axis| [angle, -angle].map(|a| (axis, a)))
+        .map(|(axis, a)| matrices(bent_world_matrices(scene, joints, axis, a)))
         .collect()
 }
 

@@ -149,9 +149,10 @@ pub fn simplify_with_attributes_and_progress(
     }
     let t = &options.target;
     let counted = t.ratio.is_some() || t.triangles.is_some();
-    if !steers(attributes) || tolerance.is_infinite() || !counted {
-        // Nothing steers, the user lets it steer without bound, or an
-        // error target bounds every collapse's distance already.
+    if !steers(attributes) || tolerance.is_infinite() || !counted || options.record_error_curve {
+        // Nothing steers, the user lets it steer without bound, an error
+        // target bounds every collapse's distance already, or the run only
+        // measures how far it could go (a scene's first pass).
         return simplify_once(
             positions,
             faces,
