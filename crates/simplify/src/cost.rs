@@ -660,7 +660,9 @@ impl CostModel {
     ) -> Option<Evaluation> {
         let [i, j] = c.edges[e as usize].ends;
         let (pi, pj) = (c.pos[i as usize], c.pos[j as usize]);
-        if !(pi.distance_squared(pj) <= FAR * FAR) {
+        // NaN (a non-finite position) counts as far.
+        let d2 = pi.distance_squared(pj);
+        if d2.is_nan() || d2 > FAR * FAR {
             return None;
         }
         let (qi, qj) = (q[i as usize].quadric(pi), q[j as usize].quadric(pj));
