@@ -129,24 +129,30 @@ pub struct SimplifyArgs {
     /// the first limit reached stops.
     #[arg(long, value_name = "E")]
     pub error: Option<f64>,
-    /// Re-bake textures (Liu, Zhang & Yuksel 2025 §4.3): collapses cross UV
-    /// seams freely, the simplified mesh gets a new atlas, and every texel
-    /// of it is mapped back to the input through the collapse history to
-    /// bake every channel of its material (base color with vertex colors,
-    /// metallic-roughness, normal, occlusion, emissive) with no bleeding.
-    /// Reaches targets that seam-keeping cannot on meshes with many UV
-    /// islands. Without it the input's UVs and textures are kept.
+    /// Textured files: `auto` keeps the input's UVs and atlas, measures the
+    /// texture the result shows against the input's (texture Chamfer
+    /// distance, Liu, Zhang & Yuksel 2025 §5) and, where that differs
+    /// visibly, also re-bakes and keeps whichever measures better; `keep`
+    /// always keeps the UVs; `bake` always re-bakes (see --bake).
+    #[arg(long, value_enum, default_value_t = TextureArg::Auto)]
+    pub textures: TextureArg,
+    /// Re-bake textures (same as --textures bake; Liu, Zhang & Yuksel 2025
+    /// §4.3): collapses cross UV seams freely, the simplified mesh gets a
+    /// new atlas, and every texel of it is mapped back to the input
+    /// through the collapse history to bake every channel of its material
+    /// (base color with vertex colors, metallic-roughness, normal,
+    /// occlusion, emissive) with no bleeding.
     #[arg(long)]
     pub bake: bool,
-    /// With --bake: atlas width and height in texels (default: keep the
+    /// When re-baking: atlas width and height in texels (default: keep the
     /// input's texel density, rounded to a power of two, at most 4096).
-    #[arg(long, value_name = "N", requires = "bake")]
+    #[arg(long, value_name = "N")]
     pub texture_size: Option<u32>,
-    /// With --bake: bake every material with the same alpha mode and
+    /// When re-baking: bake every material with the same alpha mode and
     /// sidedness into one atlas and one material (fewer draw calls).
-    #[arg(long, requires = "bake")]
+    #[arg(long)]
     pub merge_materials: bool,
-    /// With --bake: JPEG quality (1 to 100) of baked images when the
+    /// When re-baking: JPEG quality (1 to 100) of baked images when the
     /// input's textures were all JPEG (else PNG is written).
     #[arg(long, value_name = "Q", default_value_t = 90)]
     pub jpeg_quality: u8,
@@ -166,7 +172,7 @@ pub struct SimplifyArgs {
     pub quiet: bool,
     /// Print a JSON report (stable keys, documented in docs/cli.md) instead
     /// of one line per mesh.
-    #[arg(long, conflicts_with = "bake")]
+    #[arg(long)]
     pub json: bool,
     /// How to simplify: metric, guards, attributes.
     #[command(flatten)]
@@ -400,6 +406,18 @@ pub struct DemoArgs {
     /// Ratio of triangles the level of detail keeps.
     #[arg(long, default_value_t = 0.1)]
     pub ratio: f64,
+}
+
+/// `--textures`: keep the UVs, re-bake, or choose by measurement.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum TextureArg {
+    /// Keep the UVs; re-bake where that shows the texture visibly worse
+    /// and the re-bake measures better.
+    Auto,
+    /// Keep the input's UVs and atlas.
+    Keep,
+    /// Re-bake onto a new atlas.
+    Bake,
 }
 
 /// `--seams`: what happens to attribute seams.

@@ -1,8 +1,9 @@
 //! `wildlod simplify --bake` end to end on generated files: glTF and OBJ+MTL
 //! outputs carry the baked images, a missing texture is a warning that names
-//! it, and JPEG inputs give JPEG outputs. On the corpus: the re-baked LOD's
-//! texture Chamfer distance (W Table 2) is lower than the keep-UV LOD's on
-//! every textured file at 10% and 1%.
+//! it, and JPEG inputs give JPEG outputs. On the corpus: where keeping the
+//! UVs shows the texture visibly off, the re-baked LOD's texture Chamfer
+//! distance (W Table 2) is lower, and the default (`--textures auto`) is
+//! never visibly worse than the better of the two.
 #![allow(clippy::unwrap_used, clippy::expect_used)] // test code
 
 mod support;
@@ -189,7 +190,11 @@ fn jpeg_inputs_give_jpeg_outputs_at_the_requested_quality() {
     assert!(!bad.status.success());
 }
 
-fn texture_chamfer(reference: &Document, candidate: &Document) -> Option<f64> {
+/// The texture Chamfer distance (W Table 2) of `candidate` against
+/// `reference` over the reference's sampling floor, with a seed of its own
+/// (the product's choice uses the default seed: this measurement is
+/// independent of it).
+fn texture_excess(reference: &Document, candidate: &Document) -> Option<f64> {
     let images = |d: &Document| -> Vec<Option<wildlod_mesh::Image>> {
         d.scene
             .textures
@@ -200,33 +205,38 @@ fn texture_chamfer(reference: &Document, candidate: &Document) -> Option<f64> {
     let (ri, ci) = (images(reference), images(candidate));
     let r = EvalMesh::from_scene(&reference.scene, &ri);
     let c = EvalMesh::from_scene(&candidate.scene, &ci);
-    compare(
+    let m = compare(
         &r,
         &c,
         &CompareOptions {
             samples: 1000,
-            texture_samples: 10_000,
+            texture_samples: 40_000,
+            seed: 0x5eed_7e57,
             ..CompareOptions::default()
         },
-    )
-    .texture_chamfer
+    );
+    Some(m.texture_chamfer? - m.texture_chamfer_floor?)
 }
 
-/// Issue 11's bar on real files: re-baking beats keeping the UVs. Baked at
-/// 1024² to keep the suite fast (the evaluation uses the default size).
+/// What the default (`--textures auto`) promises on real files, and the
+/// property of re-baking it rests on (W §4.3: a re-bake has no bleeding
+/// where keeping UVs must cross charts). Baked at 1024² to keep the suite
+/// fast (the evaluation uses the default size).
 ///
-/// One known exception: bob (one mesh, 3 UV islands) at 10%, where keeping
-/// the UVs with fitted attributes scores 0.0449 against the re-bake's
-/// 0.0455 at any atlas size (resolution is not the cause: 4096² gives the
-/// same, and the unsimplified re-bake scores 0.003). There it must stay
-/// within 3%. A second one: sofa_03 (149 UV islands) at 1%, where the two
-/// tie within the metric's noise (0.0793 against 0.0791 with the keep-UV
-/// defaults of the attribute issue; the pictures in
-/// docs/evaluation-appearance.md show the re-bake keeping the cushions'
-/// print that keep-UV smears). There too it must stay within 3%.
+/// - Wherever keeping the UVs shows the texture visibly off the input's
+///   (texture Chamfer over the input's own sampling floor above
+///   [`wildlod_pipeline::VISIBLE_TEXTURE_EXCESS`]), the re-bake measures
+///   lower.
+/// - The default's output is never visibly worse than the better of the
+///   two: its excess is within that same visible difference of the lower
+///   one's.
+///
+/// Measured with a seed of its own, so a choice that only won on the
+/// product's own sampling would fail here.
 #[test]
-fn rebaked_texture_chamfer_beats_keep_uv_on_every_textured_corpus_file() {
-    let Some(root) = corpus("rebaked_texture_chamfer_beats_keep_uv_on_every_textured_corpus_file")
+fn the_default_shows_textures_as_well_as_the_better_of_keep_uv_and_rebake() {
+    let Some(root) =
+        corpus("the_default_shows_textures_as_well_as_the_better_of_keep_uv_and_rebake")
     else {
         return;
     };
@@ -239,58 +249,66 @@ fn rebaked_texture_chamfer_beats_keep_uv_on_every_textured_corpus_file() {
         "skinned/CesiumMan.glb",
         "skinned/Fox/Fox.gltf",
     ];
+    let visible = wildlod_pipeline::VISIBLE_TEXTURE_EXCESS;
     let dir = tempfile::tempdir().unwrap();
     let mut failures = Vec::new();
+    let mut rebake_needed = 0;
     for rel in files {
         let path = root.join(rel);
         let name = short(&root, &path);
         let input = wildlod_io::read(&path).unwrap();
         for ratio in ["0.1", "0.01"] {
             let mut scores = Vec::new();
-            for bake in [false, true] {
-                let out = dir.path().join(format!("out_{bake}.glb"));
-                let mut args = vec![
-                    "simplify",
-                    s(&path),
-                    "-o",
-                    s(&out),
-                    "--ratio",
-                    ratio,
-                    "--overwrite",
-                    "-q",
-                ];
-                if bake {
-                    args.extend(["--bake", "--texture-size", "1024"]);
-                }
-                let o = wildlod(&args);
+            for mode in ["keep", "bake", "auto"] {
+                let out = dir.path().join(format!("out_{mode}.glb"));
+                let o = wildlod(
+                    &[
+                        "simplify",
+                        s(&path),
+                        "-o",
+                        s(&out),
+                        "--ratio",
+                        ratio,
+                        "--overwrite",
+                        "-q",
+                        "--textures",
+                        mode,
+                        "--texture-size",
+                        "1024",
+                    ][..if mode == "keep" { 10 } else { 12 }],
+                );
                 assert!(
                     o.status.success(),
                     "{name}: {}",
                     String::from_utf8_lossy(&o.stderr)
                 );
                 let lod = wildlod_io::read(&out).unwrap();
-                scores.push(texture_chamfer(&input, &lod).unwrap_or(f64::INFINITY));
+                scores.push(texture_excess(&input, &lod).unwrap_or(f64::INFINITY));
             }
+            let [keep, bake, auto] = [scores[0], scores[1], scores[2]];
             eprintln!(
-                "{name} at {ratio}: keep-UV {:.4}, re-baked {:.4}",
-                scores[0], scores[1]
+                "{name} at {ratio}: over the floor, keep-UV {keep:.4}, re-baked {bake:.4}, default {auto:.4}"
             );
-            let known = (name == "textured/bob/bob_tri.obj" && ratio == "0.1")
-                || (name == "textured/sofa_03/sofa_03_1k.gltf" && ratio == "0.01");
-            if known {
-                if scores[1] > 1.03 * scores[0] {
+            if keep > visible {
+                rebake_needed += 1;
+                if bake >= keep {
                     failures.push(format!(
-                        "{name} at {ratio} (known exception): re-baked {:.4} > 1.03 × keep-UV {:.4}",
-                        scores[1], scores[0]
+                        "{name} at {ratio}: keep-UV visibly off ({keep:.4}) and re-baked no better ({bake:.4})"
                     ));
                 }
-            } else if scores[1] >= scores[0] {
+            }
+            if auto > keep.min(bake) + visible {
                 failures.push(format!(
-                    "{name} at {ratio}: re-baked {:.4} ≥ keep-UV {:.4}",
-                    scores[1], scores[0]
+                    "{name} at {ratio}: the default {auto:.4} is visibly worse than the better of keep-UV {keep:.4} and re-baked {bake:.4}"
                 ));
             }
         }
     }
     assert!(failures.is_empty(), "{failures:#?}");
+    // The property above is only tested where keeping the UVs fails: the
+    // corpus must hold such cases (at 1% most files do).
+    assert!(
+        rebake_needed >= 5,
+        "only {rebake_needed} cases need a re-bake"
+    );
 }

@@ -30,6 +30,7 @@ mod progress;
 mod report;
 mod scene;
 mod targets;
+mod textures;
 mod tuning;
 
 pub use batch::{
@@ -55,4 +56,8 @@ pub use progress::{MeshProgress, NoProgress};
 pub use report::{stop_key, ChainJson, LevelJson, MeshJson, RunJson};
 pub use scene::{file_stem, mesh_name, simplify_scene, MeshRun};
 pub use targets::{scene_diagonal, share_budget, targets_for, world_diagonal, MIN_TRIANGLES};
+pub use textures::{
+    choose as choose_textures, has_base_color_texture, texture_excess, worth_rebaking,
+    TextureChoice, TextureMode, VISIBLE_TEXTURE_EXCESS,
+};
 pub use tuning::{NormalSetting, SeamSetting, Tuning};

@@ -127,6 +127,10 @@ pub struct RunJson {
     pub seconds: f64,
     /// Every simplified mesh.
     pub meshes: Vec<MeshJson>,
+    /// Keep-UV or re-bake, and the measurements that chose it (files with
+    /// a base colour texture).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub textures: Option<crate::TextureChoice>,
 }
 
 impl RunJson {
@@ -140,6 +144,7 @@ impl RunJson {
             error: runs.iter().map(|r| r.report.error).fold(0.0, f64::max),
             seconds,
             meshes: runs.iter().map(MeshJson::new).collect(),
+            textures: None,
         }
     }
 }
