@@ -2,6 +2,7 @@
 //! scenes unlike the corpus (architecture, CAD, a city block), each
 //! simplified with the default options and with attributes that fit but do
 //! not steer ("geometry only": every attribute weight 0).
+#![allow(clippy::unwrap_used, clippy::expect_used)] // test code
 
 use wildlod_eval::{compare, CompareOptions, Comparison, EvalMesh};
 use wildlod_mesh::{Scene, Semantic};
