@@ -21,10 +21,37 @@ use wildlod_testkit::{corpus, short};
 /// A textured torus (2304 triangles, every quad its own UV island) whose
 /// texture is the file `texture` (written by the caller or missing).
 fn torus_gltf(dir: &Path, texture: &Path, ext: &str) -> PathBuf {
+    torus_with_uvs(dir, texture, ext, false)
+}
+
+/// The torus of [`torus_gltf`], or with `continuous` one UV chart: the
+/// two angles around the torus, unwrapped per triangle, so its only seams
+/// are where the angles wrap.
+fn torus_with_uvs(dir: &Path, texture: &Path, ext: &str, continuous: bool) -> PathBuf {
     let mut m = shapes::triangulate(&shapes::torus(48, 24, 1.0, 0.35));
     let n = m.faces.len();
     let mut uv = Vec::new();
     for f in 0..n {
+        if continuous {
+            let angles: Vec<[f32; 2]> = m
+                .faces
+                .face(f)
+                .iter()
+                .map(|&v| {
+                    let [x, y, z] = m.positions[v as usize];
+                    let around = y.atan2(x);
+                    let ring = (x * x + y * y).sqrt() - 1.0;
+                    let tube = z.atan2(ring);
+                    let turn = std::f32::consts::TAU;
+                    [around / turn, tube / turn]
+                })
+                .collect();
+            for c in &angles {
+                let unwrap = |a: f32, first: f32| a - (a - first).round();
+                uv.extend_from_slice(&[unwrap(c[0], angles[0][0]), unwrap(c[1], angles[0][1])]);
+            }
+            continue;
+        }
         let (cx, cy) = ((f % 48) as f32, (f / 48) as f32);
         for (du, dv) in [(0.1, 0.1), (0.9, 0.1), (0.1, 0.9)] {
             uv.extend_from_slice(&[(cx + du) / 48.0, (cy + dv) / 48.0]);
@@ -311,4 +338,66 @@ fn the_default_shows_textures_as_well_as_the_better_of_keep_uv_and_rebake() {
         rebake_needed >= 5,
         "only {rebake_needed} cases need a re-bake"
     );
+}
+
+/// Decision 4 of the defaults issue on generated files: a torus whose
+/// every quad is its own UV island (as a lightmap unwrap or a photogrammetry
+/// atlas is) under a gradient texture. At 1% the LOD cannot keep any island
+/// whole: keeping the UVs gives faces spanning islands, which show the
+/// texture between them; `auto` re-bakes and says so, in the summary and in
+/// `--json`, with both measurements. The same torus with one UV chart at
+/// 50% keeps its UVs (nothing is torn: no re-bake is tried).
+#[test]
+fn auto_rebakes_where_keeping_uvs_tears_and_keeps_them_where_it_does_not() {
+    let dir = tempfile::tempdir().unwrap();
+    let png = dir.path().join("paint.png");
+    write_image(&png);
+    let islands = torus_gltf(dir.path(), &png, "gltf");
+    let chart = torus_with_uvs(dir.path(), &png, "glb", true);
+    let out = dir.path().join("lod.glb");
+    let run = |input: &Path, ratio: &str, json: bool| {
+        let mut args = vec!["simplify", s(input), "-o", s(&out), "--ratio", ratio];
+        args.extend(["--overwrite", "--texture-size", "128"]);
+        if json {
+            args.push("--json");
+        }
+        let o = wildlod(&args);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        String::from_utf8_lossy(&o.stdout).into_owned()
+    };
+    let j: serde_json::Value = serde_json::from_str(&run(&islands, "0.01", true)).unwrap();
+    let t = &j["textures"];
+    assert_eq!(t["mode"], "auto", "{j}");
+    assert_eq!(t["chosen"], "bake", "{j}");
+    let (keep, bake) = (
+        t["keep_uv_excess"].as_f64().unwrap(),
+        t["rebaked_excess"].as_f64().unwrap(),
+    );
+    assert!(
+        keep > wildlod_pipeline::VISIBLE_TEXTURE_EXCESS && bake < keep,
+        "{t}"
+    );
+    // The written file is the re-baked one: a new atlas of the asked size.
+    let doc = wildlod_io::read(&out).unwrap();
+    let mat = &doc.scene.materials[0];
+    let tex = &doc.scene.textures[mat.base_color_texture.unwrap().texture as usize];
+    let img = wildlod_io::decode_image_rgba8(&tex.source).unwrap();
+    assert_eq!((img.width, img.height), (128, 128));
+    let line = run(&islands, "0.01", false);
+    assert!(line.contains("textures: re-baked"), "{line}");
+
+    let j: serde_json::Value = serde_json::from_str(&run(&chart, "0.5", true)).unwrap();
+    let t = &j["textures"];
+    assert_eq!(t["chosen"], "keep", "{j}");
+    assert!(t["rebaked_excess"].is_null(), "{j}");
+    assert!(
+        t["keep_uv_excess"].as_f64().unwrap() <= wildlod_pipeline::VISIBLE_TEXTURE_EXCESS,
+        "{t}"
+    );
+    // The input's own image, not a 128² atlas.
+    let doc = wildlod_io::read(&out).unwrap();
+    let img = wildlod_io::decode_image_rgba8(&doc.scene.textures[0].source).unwrap();
+    assert_eq!((img.width, img.height), (96, 96));
+    let line = run(&chart, "0.5", false);
+    assert!(line.contains("textures: UVs kept"), "{line}");
 }
