@@ -43,7 +43,7 @@
 //! attributes are fitted at the new positions like after any collapse.
 //!
 //! Not part of either paper: measured on the corpus against the peers
-//! (`docs/evaluation.md`, "Refit").
+//! (`docs/design.md`, "Refit").
 
 use glam::{DVec3, Vec3};
 use rayon::prelude::*;
