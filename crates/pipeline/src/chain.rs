@@ -136,7 +136,7 @@ pub struct Level {
 
 /// Triangles `scene` draws: each mesh's once per node that shows it (the
 /// count budgets are of).
-fn drawn_triangles(scene: &Scene) -> usize {
+pub fn drawn_triangles(scene: &Scene) -> usize {
     scene
         .meshes
         .iter()

@@ -22,6 +22,7 @@
 mod batch;
 mod chain;
 mod compare;
+mod double_sided;
 mod error;
 mod file;
 mod html_report;
@@ -37,6 +38,7 @@ pub use batch::{
     batch_file, mesh_files, run_batch, summary_csv, summary_paths, write_summary, BatchJob,
     BatchSettings, BatchSummary, FileResult,
 };
+pub use chain::drawn_triangles;
 pub use chain::{
     build_chain, chain_json, chain_paths, coverage_for_error, level_path, normalize_weights,
     screen_coverage, write_chain, Level, Levels, FULL_VIEW_COVERAGE, PIXEL_TOLERANCE,
@@ -45,6 +47,7 @@ pub use chain::{
 pub use compare::{
     compare_files, load_images, Animated, CompareFilesOptions, FileComparison, Frame,
 };
+pub use double_sided::{merge_twins_double_sided, MergedTwins};
 pub use error::Error;
 pub use file::{lod_file, simplify_file, FileTargets};
 pub use html_report::{

@@ -131,6 +131,9 @@ pub struct RunJson {
     /// a base colour texture).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub textures: Option<crate::TextureChoice>,
+    /// Reversed twin face pairs written once with a double-sided material
+    /// (glTF outputs; see [`crate::merge_twins_double_sided`]).
+    pub double_sided_twins: usize,
 }
 
 impl RunJson {
@@ -145,6 +148,7 @@ impl RunJson {
             seconds,
             meshes: runs.iter().map(MeshJson::new).collect(),
             textures: None,
+            double_sided_twins: 0,
         }
     }
 }

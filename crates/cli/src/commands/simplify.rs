@@ -7,9 +7,10 @@ use anyhow::{bail, Context};
 use wildlod_io::{Document, ErrorKind, WriteOptions};
 use wildlod_mesh::Scene;
 use wildlod_pipeline::{
-    choose_textures, file_stem, has_base_color_texture, load_images, simplify_scene, targets_for,
-    texture_excess, worth_rebaking, FileTargets, MeshRun, NormalSetting, RunJson, SeamSetting,
-    TextureChoice, TextureMode, Tuning, MIN_TRIANGLES,
+    choose_textures, drawn_triangles, file_stem, has_base_color_texture, load_images,
+    merge_twins_double_sided, simplify_scene, targets_for, texture_excess, worth_rebaking,
+    FileTargets, MergedTwins, MeshRun, NormalSetting, RunJson, SeamSetting, TextureChoice,
+    TextureMode, Tuning, MIN_TRIANGLES,
 };
 use wildlod_simplify::{
     simplify_scene_with_progress, Options, Rejections, Report, SceneReport, SteeringOutcome,
@@ -22,7 +23,7 @@ use crate::progress::Progress;
 use crate::stdout::emit;
 
 /// Validated settings of one `simplify` run.
-#[derive(Debug)]
+#[derive(Clone, Debug)]
 pub struct Config {
     pub input: PathBuf,
     pub output: PathBuf,
@@ -193,13 +194,38 @@ pub(crate) fn tuning(t: &TuningArgs) -> Tuning {
 /// Runs `simplify`.
 pub fn run(cfg: &Config) -> anyhow::Result<()> {
     let t0 = Instant::now();
-    let doc = wildlod_io::read(&cfg.input)?;
+    let mut doc = wildlod_io::read(&cfg.input)?;
     if !cfg.quiet {
         for w in &doc.warnings {
             eprintln!("warning: {}: {w}", cfg.input.display());
         }
     }
     let stem = file_stem(&cfg.input);
+    // glTF says "double-sided" directly: reversed twins become one face of
+    // a double-sided material, and the budget is of what the file drew.
+    let gltf = matches!(
+        wildlod_io::Format::from_path(&cfg.output),
+        Ok(wildlod_io::Format::Gltf | wildlod_io::Format::Glb)
+    );
+    let drawn = drawn_triangles(&doc.scene);
+    let twins = if gltf {
+        merge_twins_double_sided(&mut doc.scene)
+    } else {
+        MergedTwins::default()
+    };
+    let adjusted;
+    let cfg = match cfg.ratio {
+        Some(r) if twins.triangles > 0 => {
+            let of_input = (r * drawn as f64).round() as usize;
+            adjusted = Config {
+                ratio: None,
+                faces: Some(cfg.faces.map_or(of_input, |n| n.min(of_input))),
+                ..cfg.clone()
+            };
+            &adjusted
+        }
+        _ => cfg,
+    };
     let show = !cfg.quiet && !cfg.json;
     let textured = has_base_color_texture(&doc.scene);
     let fixed = |mode| {
@@ -226,6 +252,12 @@ pub fn run(cfg: &Config) -> anyhow::Result<()> {
         if let Some(c) = &choice {
             emit(&(texture_line(c) + "\n"))?;
         }
+        if twins.pairs > 0 {
+            emit(&format!(
+                "twins: {} reversed face pairs written once with a double-sided material ({} triangles the input drew twice)\n",
+                twins.pairs, twins.triangles
+            ))?;
+        }
     }
     write(&done.doc, cfg)?;
     if cfg.json {
@@ -236,6 +268,9 @@ pub fn run(cfg: &Config) -> anyhow::Result<()> {
             t0.elapsed().as_secs_f64(),
         );
         json.textures = choice;
+        json.double_sided_twins = twins.pairs;
+        // The input as the file drew it, before its twins were merged.
+        json.input_triangles += twins.triangles;
         let text = serde_json::to_string_pretty(&json).context("serializing the report")?;
         emit(&(text + "\n"))?;
     }
