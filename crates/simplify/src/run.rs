@@ -525,6 +525,10 @@ impl<'o> Run<'o> {
 
     /// Border flags, the cost of every edge, the queues.
     pub fn init_queue(&mut self) {
+        if self.model.crease_area_applies() {
+            let cos = self.model.metric.crease_angle.to_radians().cos();
+            self.p.complex.keep_crease_lists(cos);
+        }
         let c = &self.p.complex;
         let locked = &self.locked;
         // A locked vertex's border status does not matter: it stays where it
