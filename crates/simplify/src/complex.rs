@@ -20,6 +20,9 @@ use crate::star_lists::StarLists;
 /// edge rather than by sorting the sides of its star.
 const HIGH_VALENCE: usize = 32;
 
+/// The crease neighbours kept for each vertex of high valence.
+type CreaseLists = HashMap<u32, SmallVec<[u32; 4]>>;
+
 /// Marks a dead face (`face_len == 0`) or an unused scratch entry.
 pub(crate) const NONE: u32 = u32::MAX;
 
@@ -74,6 +77,16 @@ pub(crate) struct Complex {
     border_lists: HashMap<u32, SmallVec<[u32; 4]>>,
     /// The valence above which a vertex gets a list (tests lower it).
     pub high_valence: usize,
+    /// With [`Complex::keep_crease_lists`]: the cosine of the crease angle,
+    /// and the crease neighbours (see [`Complex::crease_neighbors`]) of
+    /// every vertex with more than `high_valence` faces, kept through every
+    /// collapse. Such a vertex is in the star of most collapses, and each
+    /// evaluation of one of its edges would scan its whole star: on a fan
+    /// of n slivers whose rounded corners make creases at its centre, n
+    /// edges evaluated again and again at O(n) each.
+    crease_lists: Option<(f64, CreaseLists)>,
+    /// Scratch of `collapse`: the sides at listed vertices it may change.
+    crease_sides: Vec<(u32, u32)>,
     /// Scratch of `collapse`.
     touched: Vec<u32>,
     j_corners: Vec<u32>,
@@ -274,6 +287,8 @@ impl Complex {
             border_sides: Vec::new(),
             border_lists: HashMap::new(),
             high_valence: HIGH_VALENCE,
+            crease_lists: None,
+            crease_sides: Vec::new(),
             touched: Vec::new(),
             j_corners: Vec::new(),
             j_star: Vec::new(),
@@ -388,6 +403,7 @@ impl Complex {
         self.vert_edges = StarLists::default();
         self.border_sides = Vec::new();
         self.border_lists = HashMap::new();
+        self.crease_lists = None;
         // Freed, not cleared: callers drop the adjacency to make room.
         self.edges = Vec::new();
     }
@@ -423,6 +439,8 @@ impl Complex {
             border_sides: Vec::new(),
             border_lists: HashMap::new(),
             high_valence: HIGH_VALENCE,
+            crease_lists: None,
+            crease_sides: Vec::new(),
             touched: Vec::new(),
             j_corners: Vec::new(),
             j_star: Vec::new(),
@@ -661,7 +679,23 @@ impl Complex {
     /// It first rules out the common case: when every face's normal is
     /// within half the angle of the first one's, no two faces turn by more
     /// than the angle.
+    ///
+    /// A vertex with a kept list (see [`Complex::keep_crease_lists`]) reads
+    /// it instead, in the order the list was kept.
     pub fn crease_neighbors(&self, v: u32, cos: f64, out: &mut Vec<u32>) {
+        if let Some((kept, lists)) = &self.crease_lists {
+            if *kept == cos {
+                if let Some(list) = lists.get(&v) {
+                    out.extend_from_slice(list);
+                    return;
+                }
+            }
+        }
+        self.scan_crease_neighbors(v, cos, out);
+    }
+
+    /// [`Complex::crease_neighbors`] found from `v`'s faces.
+    fn scan_crease_neighbors(&self, v: u32, cos: f64, out: &mut Vec<u32>) {
         // Each face's neighbours of `v` (after it, before it) and normal.
         let mut corners: SmallVec<[(u32, u32, DVec3); 12]> = SmallVec::new();
         for &f in &self.vert_faces[v as usize] {
@@ -692,38 +726,158 @@ impl Complex {
             return;
         }
         // Each side at `v` is reported once, from its first occurrence in
-        // face order, and only when exactly one other face has it.
-        for a in 0..corners.len() {
-            for forward in [true, false] {
-                let (after, before, n0) = corners[a];
-                let k = if forward { after } else { before };
-                let mut seen: SmallVec<[(usize, bool); 2]> = SmallVec::new();
-                let mut count = 0;
-                for (b, &(after_b, before_b, _)) in corners.iter().enumerate() {
-                    for (w, walks) in [(after_b, true), (before_b, false)] {
-                        if w == k {
-                            count += 1;
-                            if seen.len() < 2 {
-                                seen.push((b, walks));
-                            }
-                        }
-                    }
-                }
-                if count != 2 || seen[0] != (a, forward) {
+        // face order, and only when exactly one other face has it. Sorted
+        // by the neighbour, a side's occurrences are next to each other in
+        // face order (then after before before): O(d log d) for a star of
+        // d faces, where a scan per corner cost O(d²) at a fan's centre.
+        let mut sides: SmallVec<[(u32, u32, u8); 24]> = SmallVec::new();
+        for (a, &(after, before, _)) in corners.iter().enumerate() {
+            sides.push((after, a as u32, 0));
+            sides.push((before, a as u32, 1));
+        }
+        sides.sort_unstable();
+        let mut found: SmallVec<[(u32, u8, u32); 4]> = SmallVec::new();
+        for side in sides.chunk_by(|x, y| x.0 == y.0) {
+            let &[(k, a, walk_a), (_, b, walk_b)] = side else {
+                continue;
+            };
+            let n0 = corners[a as usize].2;
+            let n1 = if walk_a == walk_b {
+                -corners[b as usize].2
+            } else {
+                corners[b as usize].2
+            };
+            let scale = n0.length() * n1.length();
+            if scale > 0.0 && n0.dot(n1) < cos * scale {
+                found.push((a, walk_a, k));
+            }
+        }
+        // In the order of their first occurrence.
+        found.sort_unstable();
+        out.extend(found.iter().map(|&(_, _, k)| k));
+    }
+
+    /// Keeps the crease neighbours of every vertex with more than
+    /// `high_valence` faces for the crease angle whose cosine is `cos`,
+    /// through every collapse from now on (see `crease_lists`).
+    pub fn keep_crease_lists(&mut self, cos: f64) {
+        let big: Vec<u32> = (0..self.vert_faces.len() as u32)
+            .filter(|&v| self.vert_faces[v as usize].len() > self.high_valence)
+            .collect();
+        let mut lists = HashMap::new();
+        let mut out = Vec::new();
+        for v in big {
+            out.clear();
+            self.scan_crease_neighbors(v, cos, &mut out);
+            lists.insert(v, out.iter().copied().collect());
+        }
+        self.crease_lists = Some((cos, lists));
+    }
+
+    /// Whether side `v`–`w` is a crease (see [`Complex::crease_neighbors`]):
+    /// from the faces of the smaller star of the two.
+    fn side_is_crease(&self, v: u32, w: u32, cos: f64) -> bool {
+        let small = if self.vert_faces[w as usize].len() < self.vert_faces[v as usize].len() {
+            w
+        } else {
+            v
+        };
+        // The faces walking `v`–`w` (after: `w` follows `v`), with normals.
+        let mut found: SmallVec<[(bool, DVec3); 2]> = SmallVec::new();
+        for &f in &self.vert_faces[small as usize] {
+            let face = self.face(f);
+            let n = face.len();
+            let Some(k) = face.iter().position(|&x| x == v) else {
+                continue;
+            };
+            let (after, before) = (face[(k + 1) % n], face[(k + n - 1) % n]);
+            for (x, walks) in [(after, true), (before, false)] {
+                if x != w {
                     continue;
                 }
-                let (b, forward1) = seen[1];
-                let n1 = if forward1 == forward {
-                    -corners[b].2
+                if found.len() == 2 {
+                    return false;
+                }
+                let p = |t: usize| self.pos[face[t % n] as usize];
+                let normal = if n == 3 {
+                    (p(1) - p(0)).cross(p(2) - p(0))
                 } else {
-                    corners[b].2
+                    (0..n).map(|t| p(t).cross(p(t + 1))).sum()
                 };
-                let scale = n0.length() * n1.length();
-                if scale > 0.0 && n0.dot(n1) < cos * scale {
-                    out.push(k);
+                found.push((walks, normal));
+            }
+        }
+        let &[(walk_a, n0), (walk_b, n1)] = found.as_slice() else {
+            return false;
+        };
+        let n1 = if walk_a == walk_b { -n1 } else { n1 };
+        let scale = n0.length() * n1.length();
+        scale > 0.0 && n0.dot(n1) < cos * scale
+    }
+
+    /// The first half of keeping the crease lists through a collapse of
+    /// `j` into `i`: the sides at listed vertices (other than `i`, `j`) in
+    /// the faces of either, with `j` read as `i`. They are the sides whose
+    /// faces change: every face of `i` moves with it.
+    fn crease_sides_before(&mut self, i: u32, j: u32) {
+        self.crease_sides.clear();
+        let Some((_, lists)) = &self.crease_lists else {
+            return;
+        };
+        if lists.is_empty() {
+            return;
+        }
+        let mut sides = std::mem::take(&mut self.crease_sides);
+        for u in [i, j] {
+            for &f in &self.vert_faces[u as usize] {
+                let face = self.face(f);
+                let n = face.len();
+                for (t, &v) in face.iter().enumerate() {
+                    if v == i || v == j || !lists.contains_key(&v) {
+                        continue;
+                    }
+                    for w in [face[(t + 1) % n], face[(t + n - 1) % n]] {
+                        sides.push((v, if w == j { i } else { w }));
+                    }
+                    // Marks that `j` leaves `v`'s list.
+                    sides.push((v, j));
                 }
             }
         }
+        sides.sort_unstable();
+        sides.dedup();
+        self.crease_sides = sides;
+    }
+
+    /// The second half (see [`Complex::crease_sides_before`]): the
+    /// collected sides judged again, `j`'s list dropped, and `i`'s found
+    /// again from its faces if it has (or now needs) one.
+    fn crease_sides_after(&mut self, i: u32, j: u32) {
+        let Some((cos, mut lists)) = self.crease_lists.take() else {
+            return;
+        };
+        lists.remove(&j);
+        let sides = std::mem::take(&mut self.crease_sides);
+        for &(v, w) in &sides {
+            let crease = w != j && self.side_is_crease(v, w, cos);
+            if let Some(list) = lists.get_mut(&v) {
+                let at = list.iter().position(|&x| x == w);
+                match (crease, at) {
+                    (true, None) => list.push(w),
+                    (false, Some(p)) => {
+                        list.remove(p);
+                    }
+                    _ => {}
+                }
+            }
+        }
+        self.crease_sides = sides;
+        if lists.contains_key(&i) || self.vert_faces[i as usize].len() > self.high_valence {
+            let mut out = Vec::new();
+            self.scan_crease_neighbors(i, cos, &mut out);
+            lists.insert(i, out.into_iter().collect());
+        }
+        self.crease_lists = Some((cos, lists));
     }
 
     /// [`Complex::boundary_neighbors`] found from `v`'s faces: the sides
@@ -976,6 +1130,7 @@ impl Complex {
         self.killed.clear();
         self.pos[i as usize] = x;
         let border_before = self.border_sides_before(i, j);
+        self.crease_sides_before(i, j);
 
         // Faces: move j's faces to i. Only a face that held both endpoints
         // can now repeat a vertex; the others just change a corner.
@@ -1097,6 +1252,7 @@ impl Complex {
             .retain(i as usize, |f| faces[f as usize].len > 0);
         self.triangles -= out.removed_triangles;
         self.border_sides_after(i, j, border_before || out.irregular);
+        self.crease_sides_after(i, j);
         self.touched = touched;
         self.j_corners = j_corners;
 
@@ -1340,6 +1496,20 @@ impl Complex {
                     return Err(format!(
                         "vertex {v} keeps {kept:?} as border, has {found:?}"
                     ));
+                }
+            }
+            if let Some((cos, lists)) = &self.crease_lists {
+                if let Some(list) = lists.get(&v) {
+                    let mut kept = list.to_vec();
+                    kept.sort_unstable();
+                    let mut found = Vec::new();
+                    self.scan_crease_neighbors(v, *cos, &mut found);
+                    found.sort_unstable();
+                    if kept != found {
+                        return Err(format!(
+                            "vertex {v} keeps {kept:?} as crease sides, has {found:?}"
+                        ));
+                    }
                 }
             }
         }
@@ -1635,6 +1805,55 @@ mod tests {
                 let e = live[rng.below(live.len())];
                 let keep = c.edges[e as usize].ends[rng.below(2)];
                 c.collapse(e, keep, DVec3::ZERO, rng.below(2) == 0, &mut changed);
+                c.check()
+                    .unwrap_or_else(|err| panic!("seed {seed}, collapse {step}: {err}"));
+            }
+        }
+    }
+
+    #[test]
+    fn kept_crease_lists_survive_random_collapses_on_folded_fans() {
+        // A fan of 200 slivers from a rim vertex, its corners jittered out
+        // of the plane and across the rim so that many sides are creases,
+        // collapsed at random to midpoints: after every collapse each kept
+        // list must equal a scan of its vertex's faces (`check`).
+        for seed in 0..20u64 {
+            let mut rng = Lcg(seed);
+            let n = 200u32;
+            let pos = (0..n)
+                .map(|k| {
+                    let a = std::f64::consts::TAU * k as f64 / n as f64;
+                    let j = |r: &mut Lcg| (r.below(1000) as f64 / 1000.0 - 0.5) * 0.05;
+                    DVec3::new(a.cos() + j(&mut rng), a.sin() + j(&mut rng), j(&mut rng))
+                })
+                .collect();
+            let idx: Vec<u32> = (1..n - 1).flat_map(|k| [0, k, k + 1]).collect();
+            let offsets: Vec<u32> = (0..n - 1).map(|f| 3 * f).collect();
+            let (mut c, _) = Complex::new(pos, &offsets, &idx);
+            if seed % 2 == 1 {
+                // Lists for nearly every vertex, not only the centre.
+                c.high_valence = 2;
+            }
+            let cos = 60f64.to_radians().cos();
+            c.keep_crease_lists(cos);
+            let mut first = Vec::new();
+            c.crease_neighbors(0, cos, &mut first);
+            assert!(!first.is_empty(), "seed {seed}: no crease to keep");
+            c.check()
+                .unwrap_or_else(|e| panic!("seed {seed}, built: {e}"));
+            let mut changed = Vec::new();
+            for step in 0..150 {
+                let live: Vec<u32> = (0..c.edges.len() as u32)
+                    .filter(|&e| c.edges[e as usize].alive())
+                    .collect();
+                if live.is_empty() {
+                    break;
+                }
+                let e = live[rng.below(live.len())];
+                let [a, b] = c.edges[e as usize].ends;
+                let keep = if rng.below(2) == 0 { a } else { b };
+                let x = 0.5 * (c.pos[a as usize] + c.pos[b as usize]);
+                c.collapse(e, keep, x, rng.below(2) == 0, &mut changed);
                 c.check()
                     .unwrap_or_else(|err| panic!("seed {seed}, collapse {step}: {err}"));
             }

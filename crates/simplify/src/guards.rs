@@ -6,17 +6,19 @@ use glam::DVec3;
 use crate::complex::Complex;
 use crate::cost::polygon_normal;
 
-/// Whether collapsing `i`–`j` to `x` turns any surviving face of their star
-/// by more than the angle whose cosine is `min_cos`. Faces without area
-/// before or after are not judged (their normal means nothing).
-pub(crate) fn flips_a_face(
+/// The first surviving face of their star (in `star`'s order) that
+/// collapsing `i`–`j` to `x` turns by more than the angle whose cosine is
+/// `min_cos`, if any: the collapse loop keeps it as the reason for the
+/// refusal. Faces without area before or after are not judged (their
+/// normal means nothing).
+pub(crate) fn flipped_face(
     c: &Complex,
     star: &[u32],
     i: u32,
     j: u32,
     x: DVec3,
     min_cos: f64,
-) -> bool {
+) -> Option<u32> {
     let mut old_p: smallvec::SmallVec<[DVec3; 8]> = smallvec::SmallVec::new();
     let mut new_p: smallvec::SmallVec<[DVec3; 8]> = smallvec::SmallVec::new();
     for &f in star {
@@ -55,10 +57,10 @@ pub(crate) fn flips_a_face(
             continue;
         }
         if old.dot(new) < min_cos * (lo * ln).sqrt() {
-            return true;
+            return Some(f);
         }
     }
-    false
+    None
 }
 
 /// The link condition for polygon complexes (Dey et al. 1999; W App. B),
@@ -616,17 +618,14 @@ mod tests {
         );
         let star: Vec<u32> = c.vert_faces[0].to_vec();
         // Collapsing 0 onto 1 at 1: faces 0-2-3 and 0-3-4 stay convex-ish.
-        assert!(!flips_a_face(&c, &star, 0, 1, DVec3::X, 0.0));
+        assert_eq!(flipped_face(&c, &star, 0, 1, DVec3::X, 0.0), None);
         // Moving 0 past vertex 3 on the far side flips face (0, 2, 3):
         // (-3,0), (0,1), (-1,0) winds clockwise.
-        assert!(flips_a_face(
-            &c,
-            &star,
-            0,
-            1,
-            DVec3::new(-3.0, 0.0, 0.0),
-            0.0
-        ));
+        // (The collapse removes faces 0 and 3, which hold edge 0-1.)
+        assert_eq!(
+            flipped_face(&c, &star, 0, 1, DVec3::new(-3.0, 0.0, 0.0), 0.0),
+            Some(1)
+        );
     }
 
     #[test]

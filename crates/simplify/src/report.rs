@@ -112,6 +112,12 @@ pub struct Report {
     pub twin_slack: bool,
     /// Collapses refused, by guard.
     pub rejected: Rejections,
+    /// Collapse costs the loop evaluated (the queue's first ones, and every
+    /// one again of an edge whose cost changed or whose refusal may have
+    /// lifted), the parallel first phase's included: the loop's work, which
+    /// must grow with the input's size and not faster (a loop that takes
+    /// the same refused collapses again and again shows here first).
+    pub evaluations: usize,
     /// Input polygons of more than [`crate::MAX_POLYGON_CORNERS`] corners,
     /// split into smaller pieces before simplifying (their pieces are
     /// output faces of the same input face).

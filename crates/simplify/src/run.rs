@@ -6,12 +6,13 @@ use rayon::prelude::*;
 use wildlod_mesh::Faces;
 
 use crate::attributes::{AttrScratch, AttributeInput, AttributeState};
+use crate::complex::Edge;
 use crate::cost::{
     distance, face_plane, median_collapse_deviation, vertex_quadric_parts, CostModel,
     EdgeImportance, Evaluation, Scratch,
 };
 use crate::guards::{
-    flips_a_face, keeps_topology, pinch_prices, pinches, removed_triangles, PinchPrices,
+    flipped_face, keeps_topology, pinch_prices, pinches, removed_triangles, PinchPrices,
 };
 use crate::heap::{CollapseQueue, Entry};
 use crate::history::HistoryRecorder;
@@ -25,7 +26,10 @@ use crate::symmetry::{edge_symmetry_weights, EdgeNormals, SymmetryInput, Symmetr
 use crate::tangent::{joint_difference, side_normals};
 use crate::virtual_edges::{add_virtual_edges, find_virtual_edges};
 
+mod flip_waits;
 mod partition;
+
+use flip_waits::FlipWaits;
 
 pub(crate) use partition::may_partition;
 
@@ -33,6 +37,31 @@ pub(crate) use partition::may_partition;
 /// computed before making it, so that the target is met to ±1 triangle.
 /// Further away the prediction is skipped: no collapse removes this many.
 const EXACT_COUNT_WINDOW: usize = 256;
+
+/// What the guards say about a collapse.
+enum Verdict {
+    Allowed,
+    /// Refused: the face would turn past the normal limit.
+    Flips(u32),
+    /// Refused by another guard.
+    Refused,
+}
+
+/// Clears edge `e`'s refusal, from whichever list holds it.
+fn unrefuse(edge: &mut Edge, e: u32, refused_around: &mut [u32], flip_waits: &mut FlipWaits) {
+    if !edge.refused() {
+        return;
+    }
+    edge.set_refused(false);
+    if flip_waits.forget(e) == Some(false) {
+        // Not counted around its ends: out of retries one ring out.
+        return;
+    }
+    for v in edge.ends {
+        let n = &mut refused_around[v as usize];
+        *n = n.saturating_sub(1);
+    }
+}
 
 /// λ_joint · d per edge (Knodt Eq. 2–3) when the input is skinned and the
 /// tangent term is on; empty otherwise. A welded vertex takes the
@@ -210,8 +239,12 @@ pub(crate) struct Run<'o> {
     /// left the queue is put back to be evaluated again soon.
     last_cost: f64,
     /// Refused edges around each vertex, so that finding them near a
-    /// collapse costs nothing in the usual case of none.
+    /// collapse costs nothing in the usual case of none. Edges the flip
+    /// guard refused are not counted: they wait in `flip_waits`.
     refused_around: Vec<u32>,
+    /// Edges the flip guard refused, each waiting on the face that
+    /// flipped (see `flip_waits`).
+    flip_waits: FlipWaits,
     /// Vertices on a boundary edge (kept only when a term needs them).
     border: Vec<bool>,
     /// Which vertices are at a sharp crease (see `init_queue`).
@@ -353,6 +386,7 @@ impl<'o> Run<'o> {
             virtual_pairs,
             last_cost: 0.0,
             refused_around: vec![0; nv],
+            flip_waits: FlipWaits::default(),
             border: Vec::new(),
             crease: Vec::new(),
             locked,
@@ -420,6 +454,7 @@ impl<'o> Run<'o> {
             virtual_pairs: Vec::new(),
             last_cost: 0.0,
             refused_around: vec![0; nv],
+            flip_waits: FlipWaits::default(),
             border: Vec::new(),
             crease: Vec::new(),
             locked,
@@ -490,6 +525,10 @@ impl<'o> Run<'o> {
 
     /// Border flags, the cost of every edge, the queues.
     pub fn init_queue(&mut self) {
+        if self.model.crease_area_applies() {
+            let cos = self.model.metric.crease_angle.to_radians().cos();
+            self.p.complex.keep_crease_lists(cos);
+        }
         let c = &self.p.complex;
         let locked = &self.locked;
         // A locked vertex's border status does not matter: it stays where it
@@ -547,6 +586,7 @@ impl<'o> Run<'o> {
             })
             .flatten_iter()
             .collect();
+        self.report.evaluations += c.edges.iter().filter(|e| e.alive()).count();
         for en in &entries {
             self.p.complex.edges[en.edge as usize].set_queued(true);
         }
@@ -646,6 +686,9 @@ impl<'o> Run<'o> {
             // now with the position (cheaper than storing one per edge),
             // unless it was just evaluated on its way to the top.
             let c = &self.p.complex;
+            if known.is_none() {
+                self.report.evaluations += 1;
+            }
             let Some(ev) = known.or_else(|| {
                 self.model.evaluate(
                     c,
@@ -691,14 +734,31 @@ impl<'o> Run<'o> {
             } else {
                 Default::default()
             };
-            if !self.allowed(i, j, ev.position, min_cos) {
-                let edge = &mut self.p.complex.edges[e as usize];
-                if !edge.refused() {
-                    edge.set_refused(true);
-                    self.refused_around[a as usize] += 1;
-                    self.refused_around[b as usize] += 1;
+            match self.allowed(i, j, ev.position, min_cos) {
+                Verdict::Allowed => {}
+                Verdict::Flips(face) => {
+                    // Tried again when that face changes or the edge's
+                    // cost does, and only a few times at collapses nearby
+                    // before that: see `flip_waits`.
+                    let edge = &mut self.p.complex.edges[e as usize];
+                    if !edge.refused() {
+                        edge.set_refused(true);
+                        if self.flip_waits.wait(e, face) {
+                            self.refused_around[a as usize] += 1;
+                            self.refused_around[b as usize] += 1;
+                        }
+                    }
+                    continue;
                 }
-                continue;
+                Verdict::Refused => {
+                    let edge = &mut self.p.complex.edges[e as usize];
+                    if !edge.refused() {
+                        edge.set_refused(true);
+                        self.refused_around[a as usize] += 1;
+                        self.refused_around[b as usize] += 1;
+                    }
+                    continue;
+                }
             }
             self.made.push(cost as f32);
             self.collapse(e, i, j, ev);
@@ -792,6 +852,7 @@ impl<'o> Run<'o> {
                 return Some((top.edge, top.cost, known));
             }
             let c = &self.p.complex;
+            self.report.evaluations += 1;
             let ev = self.model.evaluate(
                 c,
                 &self.quadrics,
@@ -875,7 +936,7 @@ impl<'o> Run<'o> {
     }
 
     /// The guards, cheapest first.
-    fn allowed(&mut self, i: u32, j: u32, x: DVec3, min_cos: Option<f64>) -> bool {
+    fn allowed(&mut self, i: u32, j: u32, x: DVec3, min_cos: Option<f64>) -> Verdict {
         let c = &mut self.p.complex;
         c.star_faces(i, j, &mut self.star);
         let c = &self.p.complex;
@@ -890,20 +951,20 @@ impl<'o> Run<'o> {
             let floor = if self.target > 0 { 1 } else { 0 };
             if removed > left + slack || c.triangles - removed.min(c.triangles) < floor {
                 self.report.rejected.overshoot += 1;
-                return false;
+                return Verdict::Refused;
             }
         }
         if self.options.guards.keep_topology && !keeps_topology(c, i, j) {
             self.report.rejected.topology += 1;
-            return false;
+            return Verdict::Refused;
         }
         if let Some(mc) = min_cos {
-            if flips_a_face(c, &self.star, i, j, x, mc) {
+            if let Some(face) = flipped_face(c, &self.star, i, j, x, mc) {
                 self.report.rejected.normal_flip += 1;
-                return false;
+                return Verdict::Flips(face);
             }
         }
-        true
+        Verdict::Allowed
     }
 
     fn collapse(&mut self, e: u32, i: u32, j: u32, ev: Evaluation) {
@@ -945,14 +1006,13 @@ impl<'o> Run<'o> {
         let moved = std::mem::take(&mut self.refused_around[j as usize]);
         self.refused_around[i as usize] += moved;
         for &k in &c.killed {
-            let edge = &mut c.edges[k as usize];
-            if edge.refused() {
-                edge.set_refused(false);
-                for v in edge.ends {
-                    let n = &mut self.refused_around[v as usize];
-                    *n = n.saturating_sub(1);
-                }
-            }
+            unrefuse(
+                &mut c.edges[k as usize],
+                k,
+                &mut self.refused_around,
+                &mut self.flip_waits,
+            );
+            self.flip_waits.cost_changed(k);
         }
         self.moved[i as usize] = true;
         self.merged_into[j as usize] = i;
@@ -1011,14 +1071,38 @@ impl<'o> Run<'o> {
             }
             self.border[j as usize] = false;
         }
+        // Those whose cost changed: their retries one ring out start over.
+        todo.sort_unstable();
+        todo.dedup();
+        if !self.flip_waits.is_empty() {
+            for &ed in &todo {
+                self.flip_waits.cost_changed(ed);
+            }
+        }
+        let changed_cost = todo.len();
         for &ei in &c.vert_edges[i as usize] {
             let k = c.other(ei, i);
             if self.refused_around[k as usize] > 0 {
                 for &ek in &c.vert_edges[k as usize] {
-                    if c.edges[ek as usize].refused() {
+                    if c.edges[ek as usize].refused() && self.flip_waits.near_retry(ek) {
                         todo.push(ek);
                     }
                 }
+            }
+        }
+        // (An edge between two neighbours of `i` is found from both.)
+        todo[changed_cost..].sort_unstable();
+        for t in changed_cost..todo.len() {
+            let ed = todo[t];
+            if (t == 0 || todo[t - 1] != ed) && todo[..changed_cost].binary_search(&ed).is_err() {
+                self.flip_waits.retried_near(ed);
+            }
+        }
+        // Edges refused for a flip whose witness face was in the star:
+        // every such face lost a corner or has `i` moved now.
+        if !self.flip_waits.is_empty() {
+            for &f in &self.star {
+                self.flip_waits.wake(f, &mut todo);
             }
         }
         todo.sort_unstable();
@@ -1031,13 +1115,7 @@ impl<'o> Run<'o> {
             }
             let edge = &mut c.edges[k];
             edge.bump_gen();
-            if edge.refused() {
-                edge.set_refused(false);
-                for v in edge.ends {
-                    let n = &mut self.refused_around[v as usize];
-                    *n = n.saturating_sub(1);
-                }
-            }
+            unrefuse(edge, ed, &mut self.refused_around, &mut self.flip_waits);
             if !edge.queued() {
                 // Not in the queue (refused, or not collapsible before): put
                 // it back, stale, under the cost of the last collapse so
@@ -1075,6 +1153,7 @@ impl<'o> Run<'o> {
     pub(crate) fn release_adjacency(&mut self) {
         self.queue = CollapseQueue::default();
         self.refused_around = Vec::new();
+        self.flip_waits = FlipWaits::default();
         self.p.complex.clear_adjacency();
     }
 
