@@ -624,6 +624,12 @@ pub(crate) struct CostModel {
     /// Squared [`crate::AttributeOptions::invisible_distance`]: appearance
     /// may always steer below it, whatever the budget.
     pub invisible_distance2: f64,
+    /// Whether a border vertex of a planar region moves only onto a border
+    /// vertex (see `evaluate`). Off where the collapse history is recorded
+    /// for re-baking: the successive mapping of a flat plane then maps
+    /// texels to the wrong input points (the bake crate's flat-plane test
+    /// fails by 16/255), a cause not yet found.
+    pub exact_flat_borders: bool,
     /// The file's geometric error budget, in cost units (area times
     /// squared distance): appearance may lift a collapse's rank up to it,
     /// never higher, and never lowers a rank. The budget is
@@ -841,14 +847,26 @@ impl CostModel {
             && !fixed_j
             && position != pi
             && position != pj
+            && self.exact_flat_borders
             && planar_star(c, i, j, &mut s.faces)
         {
-            match (bi, bj) {
+            let at = match (bi, bj) {
                 (true, false) => pi,
                 (false, true) => pj,
+                // Two border vertices join only along their border (as
+                // meshoptimizer's border vertices do): a chord across the
+                // region would fold or cover its faces twice.
+                _ if !s.a.contains(&j) => return None,
                 _ if ranked.eval(pi) <= ranked.eval(pj) => pi,
                 _ => pj,
+            };
+            // Nor may a face of the region flatten to a line there (three
+            // corners on a straight border run): the flip guard cannot
+            // judge a face without area, so it could fold over later.
+            if crate::guards::flattens_a_face(c, &s.faces, i, j, at) {
+                return None;
             }
+            at
         } else {
             position
         };
@@ -916,6 +934,7 @@ mod tests {
             attributes_move_vertices: false,
             attribute_slack: f64::INFINITY,
             invisible_distance2: 0.0,
+            exact_flat_borders: true,
             appearance_budget: f64::INFINITY,
             regularization_looks: false,
             metric,
@@ -991,6 +1010,7 @@ mod tests {
             attributes_move_vertices: joint,
             attribute_slack: f64::INFINITY,
             invisible_distance2: 0.0,
+            exact_flat_borders: true,
             appearance_budget: f64::INFINITY,
             regularization_looks: false,
         };
@@ -1271,6 +1291,7 @@ mod tests {
             attributes_move_vertices: false,
             attribute_slack: f64::INFINITY,
             invisible_distance2: 0.0,
+            exact_flat_borders: true,
             appearance_budget: f64::INFINITY,
             regularization_looks: false,
             metric: Metric {
@@ -1308,6 +1329,7 @@ mod tests {
             attributes_move_vertices: false,
             attribute_slack: f64::INFINITY,
             invisible_distance2: 0.0,
+            exact_flat_borders: true,
             appearance_budget: f64::INFINITY,
             regularization_looks: false,
             metric: Metric {
@@ -1348,6 +1370,7 @@ mod tests {
                 attributes_move_vertices: false,
                 attribute_slack: f64::INFINITY,
                 invisible_distance2: 0.0,
+                exact_flat_borders: true,
                 appearance_budget: f64::INFINITY,
                 regularization_looks: false,
                 metric,
@@ -1423,6 +1446,7 @@ mod tests {
             attributes_move_vertices: false,
             attribute_slack: f64::INFINITY,
             invisible_distance2: 0.0,
+            exact_flat_borders: true,
             appearance_budget: f64::INFINITY,
             regularization_looks: false,
             metric: Metric {
@@ -1446,6 +1470,7 @@ mod tests {
             attributes_move_vertices: false,
             attribute_slack: f64::INFINITY,
             invisible_distance2: 0.0,
+            exact_flat_borders: true,
             appearance_budget: f64::INFINITY,
             regularization_looks: false,
             metric: Metric::default(),

@@ -63,6 +63,37 @@ pub(crate) fn flipped_face(
     None
 }
 
+/// Whether collapsing `i`–`j` to `x` leaves a surviving face of `star`
+/// that had area with none (its corners on one line, to 1e-12 of its
+/// area). [`flipped_face`] does not judge faces without area, so a face
+/// flattened to a line could later turn over unseen; the flat-border rule
+/// (see `CostModel::evaluate`) refuses such collapses.
+pub(crate) fn flattens_a_face(c: &Complex, star: &[u32], i: u32, j: u32, x: DVec3) -> bool {
+    let mut old_p: smallvec::SmallVec<[DVec3; 8]> = smallvec::SmallVec::new();
+    let mut new_p: smallvec::SmallVec<[DVec3; 8]> = smallvec::SmallVec::new();
+    for &f in star {
+        let face = c.face(f);
+        if face.len() == 3 && face.contains(&i) && face.contains(&j) {
+            continue;
+        }
+        old_p.clear();
+        new_p.clear();
+        for &v in face {
+            let p = c.pos[v as usize];
+            old_p.push(p);
+            new_p.push(if v == i || v == j { x } else { p });
+        }
+        let (lo, ln) = (
+            polygon_normal(&old_p).length_squared(),
+            polygon_normal(&new_p).length_squared(),
+        );
+        if lo > 1e-30 && ln <= 1e-24 * lo {
+            return true;
+        }
+    }
+    false
+}
+
 /// The link condition for polygon complexes (Dey et al. 1999; W App. B),
 /// with the boundary rule: true when collapsing `i`–`j` keeps the topology.
 ///
@@ -626,6 +657,25 @@ mod tests {
             flipped_face(&c, &star, 0, 1, DVec3::new(-3.0, 0.0, 0.0), 0.0),
             Some(1)
         );
+    }
+
+    #[test]
+    fn a_face_pressed_onto_a_line_counts_as_flattened() {
+        // The fan of the flip test. Collapsing 0–1 onto -x gives face
+        // (0, 2, 3) two equal corners (no area); onto +x every surviving
+        // face keeps its area.
+        let pos = vec![DVec3::ZERO, DVec3::X, DVec3::Y, -DVec3::X, -DVec3::Y];
+        let (c, _) = Complex::new(
+            pos,
+            &[0, 3, 6, 9, 12],
+            &[0, 1, 2, 0, 2, 3, 0, 3, 4, 0, 4, 1],
+        );
+        let star: Vec<u32> = c.vert_faces[0].to_vec();
+        assert!(!flattens_a_face(&c, &star, 0, 1, DVec3::X));
+        assert!(flattens_a_face(&c, &star, 0, 1, -DVec3::X));
+        // Onto the line through 2 and 3, between them: face (0, 2, 3) has
+        // its three corners on one line.
+        assert!(flattens_a_face(&c, &star, 0, 1, DVec3::new(-0.5, 0.5, 0.0)));
     }
 
     #[test]

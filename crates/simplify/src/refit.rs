@@ -117,6 +117,9 @@ pub(crate) struct RefitInput<'a> {
     pub regularization: &'a [Isotropic],
     /// Vertices that must not move (locked borders); empty: none.
     pub fixed: &'a [bool],
+    /// Whether border vertices of planar regions stay (see
+    /// [`on_a_flat_border`]); as `CostModel::exact_flat_borders`.
+    pub exact_flat_borders: bool,
     /// The flip guard's bound: a face's normal may turn by at most this
     /// cosine in one sweep.
     pub min_cos: f64,
@@ -246,7 +249,7 @@ fn place(
     let here = c.pos[v as usize];
     if d.weight <= 0.0
         || input.fixed.get(v as usize).copied().unwrap_or(false)
-        || on_a_flat_border(c, star, v)
+        || (input.exact_flat_borders && on_a_flat_border(c, star, v))
     {
         return here;
     }
@@ -845,6 +848,7 @@ mod tests {
             regularization: &[],
             fixed,
             min_cos,
+            exact_flat_borders: true,
         };
         refit(c, &input, sweeps)
     }

@@ -352,6 +352,7 @@ impl<'o> Run<'o> {
             area_floor: metric.area_floor.max(0.0) * area / faces.max(1) as f64,
             attribute_slack: options.attributes.geometry_tolerance.powi(2) - 1.0,
             invisible_distance2: options.attributes.invisible_distance.powi(2),
+            exact_flat_borders: !options.record_history,
             appearance_budget: p.appearance_budget,
             regularization_looks: steering
                 && options.attributes.regularized_choice
@@ -1209,6 +1210,7 @@ impl<'o> Run<'o> {
             regularization: &self.reg,
             fixed: &fixed,
             min_cos,
+            exact_flat_borders: self.model.exact_flat_borders,
         };
         let moved = crate::refit::refit(&mut self.p.complex, &input, sweeps);
         for (m, r) in self.moved.iter_mut().zip(moved) {

@@ -222,7 +222,7 @@ fn one_far_vertex_does_not_make_the_rest_of_the_error_vanish() {
 /// (z = 0 exactly, a ragged border and a hole) at 10% and 1%, quads kept
 /// and not: every output vertex in the plane and every output border
 /// vertex on the input's border, to 1e-9 of the diagonal (the output may
-/// not cover area the input does not).
+/// not cover area the input does not), and no face folded over.
 #[test]
 fn a_flat_tiling_stays_in_its_plane_and_inside_its_border() {
     use wildlod_simplify::QuadMode;
@@ -256,6 +256,29 @@ fn a_flat_tiling_stays_in_its_plane_and_inside_its_border() {
                 .flatten()
                 .map(|p| scenes::distance_to_segments(p.map(f64::from), &border))
                 .fold(0.0, f64::max);
+            // No face folded over: every face with area winds like the
+            // input's (the tiling's faces all face +z).
+            let signed = |m: &wildlod_mesh::Mesh, f: usize| {
+                let c = m.faces.face(f);
+                (0..c.len())
+                    .map(|k| {
+                        let (a, b) = (
+                            m.positions[c[k] as usize],
+                            m.positions[c[(k + 1) % c.len()] as usize],
+                        );
+                        f64::from(a[0]) * f64::from(b[1]) - f64::from(b[0]) * f64::from(a[1])
+                    })
+                    .sum::<f64>()
+            };
+            let up = signed(input, 0).signum();
+            let folded = (0..mesh.faces.len())
+                .filter(|&f| signed(mesh, f) * up < -1e-12)
+                .count();
+            if folded > 0 {
+                failures.push(format!(
+                    "{quad_mode:?} at {ratio}: {folded} faces folded over"
+                ));
+            }
             eprintln!("{quad_mode:?} at {ratio}: off the plane {off_plane:e}, off the border {off_border:e}");
             if off_plane > 1e-9 * diagonal || off_border > 1e-9 * diagonal {
                 failures.push(format!(
