@@ -2,6 +2,7 @@
 //! slivers with coordinates rounded as exporters write them, and grids of
 //! nearly collinear slivers (issue 32). The bounds are on the loop's work
 //! (`Report::evaluations`), never on time.
+#![allow(clippy::unwrap_used, clippy::expect_used)] // test code
 
 mod common;
 
