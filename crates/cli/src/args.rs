@@ -122,7 +122,8 @@ pub struct SimplifyArgs {
     #[arg(long, value_name = "R")]
     pub ratio: Option<f64>,
     /// Keep at most this many triangles in the file (a quad counts as two).
-    #[arg(long, value_name = "N")]
+    /// Give --ratio or --faces, not both.
+    #[arg(long, value_name = "N", conflicts_with = "ratio")]
     pub faces: Option<usize>,
     /// Allow no collapse whose error exceeds E, as a fraction of the
     /// bounding-box diagonal (0.001 = 0.1%). Combines with --ratio/--faces:

@@ -72,8 +72,8 @@ pub struct BatchArgs {
     /// target and no --lod-* list is given).
     #[arg(long, value_name = "R")]
     pub ratio: Option<f64>,
-    /// Keep at most this many triangles per file.
-    #[arg(long, value_name = "N")]
+    /// Keep at most this many triangles per file (not with --ratio).
+    #[arg(long, value_name = "N", conflicts_with = "ratio")]
     pub faces: Option<usize>,
     /// Error limit relative to each file's bounding-box diagonal.
     #[arg(long, value_name = "E")]

@@ -88,8 +88,10 @@ impl Levels {
         } else {
             ratios.to_vec()
         };
-        if let Some(r) = ratios.iter().find(|r| !(**r > 0.0 && **r <= 1.0)) {
-            return usage(format!("{flag}ratios must be in (0, 1], got {r}"));
+        // 0 is "as few as possible" (each mesh keeps a triangle), as with
+        // `simplify --ratio 0`.
+        if let Some(r) = ratios.iter().find(|r| !(**r >= 0.0 && **r <= 1.0)) {
+            return usage(format!("{flag}ratios must be in [0, 1], got {r}"));
         }
         if ratios.windows(2).any(|w| w[1] >= w[0]) {
             return usage(format!(
@@ -135,8 +137,8 @@ pub struct Level {
 }
 
 /// Triangles `scene` draws: each mesh's once per node that shows it (the
-/// count budgets are of).
-fn drawn_triangles(scene: &Scene) -> usize {
+/// count budgets are of, and every command reports).
+pub fn drawn_triangles(scene: &Scene) -> usize {
     scene
         .meshes
         .iter()

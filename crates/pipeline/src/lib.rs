@@ -37,9 +37,9 @@ pub use batch::{
     BatchSettings, BatchSummary, FileResult,
 };
 pub use chain::{
-    build_chain, chain_json, chain_paths, coverage_for_error, level_path, normalize_weights,
-    screen_coverage, write_chain, Level, Levels, FULL_VIEW_COVERAGE, PIXEL_TOLERANCE,
-    SCREEN_PIXELS, SCREEN_WIDTH_PIXELS,
+    build_chain, chain_json, chain_paths, coverage_for_error, drawn_triangles, level_path,
+    normalize_weights, screen_coverage, write_chain, Level, Levels, FULL_VIEW_COVERAGE,
+    PIXEL_TOLERANCE, SCREEN_PIXELS, SCREEN_WIDTH_PIXELS,
 };
 pub use compare::{
     compare_files, load_images, Animated, CompareFilesOptions, FileComparison, Frame,

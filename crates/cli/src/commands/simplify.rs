@@ -328,7 +328,7 @@ pub fn scene_summary(name: &str, r: &SceneReport, names: &[String], seconds: f64
     let mut s = summary(name, &whole, seconds);
     let shown = r.meshes.iter().filter(|m| m.input_triangles > 0).count();
     s.push_str(&format!(
-        "; {shown} mesh{} under one budget, world error {:.3e}",
+        "; {shown} mesh{} under one budget, world error {:.3e} in file units",
         if shown == 1 { "" } else { "es" },
         r.world_error
     ));
@@ -386,11 +386,14 @@ pub(super) fn write(doc: &Document, cfg: &Config) -> anyhow::Result<()> {
     Ok(())
 }
 
-/// One line per mesh: `bunny: 6598 → 660 triangles, error 0.0021, 38 ms`,
+/// One line per mesh: `bunny: 6598 → 660 triangles, error 0.0021 of the
+/// diagonal, 38 ms`,
 /// and why it stopped short when it did.
 pub fn summary(name: &str, r: &Report, seconds: f64) -> String {
     let mut s = format!(
-        "{name}: {} → {} triangles, error {:.4}, {:.0} ms",
+        // Which error is which: this one is relative to the bounding-box
+        // diagonal, the scene line's "world error" is in the file's units.
+        "{name}: {} → {} triangles, error {:.4} of the diagonal, {:.0} ms",
         r.input_triangles,
         r.output_triangles,
         r.error,
