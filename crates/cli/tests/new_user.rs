@@ -444,3 +444,209 @@ fn compare_text_is_a_table_with_aligned_values_and_singular_counts() {
         "{text}"
     );
 }
+
+/// (element, slot, joint) of every influence slot that has zero weight but
+/// names a joint other than 0, over every skinned primitive of a GLB: what
+/// the Khronos validator reports as ACCESSOR_JOINTS_USED_ZERO_WEIGHT.
+fn joints_used_with_zero_weight(glb: &Path) -> (usize, Vec<(usize, usize, u32)>) {
+    let data = std::fs::read(glb).unwrap();
+    let u32_at = |o: usize| u32::from_le_bytes(data[o..o + 4].try_into().unwrap()) as usize;
+    let json_len = u32_at(12);
+    let json: Value = serde_json::from_slice(&data[20..20 + json_len]).unwrap();
+    let bin = &data[20 + json_len + 8..];
+    // The values of one accessor as f64 (normalized integers scaled to 0..1).
+    let read = |a: usize| -> Vec<f64> {
+        let acc = &json["accessors"][a];
+        let view = &json["bufferViews"][acc["bufferView"].as_u64().unwrap() as usize];
+        let count = acc["count"].as_u64().unwrap() as usize;
+        let comps = 4;
+        let (size, norm) = match acc["componentType"].as_u64().unwrap() {
+            5121 => (1, 255.0),
+            5123 => (2, 65535.0),
+            5126 => (4, 0.0),
+            t => panic!("component type {t}"),
+        };
+        let normalized = acc["normalized"].as_bool().unwrap_or(false);
+        let stride = view["byteStride"]
+            .as_u64()
+            .map_or(size * comps, |s| s as usize);
+        let base = view["byteOffset"].as_u64().unwrap_or(0) as usize
+            + acc["byteOffset"].as_u64().unwrap_or(0) as usize;
+        let mut out = Vec::with_capacity(count * comps);
+        for e in 0..count {
+            for c in 0..comps {
+                let o = base + e * stride + c * size;
+                let v = match size {
+                    1 => bin[o] as f64,
+                    2 => u16::from_le_bytes([bin[o], bin[o + 1]]) as f64,
+                    _ => f32::from_le_bytes(bin[o..o + 4].try_into().unwrap()) as f64,
+                };
+                out.push(if normalized { v / norm } else { v });
+            }
+        }
+        out
+    };
+    let mut slots = 0;
+    let mut bad = Vec::new();
+    for mesh in json["meshes"].as_array().unwrap() {
+        for prim in mesh["primitives"].as_array().unwrap() {
+            let attrs = prim["attributes"].as_object().unwrap();
+            for set in 0.. {
+                let (Some(j), Some(w)) = (
+                    attrs.get(&format!("JOINTS_{set}")),
+                    attrs.get(&format!("WEIGHTS_{set}")),
+                ) else {
+                    break;
+                };
+                let (j, w) = (
+                    read(j.as_u64().unwrap() as usize),
+                    read(w.as_u64().unwrap() as usize),
+                );
+                slots += j.len();
+                for (k, (jv, wv)) in j.iter().zip(&w).enumerate() {
+                    if *wv == 0.0 && *jv != 0.0 {
+                        bad.push((k / 4, k % 4, *jv as u32));
+                    }
+                }
+            }
+        }
+    }
+    (slots, bad)
+}
+
+#[test]
+fn skinned_levels_name_joint_zero_in_every_slot_without_weight() {
+    let Some(root) =
+        wildlod_testkit::corpus("skinned_levels_name_joint_zero_in_every_slot_without_weight")
+    else {
+        return;
+    };
+    let man = root.join("skinned/CesiumMan.glb");
+    let dir = tempfile::tempdir().unwrap();
+    let one = dir.path().join("one.glb");
+    let o = wildlod(&["simplify", s(&man), "-o", s(&one), "--ratio", "0.25", "-q"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let chain = dir.path().join("chain.glb");
+    let o = wildlod(&[
+        "lod",
+        s(&man),
+        "-o",
+        s(&chain),
+        "--ratios",
+        "0.5,0.25,0.1",
+        "-q",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    for f in [&one, &chain] {
+        let (slots, bad) = joints_used_with_zero_weight(f);
+        assert!(slots > 1000, "{}: no skin read", f.display());
+        assert!(
+            bad.is_empty(),
+            "{}: {} slots, e.g. {:?}",
+            f.display(),
+            bad.len(),
+            &bad[..bad.len().min(5)]
+        );
+        // And the validator agrees, where it can run.
+        if let Some(v) = support::validate(f) {
+            assert!(
+                v["codes"].get("ACCESSOR_JOINTS_USED_ZERO_WEIGHT").is_none(),
+                "{v}"
+            );
+        }
+    }
+}
+
+/// Words that cite the papers behind the options; they belong in
+/// docs/cli.md, not in the help a user reads to run the tool.
+const CITATIONS: &[&str] = &[
+    "§",
+    "λ",
+    "Knodt",
+    "Garland",
+    "Hoppe",
+    "Liu,",
+    "Yuksel",
+    "link condition",
+    "W's",
+    "(W ",
+];
+
+#[test]
+fn short_help_is_one_short_line_per_flag_without_paper_citations() {
+    for cmd in ["simplify", "lod", "batch"] {
+        let o = wildlod(&[cmd, "-h"]);
+        assert!(o.status.success(), "{}", stderr(&o));
+        let h = stdout(&o);
+        for line in h.lines() {
+            assert!(
+                line.chars().count() <= 100,
+                "{cmd} -h: {} chars: {line}",
+                line.chars().count()
+            );
+        }
+        // Every flag is on its own line with its summary.
+        let flags = h
+            .lines()
+            .filter(|l| l.trim_start().starts_with("--"))
+            .count();
+        assert!(flags >= 30, "{cmd} -h lists {flags} flags:\n{h}");
+        for long in [false, true] {
+            let text = if long {
+                stdout(&wildlod(&[cmd, "--help"]))
+            } else {
+                h.clone()
+            };
+            for c in CITATIONS {
+                assert!(
+                    !text.contains(c),
+                    "{cmd} {}: cites {c:?}",
+                    if long { "--help" } else { "-h" }
+                );
+            }
+        }
+    }
+    // The long help keeps the detail.
+    let long = stdout(&wildlod(&["simplify", "--help"]));
+    assert!(
+        long.contains("Exporters make surfaces double-sided"),
+        "{long}"
+    );
+    // The references are in docs/cli.md.
+    let docs =
+        std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("../../docs/cli.md"))
+            .unwrap();
+    for c in ["Knodt", "λ_sym", "link condition", "Hoppe 1999", "W §4.3"] {
+        assert!(docs.contains(c), "docs/cli.md lacks {c}");
+    }
+}
+
+#[test]
+fn lod_and_batch_help_print_each_example_on_its_own_line() {
+    for (cmd, examples) in [
+        (
+            "lod",
+            [
+                "wildlod lod chair.glb -o chair_lods.glb --ratios 0.5,0.25,0.1",
+                "wildlod lod scan.obj -o out/scan.obj --errors 0.001,0.005,0.02",
+                "wildlod lod truck.glb -o truck.glb --faces 20000,5000,1000 --split",
+            ],
+        ),
+        (
+            "batch",
+            [
+                "wildlod batch assets/ -o lods/ --ratio 0.25",
+                "wildlod batch assets/ -o lods/ --lod-ratios 0.5,0.25,0.1 --jobs 4",
+                "wildlod batch assets/ -o lods/ --ratio 0.25 --skip-existing",
+            ],
+        ),
+    ] {
+        let h = stdout(&wildlod(&[cmd, "--help"]));
+        for e in examples {
+            assert!(
+                h.lines().any(|l| l.trim() == e),
+                "{cmd}: no line holds just `{e}`:\n{h}"
+            );
+        }
+    }
+}

@@ -84,10 +84,7 @@ fn embedded_image_is_written_beside_the_obj_and_named_relative() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("grid.obj");
     write_ok(&Document::from_scene(two_part_grid()), &out);
-    assert_eq!(
-        file_names(dir.path()),
-        ["grid.mtl", "grid.obj", "png.png"]
-    );
+    assert_eq!(file_names(dir.path()), ["grid.mtl", "grid.obj", "png.png"]);
     // Named after its texture ("png"), as the .gltf writer names images
     // held in memory.
     assert_eq!(

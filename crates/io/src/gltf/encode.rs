@@ -482,6 +482,15 @@ fn write_skin(
         _ => ComponentFormat::F32,
     };
     let raw_weights = quantize_weights(&weights, sets * 4, weight_format);
+    // A slot whose weight is (or rounds to) zero does not move the vertex,
+    // whatever joint it names; the validator expects joint 0 there
+    // (ACCESSOR_JOINTS_USED_ZERO_WEIGHT), and a fitted skin's unused slots
+    // kept the joint of a neighbour's influence.
+    for (j, &w) in joints.iter_mut().zip(&raw_weights) {
+        if w == 0.0 {
+            *j = 0;
+        }
+    }
     for set in 0..sets {
         let pick = |i: usize, v: usize| v * sets * 4 + set * 4 + i;
         let jv: Vec<f32> = (0..n)
