@@ -505,6 +505,10 @@ mod tests {
         assert!(Levels::from_lists(&[0.25, 0.5], &[], &[], "--").is_err());
         assert!(Levels::from_lists(&[0.5, 0.5], &[], &[], "--").is_err());
         assert!(Levels::from_lists(&[1.5], &[], &[], "--").is_err());
+        // 0 is the smallest valid level, as `simplify --ratio 0`.
+        assert!(Levels::from_lists(&[0.5, 0.0], &[], &[], "--").is_ok());
+        assert!(Levels::from_lists(&[0.5, -0.1], &[], &[], "--").is_err());
+        assert!(Levels::from_lists(&[f64::NAN], &[], &[], "--").is_err());
         assert!(Levels::from_lists(&[], &[0.01, 0.001], &[], "--").is_err());
         assert!(Levels::from_lists(&[], &[], &[100, 1000], "--").is_err());
         assert!(Levels::from_lists(&[0.5], &[0.01], &[], "--").is_err());
