@@ -142,28 +142,37 @@ pub struct SimplifyArgs {
     /// limit reached stops.
     #[arg(long, value_name = "E")]
     pub error: Option<f64>,
-    /// Re-bake textures onto a new atlas (reaches lower targets)
+    /// Textures: auto, keep or bake (see --help)
+    ///
+    /// `auto` keeps the input's UVs and atlas, measures the texture the
+    /// result shows against the input's (texture Chamfer distance) and, where
+    /// that differs visibly, also re-bakes and keeps whichever measures
+    /// better; `keep` always keeps the UVs; `bake` always re-bakes (see
+    /// --bake).
+    #[arg(long, value_enum, default_value_t = TextureArg::Auto, hide_possible_values = true)]
+    pub textures: TextureArg,
+    /// Re-bake textures onto a new atlas (same as --textures bake)
     ///
     /// Collapses cross UV seams freely, the simplified mesh gets a new atlas,
     /// and every texel of it is mapped back to the input through the collapse
     /// history to bake every channel of its material (base color with vertex
     /// colors, metallic-roughness, normal, occlusion, emissive) with no
-    /// bleeding. Reaches targets that seam-keeping cannot on meshes with many
-    /// UV islands. Without it the input's UVs and textures are kept.
+    /// bleeding.
     #[arg(long)]
     pub bake: bool,
-    /// With --bake: atlas size in texels
+    /// When re-baking: atlas size in texels
     ///
     /// Default: keep the input's texel density, rounded to a power of two, at
     /// most 4096.
-    #[arg(long, value_name = "N", requires = "bake")]
+    #[arg(long, value_name = "N")]
     pub texture_size: Option<u32>,
-    /// With --bake: one atlas and material per alpha mode and sidedness
+    /// When re-baking: one atlas per alpha mode and sidedness
     ///
-    /// Fewer draw calls.
-    #[arg(long, requires = "bake")]
+    /// Bakes every material with the same alpha mode and sidedness into one
+    /// atlas and one material (fewer draw calls).
+    #[arg(long)]
     pub merge_materials: bool,
-    /// With --bake: JPEG quality for JPEG inputs
+    /// When re-baking: JPEG quality for JPEG inputs
     ///
     /// Used when the input's textures were all JPEG; otherwise PNG is written.
     #[arg(long, value_name = "Q", default_value_t = 90)]
@@ -187,7 +196,7 @@ pub struct SimplifyArgs {
     /// Print a JSON report instead of one line per mesh
     ///
     /// Stable keys, documented in docs/cli.md.
-    #[arg(long, conflicts_with = "bake")]
+    #[arg(long)]
     pub json: bool,
     /// How to simplify: metric, guards, attributes.
     #[command(flatten)]
@@ -449,6 +458,18 @@ pub struct DemoArgs {
     /// Ratio of triangles the level of detail keeps.
     #[arg(long, default_value_t = 0.1)]
     pub ratio: f64,
+}
+
+/// `--textures`: keep the UVs, re-bake, or choose by measurement.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum TextureArg {
+    /// Keep the UVs; re-bake where that shows the texture visibly worse
+    /// and the re-bake measures better.
+    Auto,
+    /// Keep the input's UVs and atlas.
+    Keep,
+    /// Re-bake onto a new atlas.
+    Bake,
 }
 
 /// `--seams`: what happens to attribute seams.

@@ -1,8 +1,9 @@
 //! `wildlod simplify --bake` end to end on generated files: glTF and OBJ+MTL
 //! outputs carry the baked images, a missing texture is a warning that names
-//! it, and JPEG inputs give JPEG outputs. On the corpus: the re-baked LOD's
-//! texture Chamfer distance (W Table 2) is lower than the keep-UV LOD's on
-//! every textured file at 10% and 1%.
+//! it, and JPEG inputs give JPEG outputs. On the corpus: where keeping the
+//! UVs shows the texture visibly off, the re-baked LOD's texture Chamfer
+//! distance (W Table 2) is lower, and the default (`--textures auto`) is
+//! never visibly worse than the better of the two.
 #![allow(clippy::unwrap_used, clippy::expect_used)] // test code
 
 mod support;
@@ -20,10 +21,37 @@ use wildlod_testkit::{corpus, short};
 /// A textured torus (2304 triangles, every quad its own UV island) whose
 /// texture is the file `texture` (written by the caller or missing).
 fn torus_gltf(dir: &Path, texture: &Path, ext: &str) -> PathBuf {
+    torus_with_uvs(dir, texture, ext, false)
+}
+
+/// The torus of [`torus_gltf`], or with `continuous` one UV chart: the
+/// two angles around the torus, unwrapped per triangle, so its only seams
+/// are where the angles wrap.
+fn torus_with_uvs(dir: &Path, texture: &Path, ext: &str, continuous: bool) -> PathBuf {
     let mut m = shapes::triangulate(&shapes::torus(48, 24, 1.0, 0.35));
     let n = m.faces.len();
     let mut uv = Vec::new();
     for f in 0..n {
+        if continuous {
+            let angles: Vec<[f32; 2]> = m
+                .faces
+                .face(f)
+                .iter()
+                .map(|&v| {
+                    let [x, y, z] = m.positions[v as usize];
+                    let around = y.atan2(x);
+                    let ring = (x * x + y * y).sqrt() - 1.0;
+                    let tube = z.atan2(ring);
+                    let turn = std::f32::consts::TAU;
+                    [around / turn, tube / turn]
+                })
+                .collect();
+            for c in &angles {
+                let unwrap = |a: f32, first: f32| a - (a - first).round();
+                uv.extend_from_slice(&[unwrap(c[0], angles[0][0]), unwrap(c[1], angles[0][1])]);
+            }
+            continue;
+        }
         let (cx, cy) = ((f % 48) as f32, (f / 48) as f32);
         for (du, dv) in [(0.1, 0.1), (0.9, 0.1), (0.1, 0.9)] {
             uv.extend_from_slice(&[(cx + du) / 48.0, (cy + dv) / 48.0]);
@@ -189,7 +217,11 @@ fn jpeg_inputs_give_jpeg_outputs_at_the_requested_quality() {
     assert!(!bad.status.success());
 }
 
-fn texture_chamfer(reference: &Document, candidate: &Document) -> Option<f64> {
+/// The texture Chamfer distance (W Table 2) of `candidate` against
+/// `reference` over the reference's sampling floor, with a seed of its own
+/// (the product's choice uses the default seed: this measurement is
+/// independent of it).
+fn texture_excess(reference: &Document, candidate: &Document) -> Option<f64> {
     let images = |d: &Document| -> Vec<Option<wildlod_mesh::Image>> {
         d.scene
             .textures
@@ -200,33 +232,38 @@ fn texture_chamfer(reference: &Document, candidate: &Document) -> Option<f64> {
     let (ri, ci) = (images(reference), images(candidate));
     let r = EvalMesh::from_scene(&reference.scene, &ri);
     let c = EvalMesh::from_scene(&candidate.scene, &ci);
-    compare(
+    let m = compare(
         &r,
         &c,
         &CompareOptions {
             samples: 1000,
-            texture_samples: 10_000,
+            texture_samples: 40_000,
+            seed: 0x5eed_7e57,
             ..CompareOptions::default()
         },
-    )
-    .texture_chamfer
+    );
+    Some(m.texture_chamfer? - m.texture_chamfer_floor?)
 }
 
-/// Issue 11's bar on real files: re-baking beats keeping the UVs. Baked at
-/// 1024² to keep the suite fast (the evaluation uses the default size).
+/// What the default (`--textures auto`) promises on real files, and the
+/// property of re-baking it rests on (W §4.3: a re-bake has no bleeding
+/// where keeping UVs must cross charts). Baked at 1024² to keep the suite
+/// fast (the evaluation uses the default size).
 ///
-/// One known exception: bob (one mesh, 3 UV islands) at 10%, where keeping
-/// the UVs with fitted attributes scores 0.0449 against the re-bake's
-/// 0.0455 at any atlas size (resolution is not the cause: 4096² gives the
-/// same, and the unsimplified re-bake scores 0.003). There it must stay
-/// within 3%. A second one: sofa_03 (149 UV islands) at 1%, where the two
-/// tie within the metric's noise (0.0793 against 0.0791 with the keep-UV
-/// defaults of the attribute issue; the pictures in
-/// docs/evaluation-appearance.md show the re-bake keeping the cushions'
-/// print that keep-UV smears). There too it must stay within 3%.
+/// - Wherever keeping the UVs shows the texture visibly off the input's
+///   (texture Chamfer over the input's own sampling floor above
+///   [`wildlod_pipeline::VISIBLE_TEXTURE_EXCESS`]), the re-bake measures
+///   lower.
+/// - The default's output is never visibly worse than the better of the
+///   two: its excess is within that same visible difference of the lower
+///   one's.
+///
+/// Measured with a seed of its own, so a choice that only won on the
+/// product's own sampling would fail here.
 #[test]
-fn rebaked_texture_chamfer_beats_keep_uv_on_every_textured_corpus_file() {
-    let Some(root) = corpus("rebaked_texture_chamfer_beats_keep_uv_on_every_textured_corpus_file")
+fn the_default_shows_textures_as_well_as_the_better_of_keep_uv_and_rebake() {
+    let Some(root) =
+        corpus("the_default_shows_textures_as_well_as_the_better_of_keep_uv_and_rebake")
     else {
         return;
     };
@@ -239,60 +276,130 @@ fn rebaked_texture_chamfer_beats_keep_uv_on_every_textured_corpus_file() {
         "skinned/CesiumMan.glb",
         "skinned/Fox/Fox.gltf",
     ];
+    let visible = wildlod_pipeline::VISIBLE_TEXTURE_EXCESS;
     let dir = tempfile::tempdir().unwrap();
     let mut failures = Vec::new();
+    let mut rebake_needed = 0;
     for rel in files {
         let path = root.join(rel);
         let name = short(&root, &path);
         let input = wildlod_io::read(&path).unwrap();
         for ratio in ["0.1", "0.01"] {
             let mut scores = Vec::new();
-            for bake in [false, true] {
-                let out = dir.path().join(format!("out_{bake}.glb"));
-                let mut args = vec![
-                    "simplify",
-                    s(&path),
-                    "-o",
-                    s(&out),
-                    "--ratio",
-                    ratio,
-                    "--overwrite",
-                    "-q",
-                ];
-                if bake {
-                    args.extend(["--bake", "--texture-size", "1024"]);
-                }
-                let o = wildlod(&args);
+            for mode in ["keep", "bake", "auto"] {
+                let out = dir.path().join(format!("out_{mode}.glb"));
+                let o = wildlod(
+                    &[
+                        "simplify",
+                        s(&path),
+                        "-o",
+                        s(&out),
+                        "--ratio",
+                        ratio,
+                        "--overwrite",
+                        "-q",
+                        "--textures",
+                        mode,
+                        "--texture-size",
+                        "1024",
+                    ][..if mode == "keep" { 10 } else { 12 }],
+                );
                 assert!(
                     o.status.success(),
                     "{name}: {}",
                     String::from_utf8_lossy(&o.stderr)
                 );
                 let lod = wildlod_io::read(&out).unwrap();
-                scores.push(texture_chamfer(&input, &lod).unwrap_or(f64::INFINITY));
+                scores.push(texture_excess(&input, &lod).unwrap_or(f64::INFINITY));
             }
+            let [keep, bake, auto] = [scores[0], scores[1], scores[2]];
             eprintln!(
-                "{name} at {ratio}: keep-UV {:.4}, re-baked {:.4}",
-                scores[0], scores[1]
+                "{name} at {ratio}: over the floor, keep-UV {keep:.4}, re-baked {bake:.4}, default {auto:.4}"
             );
-            let known = (name == "textured/bob/bob_tri.obj" && ratio == "0.1")
-                || (name == "textured/sofa_03/sofa_03_1k.gltf" && ratio == "0.01");
-            if known {
-                if scores[1] > 1.03 * scores[0] {
+            if keep > visible {
+                rebake_needed += 1;
+                if bake >= keep {
                     failures.push(format!(
-                        "{name} at {ratio} (known exception): re-baked {:.4} > 1.03 × keep-UV {:.4}",
-                        scores[1], scores[0]
+                        "{name} at {ratio}: keep-UV visibly off ({keep:.4}) and re-baked no better ({bake:.4})"
                     ));
                 }
-            } else if scores[1] >= scores[0] {
+            }
+            if auto > keep.min(bake) + visible {
                 failures.push(format!(
-                    "{name} at {ratio}: re-baked {:.4} ≥ keep-UV {:.4}",
-                    scores[1], scores[0]
+                    "{name} at {ratio}: the default {auto:.4} is visibly worse than the better of keep-UV {keep:.4} and re-baked {bake:.4}"
                 ));
             }
         }
     }
     assert!(failures.is_empty(), "{failures:#?}");
+    // The property above is only tested where keeping the UVs fails: the
+    // corpus must hold such cases (at 1% most files do).
+    assert!(
+        rebake_needed >= 5,
+        "only {rebake_needed} cases need a re-bake"
+    );
+}
+
+/// Decision 4 of the defaults issue on generated files: a torus whose
+/// every quad is its own UV island (as a lightmap unwrap or a photogrammetry
+/// atlas is) under a gradient texture. At 1% the LOD cannot keep any island
+/// whole: keeping the UVs gives faces spanning islands, which show the
+/// texture between them; `auto` re-bakes and says so, in the summary and in
+/// `--json`, with both measurements. The same torus with one UV chart at
+/// 50% keeps its UVs (nothing is torn: no re-bake is tried).
+#[test]
+fn auto_rebakes_where_keeping_uvs_tears_and_keeps_them_where_it_does_not() {
+    let dir = tempfile::tempdir().unwrap();
+    let png = dir.path().join("paint.png");
+    write_image(&png);
+    let islands = torus_gltf(dir.path(), &png, "gltf");
+    let chart = torus_with_uvs(dir.path(), &png, "glb", true);
+    let out = dir.path().join("lod.glb");
+    let run = |input: &Path, ratio: &str, json: bool| {
+        let mut args = vec!["simplify", s(input), "-o", s(&out), "--ratio", ratio];
+        args.extend(["--overwrite", "--texture-size", "128"]);
+        if json {
+            args.push("--json");
+        }
+        let o = wildlod(&args);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        String::from_utf8_lossy(&o.stdout).into_owned()
+    };
+    let j: serde_json::Value = serde_json::from_str(&run(&islands, "0.01", true)).unwrap();
+    let t = &j["textures"];
+    assert_eq!(t["mode"], "auto", "{j}");
+    assert_eq!(t["chosen"], "bake", "{j}");
+    let (keep, bake) = (
+        t["keep_uv_excess"].as_f64().unwrap(),
+        t["rebaked_excess"].as_f64().unwrap(),
+    );
+    assert!(
+        keep > wildlod_pipeline::VISIBLE_TEXTURE_EXCESS && bake < keep,
+        "{t}"
+    );
+    // The written file is the re-baked one: a new atlas of the asked size.
+    let doc = wildlod_io::read(&out).unwrap();
+    let mat = &doc.scene.materials[0];
+    let tex = &doc.scene.textures[mat.base_color_texture.unwrap().texture as usize];
+    let img = wildlod_io::decode_image_rgba8(&tex.source).unwrap();
+    assert_eq!((img.width, img.height), (128, 128));
+    let line = run(&islands, "0.01", false);
+    assert!(line.contains("textures: re-baked"), "{line}");
+
+    let j: serde_json::Value = serde_json::from_str(&run(&chart, "0.5", true)).unwrap();
+    let t = &j["textures"];
+    assert_eq!(t["chosen"], "keep", "{j}");
+    assert!(t["rebaked_excess"].is_null(), "{j}");
+    assert!(
+        t["keep_uv_excess"].as_f64().unwrap() <= wildlod_pipeline::VISIBLE_TEXTURE_EXCESS,
+        "{t}"
+    );
+    // The input's own image, not a 128² atlas.
+    let doc = wildlod_io::read(&out).unwrap();
+    let img = wildlod_io::decode_image_rgba8(&doc.scene.textures[0].source).unwrap();
+    assert_eq!((img.width, img.height), (96, 96));
+    let line = run(&chart, "0.5", false);
+    assert!(line.contains("textures: UVs kept"), "{line}");
 }
 
 /// Image files (PNG or JPEG) directly in `dir`, sorted.

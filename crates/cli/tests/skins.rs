@@ -1,5 +1,6 @@
 //! Skinned levels of detail judged as they are drawn: posed (issue 31,
 //! decision 8).
+#![allow(clippy::unwrap_used, clippy::expect_used)] // test code
 
 mod support;
 

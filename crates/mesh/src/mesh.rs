@@ -119,6 +119,40 @@ impl Mesh {
         crate::bounds::robust_bounds(points, &Default::default()).diagonal()
     }
 
+    /// Keeps the faces `keep` marks (a face past its end is kept), with
+    /// their parts and their corners' attribute and skin indices, in
+    /// order. Positions and values stay (see [`Mesh::compact`]).
+    pub fn retain_faces(&mut self, keep: &[bool]) {
+        let kept = |f: usize| keep.get(f).copied().unwrap_or(true);
+        let mut faces = Faces::with_capacity(self.faces.len(), self.faces.corner_count());
+        let mut corners: Vec<usize> = Vec::with_capacity(self.faces.corner_count());
+        let mut face_parts = Vec::with_capacity(self.face_parts.len());
+        for f in 0..self.faces.len() {
+            if !kept(f) {
+                continue;
+            }
+            faces.push(self.faces.face(f));
+            corners.extend(self.faces.corner_range(f));
+            if let Some(&p) = self.face_parts.get(f) {
+                face_parts.push(p);
+            }
+        }
+        let pick = |indices: &[u32]| -> Vec<u32> {
+            corners
+                .iter()
+                .map(|&c| indices.get(c).copied().unwrap_or(crate::ABSENT))
+                .collect()
+        };
+        for a in &mut self.attributes {
+            a.indices = pick(&a.indices);
+        }
+        if let Some(s) = &mut self.skinning {
+            s.indices = pick(&s.indices);
+        }
+        self.faces = faces;
+        self.face_parts = face_parts;
+    }
+
     /// Removes positions and attribute values no corner uses, keeping the
     /// order of the rest. Returns the old-to-new position map (`u32::MAX`
     /// for dropped positions).
@@ -212,6 +246,32 @@ mod tests {
         );
         assert_eq!(m.attributes[0].values, vec![0.0, 0.0, 1.0, 1.0]);
         assert_eq!(m.attributes[0].indices, vec![0, 1, ABSENT]);
+    }
+
+    #[test]
+    fn retain_faces_keeps_the_marked_faces_with_their_parts_and_corner_indices() {
+        let mut m = Mesh::from_polygons(
+            vec![[0.0; 3]; 5],
+            Faces {
+                offsets: vec![0, 3, 7, 10],
+                indices: vec![0, 1, 2, 0, 1, 3, 4, 2, 3, 4],
+            },
+        );
+        m.parts.push(Part::default());
+        m.face_parts = vec![0, 1, 0];
+        m.attributes.push(Attribute {
+            semantic: Semantic::TexCoord(0),
+            components: 2,
+            values: vec![0.0; 20],
+            indices: (0..10).collect(),
+            format: ComponentFormat::F32,
+        });
+        m.retain_faces(&[true, false, true]);
+        assert_eq!(m.faces.offsets, vec![0, 3, 6]);
+        assert_eq!(m.faces.indices, vec![0, 1, 2, 2, 3, 4]);
+        assert_eq!(m.face_parts, vec![0, 0]);
+        // The third face's corners were 7..10.
+        assert_eq!(m.attributes[0].indices, vec![0, 1, 2, 7, 8, 9]);
     }
 
     #[test]

@@ -22,6 +22,7 @@
 mod batch;
 mod chain;
 mod compare;
+mod double_sided;
 mod error;
 mod file;
 mod html_report;
@@ -30,6 +31,7 @@ mod progress;
 mod report;
 mod scene;
 mod targets;
+mod textures;
 mod tuning;
 
 pub use batch::{
@@ -44,6 +46,7 @@ pub use chain::{
 pub use compare::{
     compare_files, load_images, Animated, CompareFilesOptions, FileComparison, Frame,
 };
+pub use double_sided::{merge_twins_double_sided, MergedTwins};
 pub use error::Error;
 pub use file::{lod_file, simplify_file, FileTargets};
 pub use html_report::{
@@ -55,4 +58,8 @@ pub use progress::{MeshProgress, NoProgress};
 pub use report::{stop_key, ChainJson, LevelJson, MeshJson, RunJson};
 pub use scene::{file_stem, mesh_name, simplify_scene, MeshRun};
 pub use targets::{scene_diagonal, share_budget, targets_for, world_diagonal, MIN_TRIANGLES};
+pub use textures::{
+    choose as choose_textures, has_base_color_texture, texture_excess, worth_rebaking,
+    TextureChoice, TextureMode, VISIBLE_TEXTURE_EXCESS,
+};
 pub use tuning::{NormalSetting, SeamSetting, Tuning};

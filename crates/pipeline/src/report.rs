@@ -127,6 +127,13 @@ pub struct RunJson {
     pub seconds: f64,
     /// Every simplified mesh.
     pub meshes: Vec<MeshJson>,
+    /// Keep-UV or re-bake, and the measurements that chose it (files with
+    /// a base colour texture).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub textures: Option<crate::TextureChoice>,
+    /// Reversed twin face pairs written once with a double-sided material
+    /// (glTF outputs; see [`crate::merge_twins_double_sided`]).
+    pub double_sided_twins: usize,
 }
 
 impl RunJson {
@@ -140,6 +147,8 @@ impl RunJson {
             error: runs.iter().map(|r| r.report.error).fold(0.0, f64::max),
             seconds,
             meshes: runs.iter().map(MeshJson::new).collect(),
+            textures: None,
+            double_sided_twins: 0,
         }
     }
 }

@@ -80,6 +80,36 @@ pub(crate) fn polygon_normal(p: &[DVec3]) -> DVec3 {
     }
 }
 
+/// Sine of the angle below which two unit face normals count as one plane
+/// for [`planar_star`] (as a sine: a cosine cannot tell angles this small
+/// from 0 in double precision): faces within 1e-9 radians, so what stays
+/// in the plane stays there to about 1e-9 of the region's size.
+pub(crate) const PLANAR_SIN: f64 = 1e-9;
+
+/// Whether two unit normals lie within [`PLANAR_SIN`] of one line.
+#[inline]
+pub(crate) fn coplanar(a: DVec3, b: DVec3) -> bool {
+    a.cross(b).length() <= PLANAR_SIN
+}
+
+/// Whether every face around `i` or `j` with area lies in one plane
+/// (orientation aside: a flipped face of a flat sheet is still flat).
+pub(crate) fn planar_star(c: &Complex, i: u32, j: u32, faces: &mut Vec<u32>) -> bool {
+    c.star_faces(i, j, faces);
+    let mut first: Option<DVec3> = None;
+    for &f in faces.iter() {
+        let Some((n, _, _)) = face_plane(c, f) else {
+            continue;
+        };
+        match first {
+            None => first = Some(n),
+            Some(n0) if !coplanar(n0, n) => return false,
+            Some(_) => {}
+        }
+    }
+    true
+}
+
 /// Plane of face `f`: (unit normal, area, centroid), or `None` when it has no
 /// area.
 pub(crate) fn face_plane(c: &Complex, f: u32) -> Option<(DVec3, f64, DVec3)> {
@@ -618,6 +648,7 @@ pub(crate) struct Scratch {
     pub a: Vec<u32>,
     pub b: Vec<u32>,
     pub crease: Vec<u32>,
+    pub faces: Vec<u32>,
     pub attributes: AttrScratch,
 }
 
@@ -660,7 +691,9 @@ impl CostModel {
     ) -> Option<Evaluation> {
         let [i, j] = c.edges[e as usize].ends;
         let (pi, pj) = (c.pos[i as usize], c.pos[j as usize]);
-        if !(pi.distance_squared(pj) <= FAR * FAR) {
+        // NaN (a non-finite position) counts as far.
+        let d2 = pi.distance_squared(pj);
+        if d2.is_nan() || d2 > FAR * FAR {
             return None;
         }
         let (qi, qj) = (q[i as usize].quadric(pi), q[j as usize].quadric(pj));
@@ -794,6 +827,31 @@ impl CostModel {
                 _ => at,
             }
         };
+        // Flat stays flat (issue 31, decision 3): on the border of a planar
+        // region a vertex moves only onto a border vertex. The border
+        // planes hold it only in a least-squares sense: two corners of a
+        // ragged border joined meet between them, and a vertex on a
+        // straight run slides past the run's end, so the output would
+        // cover area the input does not. Endpoints keep every output
+        // border vertex an input one (as meshoptimizer keeps all borders);
+        // along a straight run that costs nothing. Curved or folded
+        // borders keep the optimal placement, which serves them.
+        let position = if (bi || bj)
+            && !fixed_i
+            && !fixed_j
+            && position != pi
+            && position != pj
+            && planar_star(c, i, j, &mut s.faces)
+        {
+            match (bi, bj) {
+                (true, false) => pi,
+                (false, true) => pj,
+                _ if ranked.eval(pi) <= ranked.eval(pj) => pi,
+                _ => pj,
+            }
+        } else {
+            position
+        };
         // A fixed endpoint's collapse is ranked by the whole quadric, as
         // the solve cannot set the regularization aside there.
         let mut cost = if fixed_i || fixed_j {
@@ -838,6 +896,17 @@ impl CostModel {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn coplanar_normals_are_within_a_nanoradian_either_way_round() {
+        let z = DVec3::Z;
+        let tilted = |a: f64| DVec3::new(a.sin(), 0.0, a.cos());
+        assert!(coplanar(z, tilted(5e-10)));
+        assert!(coplanar(z, -tilted(5e-10)));
+        assert!(!coplanar(z, tilted(2e-9)));
+        // The rounding of a unit normal (0.9999999999999999) is no angle.
+        assert!(coplanar(z, DVec3::new(0.0, 0.0, 0.9999999999999999)));
+    }
 
     /// The cost model of `metric` alone: no area floor, borders free,
     /// attributes not moving vertices.

@@ -65,7 +65,7 @@ pub struct Metric {
     /// 10%, 1%, 0.1%): without the term virtual edges raise the mean
     /// Hausdorff distance at 10% (0.188 → 0.222); with it they never raise
     /// it and lower it at 0.1% (0.362 → 0.351), where merging parts is what
-    /// keeps the shape. See `docs/evaluation.md`.
+    /// keeps the shape. See `docs/design.md`.
     pub gluing_weight: f64,
     /// Weight of Knodt's per-edge tangent quadrics (Knodt 2024 §3.1, Eq. 2):
     /// planes through every edge orthogonal to its faces, weighted by
@@ -91,7 +91,7 @@ pub struct Metric {
     /// (the area term alone lets them drift a little at every collapse);
     /// a vertex may still slide along a straight border. 0 disables them.
     /// Default 1 (a unit of border weighs like a unit of area), by
-    /// measurement on the corpus: see `docs/evaluation.md`.
+    /// measurement on the corpus: see `docs/design.md`.
     pub border_weight: f64,
     /// Weight of the crease constraint planes: through every sharp crease
     /// (a side shared by two faces whose normals turn by more than
@@ -108,7 +108,7 @@ pub struct Metric {
     /// 10%). 0 disables them.
     ///
     /// Default 0.25, by measurement on the corpus at 50/10/1% against the
-    /// peers (`docs/evaluation.md`, "Creases held like borders"):
+    /// peers (`docs/design.md`, "Creases held like borders"):
     /// Hausdorff 1.22 → 1.20, Chamfer 1.03 → 1.01 the best peer (CAD
     /// parts' Chamfer at 50%: the tray 2.24 → 1.28, octagonal_pocket
     /// 0.55 → 0.40); weight 1 gets 1.22 and 1.01 with larger swings.
@@ -135,7 +135,7 @@ pub struct Metric {
     /// planes). 0 disables it.
     ///
     /// Default 1 (the border term's weight), by measurement against the
-    /// peers at 50/10/1% (`docs/evaluation.md`, "Creases swept like
+    /// peers at 50/10/1% (`docs/design.md`, "Creases swept like
     /// borders"): corpus Hausdorff 1.15 → 1.14 and Chamfer 0.97 → 0.96
     /// the best peer, meshes made in code 1.52 → 1.49 and 1.16 → 1.15;
     /// 3.6% more instructions on a smooth scan (armadillo).
@@ -158,7 +158,7 @@ pub struct Metric {
     /// cost outweighs it and collapses went shortest first: on a mesh with
     /// flat parts the first quarter of the collapses was not free, and
     /// CesiumMan at 50% had 2.7× the Chamfer distance of a textbook quadric
-    /// simplifier. Measured on the corpus (`docs/evaluation.md`, "Placed
+    /// simplifier. Measured on the corpus (`docs/design.md`, "Placed
     /// and ranked by the planes"): Hausdorff 1.30 → 1.26, Chamfer 1.05 →
     /// 1.03 the best peer. Quad mode keeps it on
     /// ([`QuadSettings::regularized_choice`]), and so do meshes with
@@ -177,7 +177,7 @@ pub struct Metric {
     /// to try.
     ///
     /// Default 0, by measurement on the corpus at 50/10/1% against the
-    /// peers (`docs/evaluation.md`): at 1 the Hausdorff and Chamfer
+    /// peers (`docs/design.md`): at 1 the Hausdorff and Chamfer
     /// geometric means improve by about 1% overall (wild meshes at 1%:
     /// 1.04 → 0.89× the best peer) but textured meshes lose at 50%
     /// (1.66 → 1.89×) and re-baking `bob` at 10% loses 7% of its texture
@@ -204,7 +204,7 @@ pub struct Metric {
     /// at its plane cost, as W's complex does.
     ///
     /// Default 1, by measurement on the corpus at 50/10/1% against the
-    /// peers (`docs/evaluation.md`): Hausdorff geometric mean 1.75 → 1.59×
+    /// peers (`docs/design.md`): Hausdorff geometric mean 1.75 → 1.59×
     /// the best peer (dragon at 10% 19× → 2.4×, chair_model 95× → 2.6×),
     /// Chamfer 1.23 → 1.26× (wild meshes at 1%, whose holes and parts
     /// close later).
@@ -224,7 +224,7 @@ pub struct Metric {
     /// target face, and the full cost applies.
     ///
     /// Default 0.05, by measurement on the corpus at 50/10/1% against the
-    /// peers (`docs/evaluation.md`, "What a pinch may cost"): only 1%
+    /// peers (`docs/design.md`, "What a pinch may cost"): only 1%
     /// outputs change; Chamfer at 1% of chair_model 2.3 → 0.75× the best
     /// peer, the tray 2.75 → 2.4×; at 0.02 the spider's legs went at 10%
     /// (Hausdorff 4×), at 0.1 the gain was half.
@@ -238,7 +238,7 @@ pub struct Metric {
     /// worst-case distance low at the price of the mean). In [0, 1].
     ///
     /// Default 1, by measurement on the corpus at 50/10/1% against the
-    /// peers (`docs/evaluation.md`, "Plane weighting"): at 0 the Hausdorff
+    /// peers (`docs/design.md`, "Plane weighting"): at 0 the Hausdorff
     /// geometric mean improves from 1.58 to 1.45× the best peer (the
     /// dragon at 50% 3.2 → 1.35×, textured meshes at 10% 1.95 → 1.34×)
     /// but Chamfer worsens from 1.26 to 1.51× and one target is missed.
@@ -259,7 +259,7 @@ pub struct Metric {
     /// (`tests/quads.rs`), and the quad corpus measured no better with it.
     ///
     /// Default 0.5, by measurement on the corpus at 50/10/1% against the
-    /// peers (`docs/evaluation.md`, "Face weight floor"): Hausdorff
+    /// peers (`docs/design.md`, "Face weight floor"): Hausdorff
     /// geometric mean 1.58 → 1.46× the best peer (the dragon at 50% 3.2 →
     /// 1.5×, at 10% 2.4 → 1.1×; textured meshes at 10% 1.95 → 1.60×),
     /// Chamfer 1.26 → 1.30×; weighing every face alike (`area_exponent` 0)
@@ -291,7 +291,7 @@ impl Default for Metric {
 }
 
 /// Guards: collapses the user may forbid. Defaults chosen by measurement on
-/// the corpus (see `docs/evaluation.md`).
+/// the corpus (see `docs/design.md`).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Guards {
     /// Reject a collapse that turns any surviving face's normal by more than
@@ -362,8 +362,8 @@ pub struct QuadSettings {
     /// Default 2: the median deviation of the corpus's mid-size quad
     /// meshes, on which `epsilon` was measured, is about half of it
     /// (`spot_quadrangulated` 8.1e-4, `mixedFaring` 7.8e-4), so they keep
-    /// their ties. On `corpus/quad` (`docs/evaluation.md`, "Warped quads
-    /// and ties at the mesh's own scale") the Chamfer distance at 50% / 10%
+    /// their ties. On `corpus/quad` (`docs/design.md`, "Warped polygons"
+    /// and the quads section) the Chamfer distance at 50% / 10%
     /// / 1% went from 1.55 / 1.20 / 1.04 to 1.33 / 1.03 / 0.83× the best
     /// peer, most of it on the dense sword: 3.2 / 2.8 / 2.8 to 1.6 / 1.2 /
     /// 1.0× (quad ratio 1.00 / 0.98 / 0.95 to 0.97 / 0.74 / 0.16). Factor
@@ -394,7 +394,7 @@ pub struct QuadSettings {
     /// [`Metric::regularized_choice`] in quad mode. Default on: Knodt's
     /// tie classes rank collapses whose costs are close, and without the
     /// regularization's share the quad corpus measured worse (Hausdorff
-    /// at 1% 1.19 → 1.60–1.72 the best peer, `docs/evaluation.md`).
+    /// at 1% 1.19 → 1.60–1.72 the best peer, `docs/design.md`).
     pub regularized_choice: bool,
     /// λ_sym of Eq. 2: weight of the soft symmetry term (Knodt §3.1,
     /// Alg. 2): edges whose plane mirrors much of the model onto itself
@@ -558,8 +558,8 @@ pub struct AttributeOptions {
     /// texture coordinates and normals the viewer never sees as positions.
     ///
     /// Default true (Hoppe's joint placement): false measured better on the
-    /// keep-UV path (`docs/evaluation.md`, "Placement without
-    /// attributes") but re-baking `bob` at 10% then loses to keep-UV
+    /// keep-UV path (`docs/design.md`, "Joint
+    /// placement") but re-baking `bob` at 10% then loses to keep-UV
     /// (0.0454 against 0.0439), which `tests/bake.rs` forbids; until that
     /// is understood the default stays. With false, on the textured and
     /// skinned corpus the texture
@@ -577,7 +577,7 @@ pub struct AttributeOptions {
     /// regularization's travel cost keeps them where they were measured.
     /// Default true: without it the texture Chamfer of CesiumMilkTruck at
     /// 50% rose from 0.0338 to 0.0412 and CesiumMan's posed Hausdorff from
-    /// 0.0014 to 0.0020 (`docs/evaluation.md`, "Placed and ranked by the
+    /// 0.0014 to 0.0020 (`docs/design.md`, "Placed and ranked by the
     /// planes").
     pub regularized_choice: bool,
     /// How much farther from the input than a geometry-only run the
@@ -634,7 +634,7 @@ pub struct Options {
     /// components closer than `2 r` get an edge between their closest vertex
     /// pair. `r` is relative to the bounding-box diagonal; 0 disables them.
     /// Default 0.0025 (so parts within 0.5% of the diagonal may merge),
-    /// chosen by measurement on the corpus: see `docs/evaluation.md`.
+    /// chosen by measurement on the corpus: see `docs/design.md`.
     pub virtual_edge_radius: f64,
     /// Guards against collapses the user does not want.
     pub guards: Guards,
@@ -688,7 +688,7 @@ pub struct Options {
     /// (`QuadSettings::symmetry`) turns it off, since it would move vertices
     /// off the mirror plane.
     /// Default 1, by measurement on the corpus against the peers
-    /// (`docs/evaluation.md`, "Refit"): Hausdorff 1.46 → 1.35× the best
+    /// (`docs/design.md`, "Refit"): Hausdorff 1.46 → 1.35× the best
     /// peer, Chamfer 1.30 → 1.13×; a second sweep gets 1.34× and 1.13× for
     /// twice the time.
     pub refit_sweeps: u32,

@@ -152,7 +152,7 @@ pub(crate) fn pose_terms(
             .map(|v| {
                 let influences = joints.get(v).copied().unwrap_or(&[]);
                 let total: f64 = influences.iter().map(|&(_, w)| w as f64).sum();
-                if !(total > 0.0) {
+                if total.is_nan() || total <= 0.0 {
                     return None;
                 }
                 let mut m = DMat3::ZERO;

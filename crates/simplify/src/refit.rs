@@ -43,7 +43,7 @@
 //! attributes are fitted at the new positions like after any collapse.
 //!
 //! Not part of either paper: measured on the corpus against the peers
-//! (`docs/evaluation.md`, "Refit").
+//! (`docs/design.md`, "Refit").
 
 use glam::{DVec3, Vec3};
 use rayon::prelude::*;
@@ -244,7 +244,10 @@ fn place(
     reach: f64,
 ) -> DVec3 {
     let here = c.pos[v as usize];
-    if d.weight <= 0.0 || input.fixed.get(v as usize).copied().unwrap_or(false) {
+    if d.weight <= 0.0
+        || input.fixed.get(v as usize).copied().unwrap_or(false)
+        || on_a_flat_border(c, star, v)
+    {
         return here;
     }
     let q = input
@@ -349,6 +352,46 @@ impl Stars {
             normal: Vec::new(),
         }
     }
+}
+
+/// Whether `v` is on the border of a planar region: every face around it
+/// in one plane and a side of it used by one face only. Such a vertex
+/// stays (issue 31, decision 3: flat stays flat): its quadric's border
+/// planes hold it only in a least-squares sense, and the data terms pull
+/// it off the input's border line, so the output would cover area the
+/// input does not. The collapses keep it on the border the same way (see
+/// `CostModel::evaluate`).
+fn on_a_flat_border(c: &Complex, star: &Stars, v: u32) -> bool {
+    let range = star.range(v);
+    let mut first: Option<DVec3> = None;
+    for n in &star.normal[range.clone()] {
+        if *n == DVec3::ZERO {
+            continue;
+        }
+        match first {
+            None => first = Some(*n),
+            Some(n0) if !crate::cost::coplanar(n0, *n) => return false,
+            Some(_) => {}
+        }
+    }
+    // A side v–k used by one face: count v's neighbours along face sides.
+    let mut sides: SmallVec<[(u32, u32); 16]> = SmallVec::new();
+    for &f in &star.list[range] {
+        let face = c.face(f);
+        let len = face.len();
+        for (k, &x) in face.iter().enumerate() {
+            if x != v {
+                continue;
+            }
+            for y in [face[(k + 1) % len], face[(k + len - 1) % len]] {
+                match sides.iter_mut().find(|(z, _)| *z == y) {
+                    Some((_, n)) => *n += 1,
+                    None => sides.push((y, 1)),
+                }
+            }
+        }
+    }
+    sides.iter().any(|&(_, n)| n == 1)
 }
 
 /// The live faces around every output vertex, with their unit normals (a

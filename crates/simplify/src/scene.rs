@@ -853,9 +853,8 @@ pub fn skin_poses(scene: &Scene, skin: u32) -> Vec<Vec<[f32; 16]>> {
             .map(|m| m.to_cols_array())
             .collect()
     };
-    let animations = scene.animations.len();
-    if animations > 0 {
-        let frames = (MAX_POSES / animations).clamp(2, FRAMES_PER_ANIMATION);
+    if let Some(per) = MAX_POSES.checked_div(scene.animations.len()) {
+        let frames = per.clamp(2, FRAMES_PER_ANIMATION);
         let mut out = Vec::new();
         for (a, anim) in scene.animations.iter().enumerate() {
             for k in 0..frames {

@@ -141,7 +141,7 @@ pub fn simplify_with_attributes_and_progress(
 ) -> Result<Simplified, Error> {
     check_input(positions, faces, options)?;
     let tolerance = options.attributes.geometry_tolerance;
-    if !(tolerance >= 1.0) {
+    if tolerance.is_nan() || tolerance < 1.0 {
         return Err(Error::BadOption {
             name: "attributes.geometry_tolerance",
             value: tolerance,

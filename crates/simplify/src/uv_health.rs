@@ -103,13 +103,14 @@ pub(crate) fn uv_damage(
             continue;
         };
         let (a_out, s_out) = (uv_area(&uvs_out), surface_area(&ps_out));
-        if !(s_out > 0.0) {
+        if s_out.is_nan() || s_out <= 0.0 {
             continue;
         }
         total += s_out;
         let folded = a_out * a_in <= 0.0;
         let density = (a_out.abs() / s_out) / (a_in.abs() / s_in);
-        let stretched = !(density <= STRETCH && density >= 1.0 / STRETCH);
+        // NaN is outside the range too.
+        let stretched = !(1.0 / STRETCH..=STRETCH).contains(&density);
         if folded || stretched {
             damaged += s_out;
         }

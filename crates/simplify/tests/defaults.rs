@@ -2,6 +2,7 @@
 //! scenes unlike the corpus (architecture, CAD, a city block), each
 //! simplified with the default options and with attributes that fit but do
 //! not steer ("geometry only": every attribute weight 0).
+#![allow(clippy::unwrap_used, clippy::expect_used)] // test code
 
 use wildlod_eval::{compare, CompareOptions, Comparison, EvalMesh};
 use wildlod_mesh::{Scene, Semantic};
@@ -215,4 +216,53 @@ fn one_far_vertex_does_not_make_the_rest_of_the_error_vanish() {
         .groups
         .iter()
         .all(|g| g.report.outliers.is_empty()));
+}
+
+/// Decision 3: flat stays flat. A flat open tiling of triangles and quads
+/// (z = 0 exactly, a ragged border and a hole) at 10% and 1%, quads kept
+/// and not: every output vertex in the plane and every output border
+/// vertex on the input's border, to 1e-9 of the diagonal (the output may
+/// not cover area the input does not).
+#[test]
+fn a_flat_tiling_stays_in_its_plane_and_inside_its_border() {
+    use wildlod_simplify::QuadMode;
+    let scene = scenes::flat_tiling(7);
+    let input = &scene.meshes[0];
+    let border = scenes::border_segments(input);
+    let diagonal = {
+        let (mut lo, mut hi) = ([f64::MAX; 3], [f64::MIN; 3]);
+        for p in &input.positions {
+            for k in 0..3 {
+                lo[k] = lo[k].min(f64::from(p[k]));
+                hi[k] = hi[k].max(f64::from(p[k]));
+            }
+        }
+        (0..3).map(|k| (hi[k] - lo[k]).powi(2)).sum::<f64>().sqrt()
+    };
+    let mut failures = Vec::new();
+    for quad_mode in [QuadMode::default(), QuadMode::Never] {
+        for ratio in [0.1, 0.01] {
+            let mut o = at_ratio(ratio);
+            o.quad_mode = quad_mode;
+            let (out, _) = simplify_scene(&scene, &o).unwrap();
+            let mesh = &out.meshes[0];
+            let off_plane = mesh
+                .positions
+                .iter()
+                .map(|p| f64::from(p[2]).abs())
+                .fold(0.0, f64::max);
+            let off_border = scenes::border_segments(mesh)
+                .iter()
+                .flatten()
+                .map(|p| scenes::distance_to_segments(p.map(f64::from), &border))
+                .fold(0.0, f64::max);
+            eprintln!("{quad_mode:?} at {ratio}: off the plane {off_plane:e}, off the border {off_border:e}");
+            if off_plane > 1e-9 * diagonal || off_border > 1e-9 * diagonal {
+                failures.push(format!(
+                    "{quad_mode:?} at {ratio}: off the plane {off_plane:e}, off the border {off_border:e} (diagonal {diagonal})"
+                ));
+            }
+        }
+    }
+    assert!(failures.is_empty(), "{failures:#?}");
 }

@@ -18,7 +18,7 @@ use wildlod_mesh::{ImageSource, Material, Rgba8Image, Sampler, Texture, TextureR
 use wildlod_simplify::{Options, Target};
 
 use super::simplify::{summary, Config};
-use crate::stdout::emit;
+use wildlod_pipeline::MeshRun;
 
 /// Settings of `--bake`.
 #[derive(Clone, Debug)]
@@ -28,14 +28,15 @@ pub struct BakeConfig {
     pub jpeg_quality: u8,
 }
 
-/// Bakes every mesh of the document in place.
+/// Bakes every mesh of the document in place; returns every simplified
+/// mesh's run and summary line.
 pub fn bake_scene(
     doc: &mut Document,
     cfg: &Config,
     b: &BakeConfig,
     targets: &[Target],
     stem: &str,
-) -> anyhow::Result<()> {
+) -> anyhow::Result<(Vec<MeshRun>, Vec<String>)> {
     let scene = &doc.scene;
     // Decode every texture a material uses; a missing or broken one is a
     // warning and its channel bakes from the material's factor.
@@ -75,6 +76,7 @@ pub fn bake_scene(
     // Input materials kept for meshes that had nothing to bake.
     let mut kept: Vec<Option<u32>> = vec![None; scene.materials.len()];
     let mut meshes = Vec::with_capacity(scene.meshes.len());
+    let (mut runs, mut lines) = (Vec::new(), Vec::new());
     for (m, mesh) in scene.meshes.iter().enumerate() {
         let name = match (mesh.name.as_str(), scene.meshes.len()) {
             ("", 1) => stem.to_string(),
@@ -174,15 +176,19 @@ pub fn bake_scene(
                 p.material = p.material.map(|i| i + mat0);
             }
         }
-        if !cfg.quiet {
-            emit(&(line + "\n"))?;
-        }
+        lines.push(line);
+        runs.push(MeshRun {
+            mesh: m,
+            name,
+            report: baked.report.simplify.clone(),
+            seconds,
+        });
         meshes.push(out);
     }
     doc.scene.meshes = meshes;
     doc.scene.materials = materials;
     doc.scene.textures = textures;
-    Ok(())
+    Ok((runs, lines))
 }
 
 /// Index of input material `i` among the output materials, copying it

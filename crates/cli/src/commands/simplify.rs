@@ -7,8 +7,10 @@ use anyhow::{bail, Context};
 use wildlod_io::{Document, ErrorKind, WriteOptions};
 use wildlod_mesh::Scene;
 use wildlod_pipeline::{
-    file_stem, simplify_scene, targets_for, FileTargets, MeshRun, NormalSetting, RunJson,
-    SeamSetting, Tuning, MIN_TRIANGLES,
+    choose_textures, drawn_triangles, file_stem, has_base_color_texture, load_images,
+    merge_twins_double_sided, simplify_scene, targets_for, texture_excess, worth_rebaking,
+    FileTargets, MergedTwins, MeshRun, NormalSetting, RunJson, SeamSetting, TextureChoice,
+    TextureMode, Tuning, MIN_TRIANGLES,
 };
 use wildlod_simplify::{
     simplify_scene_with_progress, Options, Rejections, Report, SceneReport, SteeringOutcome,
@@ -16,12 +18,12 @@ use wildlod_simplify::{
 };
 
 use super::with_flag_names;
-use crate::args::{NormalArg, SeamArg, SimplifyArgs, TuningArgs};
+use crate::args::{NormalArg, SeamArg, SimplifyArgs, TextureArg, TuningArgs};
 use crate::progress::Progress;
 use crate::stdout::emit;
 
 /// Validated settings of one `simplify` run.
-#[derive(Debug)]
+#[derive(Clone, Debug)]
 pub struct Config {
     pub input: PathBuf,
     pub output: PathBuf,
@@ -34,8 +36,10 @@ pub struct Config {
     pub quiet: bool,
     /// Every stored mesh alone (`--per-mesh`) instead of one scene budget.
     pub per_mesh: bool,
-    /// Re-bake textures (`--bake`), with these settings.
-    pub bake: Option<super::bake::BakeConfig>,
+    /// Keep the UVs, re-bake, or choose (`--textures`, `--bake`).
+    pub textures: TextureMode,
+    /// How to re-bake where that is done.
+    pub bake: super::bake::BakeConfig,
     /// Print the JSON report instead of lines.
     pub json: bool,
 }
@@ -63,13 +67,23 @@ impl Config {
                 a.jpeg_quality
             );
         }
-        let bake = a.bake.then_some(super::bake::BakeConfig {
+        let textures = match (a.bake, a.textures) {
+            (true, TextureArg::Keep) => bail!("--bake contradicts --textures keep"),
+            (true, _) | (false, TextureArg::Bake) => TextureMode::Bake,
+            (false, TextureArg::Auto) => TextureMode::Auto,
+            (false, TextureArg::Keep) => TextureMode::Keep,
+        };
+        if textures == TextureMode::Keep && (a.texture_size.is_some() || a.merge_materials) {
+            bail!("--texture-size and --merge-materials apply only when re-baking, not with --textures keep");
+        }
+        let bake = super::bake::BakeConfig {
             texture_size: a.texture_size,
             merge_materials: a.merge_materials,
             jpeg_quality: a.jpeg_quality,
-        });
+        };
         Ok(Config {
             json: a.json,
+            textures,
             bake,
             input: a.input,
             output: a.output,
@@ -187,40 +201,196 @@ pub fn run(cfg: &Config) -> anyhow::Result<()> {
         }
     }
     let stem = file_stem(&cfg.input);
-    if let Some(b) = &cfg.bake {
-        // Baking maps every texel through one mesh's collapse history, so
-        // it stays per mesh.
-        let targets = mesh_targets(&doc.scene, cfg);
-        super::bake::bake_scene(&mut doc, cfg, b, &targets, &stem)?;
-        return write(&doc, cfg);
-    }
-    let show = !cfg.quiet && !cfg.json;
-    let runs = if cfg.per_mesh {
-        let targets = mesh_targets(&doc.scene, cfg);
-        let runs = simplify_scene(
-            &mut doc.scene,
-            &cfg.input,
-            &cfg.options,
-            &targets,
-            &stem,
-            &|name| Progress::new(name, show),
-        )?;
-        if show {
-            for r in &runs {
-                emit(&(summary(&r.name, &r.report, r.seconds) + "\n"))?;
-            }
-        }
-        runs
+    // glTF says "double-sided" directly: reversed twins become one face of
+    // a double-sided material, and the budget is of what the file drew.
+    let gltf = matches!(
+        wildlod_io::Format::from_path(&cfg.output),
+        Ok(wildlod_io::Format::Gltf | wildlod_io::Format::Glb)
+    );
+    let drawn = drawn_triangles(&doc.scene);
+    let twins = if gltf {
+        merge_twins_double_sided(&mut doc.scene)
     } else {
-        vec![simplify_whole_scene(&mut doc, cfg, &stem, show)?]
+        MergedTwins::default()
     };
-    write(&doc, cfg)?;
+    let adjusted;
+    let cfg = match cfg.ratio {
+        Some(r) if twins.triangles > 0 => {
+            let of_input = (r * drawn as f64).round() as usize;
+            adjusted = Config {
+                ratio: None,
+                faces: Some(cfg.faces.map_or(of_input, |n| n.min(of_input))),
+                ..cfg.clone()
+            };
+            &adjusted
+        }
+        _ => cfg,
+    };
+    let show = !cfg.quiet && !cfg.json;
+    let textured = has_base_color_texture(&doc.scene);
+    let fixed = |mode| {
+        textured.then_some(TextureChoice {
+            mode,
+            chosen: mode,
+            keep_uv_excess: None,
+            rebaked_excess: None,
+        })
+    };
+    let (done, choice) = match cfg.textures {
+        TextureMode::Bake => (rebake(&doc, cfg, &stem)?, fixed(TextureMode::Bake)),
+        TextureMode::Keep => (keep_uvs(&doc, cfg, &stem, show)?, fixed(TextureMode::Keep)),
+        TextureMode::Auto if !textured => (keep_uvs(&doc, cfg, &stem, show)?, None),
+        TextureMode::Auto => {
+            let (done, choice) = auto_textures(&doc, cfg, &stem, show)?;
+            (done, Some(choice))
+        }
+    };
+    if show {
+        for line in &done.lines {
+            emit(&(line.clone() + "\n"))?;
+        }
+        if let Some(c) = &choice {
+            emit(&(texture_line(c) + "\n"))?;
+        }
+        if twins.pairs > 0 {
+            emit(&format!(
+                "twins: {} reversed face pairs written once with a double-sided material ({} triangles the input drew twice)\n",
+                twins.pairs, twins.triangles
+            ))?;
+        }
+    }
+    write(&done.doc, cfg)?;
     if cfg.json {
-        let json = RunJson::new(&cfg.input, &cfg.output, &runs, t0.elapsed().as_secs_f64());
+        let mut json = RunJson::new(
+            &cfg.input,
+            &cfg.output,
+            &done.runs,
+            t0.elapsed().as_secs_f64(),
+        );
+        json.textures = choice;
+        json.double_sided_twins = twins.pairs;
+        // The input as the file drew it, before its twins were merged.
+        json.input_triangles += twins.triangles;
         let text = serde_json::to_string_pretty(&json).context("serializing the report")?;
         emit(&(text + "\n"))?;
     }
     Ok(())
+}
+
+/// `--textures auto`: the keep-UV result, measured; where its texture is
+/// visibly off the input's, also the re-bake, measured; the lower wins
+/// (see [`wildlod_pipeline::TextureMode::Auto`]).
+fn auto_textures(
+    doc: &Document,
+    cfg: &Config,
+    stem: &str,
+    show: bool,
+) -> anyhow::Result<(Done, TextureChoice)> {
+    let (input_images, _) = load_images(doc, &cfg.input);
+    let kept = keep_uvs(doc, cfg, stem, show)?;
+    let keep_uv_excess = texture_excess(&doc.scene, &input_images, &kept.doc.scene, &input_images);
+    let mut choice = TextureChoice {
+        mode: TextureMode::Auto,
+        chosen: TextureMode::Keep,
+        keep_uv_excess,
+        rebaked_excess: None,
+    };
+    if !worth_rebaking(keep_uv_excess) {
+        return Ok((kept, choice));
+    }
+    let baked = rebake(doc, cfg, stem)?;
+    let (baked_images, _) = load_images(&baked.doc, &cfg.output);
+    choice.rebaked_excess =
+        texture_excess(&doc.scene, &input_images, &baked.doc.scene, &baked_images);
+    choice.chosen = choose_textures(keep_uv_excess, choice.rebaked_excess);
+    Ok((
+        if choice.chosen == TextureMode::Bake {
+            baked
+        } else {
+            kept
+        },
+        choice,
+    ))
+}
+
+/// The line saying which texture treatment the output has and why.
+fn texture_line(c: &TextureChoice) -> String {
+    let excess = |e: Option<f64>| e.map_or("not measured".to_string(), |e| format!("{e:.4}"));
+    match (c.mode, c.chosen) {
+        (TextureMode::Auto, TextureMode::Bake) => format!(
+            "textures: re-baked (texture error over the input's own: keeping the UVs {}, re-baked {})",
+            excess(c.keep_uv_excess),
+            excess(c.rebaked_excess)
+        ),
+        (TextureMode::Auto, _) => match c.rebaked_excess {
+            Some(_) => format!(
+                "textures: UVs kept (texture error over the input's own: keeping the UVs {}, re-baked {})",
+                excess(c.keep_uv_excess),
+                excess(c.rebaked_excess)
+            ),
+            None => format!(
+                "textures: UVs kept (texture error over the input's own {}, below the visible {})",
+                excess(c.keep_uv_excess),
+                wildlod_pipeline::VISIBLE_TEXTURE_EXCESS
+            ),
+        },
+        (_, TextureMode::Bake) => "textures: re-baked (--textures bake)".to_string(),
+        _ => "textures: UVs kept (--textures keep)".to_string(),
+    }
+}
+
+/// Every textured mesh re-baked (always per mesh: baking maps every texel
+/// through one mesh's collapse history).
+fn rebake(doc: &Document, cfg: &Config, stem: &str) -> anyhow::Result<Done> {
+    let mut out = doc.clone();
+    let targets = mesh_targets(&doc.scene, cfg);
+    let (runs, lines) = super::bake::bake_scene(&mut out, cfg, &cfg.bake, &targets, stem)?;
+    Ok(Done {
+        doc: out,
+        runs,
+        lines,
+    })
+}
+
+/// The input's UVs kept: the whole file under one budget, or every mesh
+/// alone with `--per-mesh`.
+fn keep_uvs(doc: &Document, cfg: &Config, stem: &str, show: bool) -> anyhow::Result<Done> {
+    let mut out = doc.clone();
+    if cfg.per_mesh {
+        let targets = mesh_targets(&doc.scene, cfg);
+        let runs = simplify_scene(
+            &mut out.scene,
+            &cfg.input,
+            &cfg.options,
+            &targets,
+            stem,
+            &|name| Progress::new(name, show),
+        )?;
+        let lines = runs
+            .iter()
+            .map(|r| summary(&r.name, &r.report, r.seconds))
+            .collect();
+        Ok(Done {
+            doc: out,
+            runs,
+            lines,
+        })
+    } else {
+        let (run, line) = simplify_whole_scene(&mut out, cfg, stem, show)?;
+        Ok(Done {
+            doc: out,
+            runs: vec![run],
+            lines: vec![line],
+        })
+    }
+}
+
+/// A simplified document with its runs and their summary lines (printed
+/// only for the result that is written).
+struct Done {
+    doc: Document,
+    runs: Vec<MeshRun>,
+    lines: Vec<String>,
 }
 
 /// The whole file under one budget in world space (W §1, Fig. 1): see
@@ -230,7 +400,7 @@ fn simplify_whole_scene(
     cfg: &Config,
     stem: &str,
     show: bool,
-) -> anyhow::Result<MeshRun> {
+) -> anyhow::Result<(MeshRun, String)> {
     let options = Options {
         target: Target {
             ratio: cfg.ratio,
@@ -247,27 +417,28 @@ fn simplify_whole_scene(
         .with_context(|| format!("{}: simplifying the scene", cfg.input.display()))?;
     progress.finish();
     let seconds = t0.elapsed().as_secs_f64();
-    if show {
-        let names: Vec<String> = doc
-            .scene
-            .meshes
-            .iter()
-            .enumerate()
-            .map(|(m, mesh)| match mesh.name.as_str() {
-                "" => format!("mesh {m}"),
-                n => n.to_string(),
-            })
-            .collect();
-        emit(&(scene_summary(stem, &report, &names, seconds) + "\n"))?;
-    }
+    let names: Vec<String> = doc
+        .scene
+        .meshes
+        .iter()
+        .enumerate()
+        .map(|(m, mesh)| match mesh.name.as_str() {
+            "" => format!("mesh {m}"),
+            n => n.to_string(),
+        })
+        .collect();
+    let line = scene_summary(stem, &report, &names, seconds);
     doc.scene = lod;
     // One entry for the whole file: its budget and error are the file's.
-    Ok(MeshRun {
-        mesh: 0,
-        name: stem.to_string(),
-        report: whole_report(&report),
-        seconds,
-    })
+    Ok((
+        MeshRun {
+            mesh: 0,
+            name: stem.to_string(),
+            report: whole_report(&report),
+            seconds,
+        },
+        line,
+    ))
 }
 
 /// The scene's run as one [`Report`]: the file's triangles, target and

@@ -1,0 +1,141 @@
+//! Keep the input's UVs or re-bake the textures: chosen per file by what
+//! the level of detail shows (`simplify --textures auto`, the default).
+//!
+//! Keeping UVs (Hoppe 1999's attribute quadrics, seams kept) is fast and
+//! keeps the artist's atlas, and at moderate ratios it shows the texture
+//! as well as a re-bake does. Past some ratio, different for every file,
+//! the collapses must cross UV charts and the texture tears (smears, black
+//! wedges); re-baking (W §4.3) onto a new atlas does not, but costs
+//! seconds and replaces the atlas. Neither wins everywhere: on the corpus
+//! a re-bake is clearly better at 1% on most files and ties at 50%, and on
+//! a 149-island sofa at 1% keeping the UVs is better.
+//!
+//! So the choice is measured on the result, as the steering of the
+//! attribute terms is (W §5's texture Chamfer distance: the colour each
+//! surface sample shows against the colour of the other surface's closest
+//! sample, both ways, minus the reference's own sampling floor): the
+//! keep-UV result is kept when its texture error over the floor is below
+//! [`VISIBLE_TEXTURE_EXCESS`], a difference nobody sees; otherwise the
+//! file is also re-baked and the lower of the two measured errors wins.
+//! The threshold only decides when a re-bake is worth its time: the
+//! choice between two results is always by measurement.
+
+use serde::Serialize;
+use wildlod_eval::{compare, CompareOptions, EvalMesh};
+use wildlod_mesh::{Image, Scene};
+
+/// Mean colour difference (RGB in 0..1, Euclidean, as the texture Chamfer
+/// distance measures it) below which a keep-UV result is kept without
+/// trying a re-bake: 0.01 is 2.5 of 255 levels spread over the channels,
+/// about one just-noticeable difference for a uniform patch (and a mean:
+/// the local differences that make it up are where texels moved, not a
+/// tint), so a re-bake could improve it by less than anyone sees.
+pub const VISIBLE_TEXTURE_EXCESS: f64 = 0.01;
+
+/// Texture samples per surface: W §5 uses 10 000; 40 000 halves the
+/// sampling floor, so the two candidates are told apart where they differ
+/// by the threshold.
+const TEXTURE_SAMPLES: usize = 40_000;
+
+/// How `simplify` treats textured materials.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum TextureMode {
+    /// Keep the UVs, and re-bake when that shows the texture visibly worse
+    /// and the re-bake measures better (see the module documentation).
+    #[default]
+    Auto,
+    /// Keep the input's UVs and atlas.
+    Keep,
+    /// Re-bake every textured mesh onto a new atlas (W §4.3).
+    Bake,
+}
+
+/// What was chosen for a file and why: its `textures` key in
+/// `simplify --json`.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct TextureChoice {
+    /// What was asked.
+    pub mode: TextureMode,
+    /// What the output holds: [`TextureMode::Keep`] or [`TextureMode::Bake`].
+    pub chosen: TextureMode,
+    /// The keep-UV result's texture Chamfer distance over the input's
+    /// sampling floor, when measured.
+    pub keep_uv_excess: Option<f64>,
+    /// The re-baked result's, when measured.
+    pub rebaked_excess: Option<f64>,
+}
+
+/// Whether anything of `scene` shows a base colour texture (what the
+/// texture Chamfer distance measures), so that the choice matters.
+pub fn has_base_color_texture(scene: &Scene) -> bool {
+    scene
+        .materials
+        .iter()
+        .any(|m| m.base_color_texture.is_some())
+}
+
+/// The texture Chamfer distance of `output` against `input` (both with
+/// their decoded textures) over the input's own sampling floor; `None`
+/// when it cannot be measured (no texture on either side, no area).
+pub fn texture_excess(
+    input: &Scene,
+    input_images: &[Option<Image>],
+    output: &Scene,
+    output_images: &[Option<Image>],
+) -> Option<f64> {
+    let reference = EvalMesh::from_scene(input, input_images);
+    let candidate = EvalMesh::from_scene(output, output_images);
+    let c = compare(
+        &reference,
+        &candidate,
+        &CompareOptions {
+            // Only the texture distance is used: the geometric ones at
+            // their cheapest.
+            samples: 1_000,
+            texture_samples: TEXTURE_SAMPLES,
+            max_vertex_samples: 1_000,
+            ..CompareOptions::default()
+        },
+    );
+    Some((c.texture_chamfer? - c.texture_chamfer_floor?).max(0.0))
+}
+
+/// Whether a keep-UV result with this measured excess is worth trying a
+/// re-bake for.
+pub fn worth_rebaking(keep_uv_excess: Option<f64>) -> bool {
+    keep_uv_excess.is_some_and(|e| e > VISIBLE_TEXTURE_EXCESS)
+}
+
+/// The choice between the two measured results: the re-bake only where it
+/// measures lower.
+pub fn choose(keep_uv_excess: Option<f64>, rebaked_excess: Option<f64>) -> TextureMode {
+    match (keep_uv_excess, rebaked_excess) {
+        (Some(k), Some(b)) if b < k => TextureMode::Bake,
+        (None, Some(_)) => TextureMode::Bake,
+        _ => TextureMode::Keep,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_rebake_is_tried_only_past_the_visible_threshold() {
+        assert!(!worth_rebaking(None));
+        assert!(!worth_rebaking(Some(0.0)));
+        assert!(!worth_rebaking(Some(VISIBLE_TEXTURE_EXCESS)));
+        assert!(worth_rebaking(Some(VISIBLE_TEXTURE_EXCESS * 1.01)));
+    }
+
+    #[test]
+    fn the_lower_measured_error_wins_and_ties_keep_the_uvs() {
+        assert_eq!(choose(Some(0.05), Some(0.02)), TextureMode::Bake);
+        assert_eq!(choose(Some(0.02), Some(0.05)), TextureMode::Keep);
+        assert_eq!(choose(Some(0.02), Some(0.02)), TextureMode::Keep);
+        assert_eq!(choose(Some(0.02), None), TextureMode::Keep);
+        assert_eq!(choose(None, Some(0.02)), TextureMode::Bake);
+        assert_eq!(choose(None, None), TextureMode::Keep);
+    }
+}
