@@ -11,7 +11,7 @@ import pytest
 import wildlod
 
 CORPUS = Path(os.environ.get("WILDLOD_CORPUS",
-                             Path(__file__).resolve().parents[3] / "shared" / "corpus"))
+                             Path(__file__).resolve().parents[4] / "shared" / "corpus"))
 TRUCK = CORPUS / "textured" / "CesiumMilkTruck.glb"
 
 if not TRUCK.is_file():
