@@ -43,8 +43,9 @@ pub enum Command {
     ///
     /// Topology (components, boundary and non-manifold edges) is computed
     /// after welding equal positions. Counts are totals over the file with
-    /// each stored mesh counted once; `instanced` counts each mesh once per
-    /// node that shows it.
+    /// each stored mesh counted once; `drawn` (JSON: `instanced` and
+    /// `drawn_triangles`) counts each mesh once per node that shows it, the
+    /// count simplify, lod and batch use.
     Info(InfoArgs),
     /// Measure how far a candidate (a level of detail) is from a reference.
     ///
