@@ -56,7 +56,7 @@ pub use html_report::{
 pub use info::{describe, FaceCounts, FileInfo, MeshInfo};
 pub use progress::{MeshProgress, NoProgress};
 pub use report::{stop_key, ChainJson, LevelJson, MeshJson, RunJson};
-pub use scene::{file_stem, mesh_name, simplify_scene, MeshRun};
+pub use scene::{clear_unused_joint_slots, file_stem, mesh_name, simplify_scene, MeshRun};
 pub use targets::{scene_diagonal, share_budget, targets_for, world_diagonal, MIN_TRIANGLES};
 pub use textures::{
     choose as choose_textures, has_base_color_texture, texture_excess, worth_rebaking,

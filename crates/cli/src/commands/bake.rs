@@ -123,6 +123,7 @@ pub fn bake_scene(
         let seconds = t0.elapsed().as_secs_f64();
         let line = summary(&name, &baked.report.simplify, seconds) + &atlas_summary(&baked);
         let mut out = baked.mesh.clone();
+        wildlod_pipeline::clear_unused_joint_slots(&mut out);
         if baked.images.is_empty() {
             for p in &mut out.parts {
                 p.material = p

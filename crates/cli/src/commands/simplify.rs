@@ -7,10 +7,10 @@ use anyhow::{bail, Context};
 use wildlod_io::{Document, ErrorKind, WriteOptions};
 use wildlod_mesh::Scene;
 use wildlod_pipeline::{
-    choose_textures, drawn_triangles, file_stem, has_base_color_texture, load_images,
-    merge_twins_double_sided, simplify_scene, targets_for, texture_excess, worth_rebaking,
-    FileTargets, MergedTwins, MeshRun, NormalSetting, RunJson, SeamSetting, TextureChoice,
-    TextureMode, Tuning, MIN_TRIANGLES,
+    choose_textures, clear_unused_joint_slots, drawn_triangles, file_stem, has_base_color_texture,
+    load_images, merge_twins_double_sided, simplify_scene, targets_for, texture_excess,
+    worth_rebaking, FileTargets, MergedTwins, MeshRun, NormalSetting, RunJson, SeamSetting,
+    TextureChoice, TextureMode, Tuning, MIN_TRIANGLES,
 };
 use wildlod_simplify::{
     simplify_scene_with_progress, Options, Rejections, Report, SceneReport, SteeringOutcome,
@@ -429,6 +429,9 @@ fn simplify_whole_scene(
         .collect();
     let line = scene_summary(stem, &report, &names, seconds);
     doc.scene = lod;
+    for mesh in &mut doc.scene.meshes {
+        clear_unused_joint_slots(mesh);
+    }
     // One entry for the whole file: its budget and error are the file's.
     Ok((
         MeshRun {

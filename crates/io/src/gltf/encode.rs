@@ -482,12 +482,12 @@ fn write_skin(
         _ => ComponentFormat::F32,
     };
     let raw_weights = quantize_weights(&weights, sets * 4, weight_format);
-    // A slot whose weight is (or rounds to) zero does not move the vertex,
-    // whatever joint it names; the validator expects joint 0 there
-    // (ACCESSOR_JOINTS_USED_ZERO_WEIGHT), and a fitted skin's unused slots
-    // kept the joint of a neighbour's influence.
-    for (j, &w) in joints.iter_mut().zip(&raw_weights) {
-        if w == 0.0 {
+    // A weight that rounds to zero in the file's encoding leaves its slot
+    // unused: the validator expects joint 0 there
+    // (ACCESSOR_JOINTS_USED_ZERO_WEIGHT). Slots whose weight was zero
+    // already are written as read, so that unchanged files round-trip.
+    for ((j, &raw), &w) in joints.iter_mut().zip(&raw_weights).zip(&weights) {
+        if raw == 0.0 && w != 0.0 {
             *j = 0;
         }
     }
