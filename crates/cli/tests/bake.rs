@@ -401,3 +401,46 @@ fn auto_rebakes_where_keeping_uvs_tears_and_keeps_them_where_it_does_not() {
     let line = run(&chart, "0.5", false);
     assert!(line.contains("textures: UVs kept"), "{line}");
 }
+
+/// Image files (PNG or JPEG) directly in `dir`, sorted.
+fn image_files(dir: &Path) -> Vec<String> {
+    let mut v: Vec<String> = std::fs::read_dir(dir)
+        .expect("read dir")
+        .map(|e| e.expect("entry").file_name().to_string_lossy().into_owned())
+        .filter(|n| n.ends_with(".png") || n.ends_with(".jpg"))
+        .collect();
+    v.sort();
+    v
+}
+
+#[test]
+fn baked_images_get_the_same_names_beside_a_gltf_and_an_obj() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let png = dir.path().join("paint.png");
+    write_image(&png);
+    let input = torus_gltf(dir.path(), &png, "glb");
+    let mut names = Vec::new();
+    for ext in ["gltf", "obj"] {
+        let out_dir = dir.path().join(ext);
+        std::fs::create_dir(&out_dir).expect("mkdir");
+        let out = out_dir.join(format!("lod.{ext}"));
+        let o = wildlod(&[
+            "simplify",
+            s(&input),
+            "-o",
+            s(&out),
+            "--ratio",
+            "0.1",
+            "--bake",
+            "--texture-size",
+            "64",
+            "-q",
+        ]);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        names.push(image_files(&out_dir));
+    }
+    assert!(!names[0].is_empty(), "no image beside the .gltf");
+    // One rule: named after the input and what was baked, in both formats.
+    assert_eq!(names[0], names[1]);
+    assert!(names[0].iter().all(|n| n.starts_with("torus")), "{names:?}");
+}

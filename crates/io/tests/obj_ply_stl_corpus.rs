@@ -107,7 +107,23 @@ fn every_corpus_obj_round_trips_through_obj_bit_exactly() {
             doc.scene.materials, back.scene.materials,
             "{name}: materials"
         );
-        assert_eq!(doc.scene.textures, back.scene.textures, "{name}: textures");
+        // Textures are copied beside the output (so that it can be moved):
+        // the same images, names and samplers, read from the copies.
+        assert_eq!(doc.scene.textures.len(), back.scene.textures.len());
+        for (a, b) in doc.scene.textures.iter().zip(&back.scene.textures) {
+            assert_eq!(
+                (&a.name, a.sampler),
+                (&b.name, b.sampler),
+                "{name}: textures"
+            );
+            match (&a.source, &b.source) {
+                (ImageSource::Path(pa), ImageSource::Path(pb)) => {
+                    assert!(pb.starts_with(dir.path()), "{name}: {}", pb.display());
+                    assert_eq!(std::fs::read(pa).ok(), std::fs::read(pb).ok(), "{name}");
+                }
+                other => panic!("{name}: {other:?}"),
+            }
+        }
         // The arities the README states survive too.
         assert_eq!(
             doc.scene.meshes[0].faces.arity_counts(),
@@ -263,14 +279,18 @@ fn missing_material_library_is_a_warning_not_an_error() {
 }
 
 #[test]
-fn textured_obj_written_elsewhere_keeps_absolute_texture_paths() {
-    let Some(root) = corpus("textured_obj_written_elsewhere_keeps_absolute_texture_paths") else {
+fn textured_obj_written_elsewhere_copies_its_texture_beside_the_mtl() {
+    let Some(root) = corpus("textured_obj_written_elsewhere_copies_its_texture_beside_the_mtl")
+    else {
         return;
     };
     let doc = read(root.join("textured/bob/bob_tri.obj")).unwrap();
     let dir = tempfile::tempdir().unwrap();
     write(&doc, dir.path().join("bob.obj"), &WriteOptions::default()).unwrap();
     let mtl = std::fs::read_to_string(dir.path().join("bob.mtl")).unwrap();
-    let png = root.join("textured/bob/bob_diffuse.png");
-    assert!(mtl.contains(&format!("map_Kd {}", png.display())), "{mtl}");
+    assert!(mtl.contains("map_Kd bob_diffuse.png\n"), "{mtl}");
+    assert_eq!(
+        std::fs::read(dir.path().join("bob_diffuse.png")).unwrap(),
+        std::fs::read(root.join("textured/bob/bob_diffuse.png")).unwrap()
+    );
 }

@@ -84,16 +84,15 @@ fn embedded_image_is_written_beside_the_obj_and_named_relative() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("grid.obj");
     write_ok(&Document::from_scene(two_part_grid()), &out);
+    assert_eq!(file_names(dir.path()), ["grid.mtl", "grid.obj", "png.png"]);
+    // Named after its texture ("png"), as the .gltf writer names images
+    // held in memory.
     assert_eq!(
-        file_names(dir.path()),
-        ["grid.mtl", "grid.obj", "grid_0.png"]
-    );
-    assert_eq!(
-        std::fs::read(dir.path().join("grid_0.png")).unwrap(),
+        std::fs::read(dir.path().join("png.png")).unwrap(),
         b"\x89PNG fake"
     );
     let mtl = std::fs::read_to_string(dir.path().join("grid.mtl")).unwrap();
-    assert!(mtl.contains("map_Kd grid_0.png\n"), "{mtl}");
+    assert!(mtl.contains("map_Kd png.png\n"), "{mtl}");
     let obj = std::fs::read_to_string(&out).unwrap();
     assert!(obj.contains("mtllib grid.mtl\n"));
 }
@@ -318,10 +317,10 @@ fn writing_over_the_source_is_refused_and_leaves_nothing() {
 fn extracted_image_may_not_replace_a_texture_the_scene_reads() {
     let dir = tempfile::tempdir().unwrap();
     let mut s = two_part_grid();
-    let existing = dir.path().join("out_0.png");
+    let existing = dir.path().join("png.png");
     std::fs::write(&existing, b"input texture").unwrap();
-    // Texture 1 is read from out_0.png; texture 0 (embedded) would be
-    // extracted under that very name.
+    // Texture 1 is read from png.png; texture 0 (embedded, named "png")
+    // would be extracted under that very name.
     s.textures.push(Texture {
         name: "disk".into(),
         source: ImageSource::Path(existing.clone()),
@@ -342,7 +341,7 @@ fn extracted_image_may_not_replace_a_texture_the_scene_reads() {
         "{err}"
     );
     assert_eq!(std::fs::read(&existing).unwrap(), b"input texture");
-    assert_eq!(file_names(dir.path()), ["out_0.png"]);
+    assert_eq!(file_names(dir.path()), ["png.png"]);
 }
 
 #[test]

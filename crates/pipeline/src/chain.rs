@@ -88,8 +88,10 @@ impl Levels {
         } else {
             ratios.to_vec()
         };
-        if let Some(r) = ratios.iter().find(|r| !(**r > 0.0 && **r <= 1.0)) {
-            return usage(format!("{flag}ratios must be in (0, 1], got {r}"));
+        // 0 is "as few as possible" (each mesh keeps a triangle), as with
+        // `simplify --ratio 0`.
+        if let Some(r) = ratios.iter().find(|r| !(**r >= 0.0 && **r <= 1.0)) {
+            return usage(format!("{flag}ratios must be in [0, 1], got {r}"));
         }
         if ratios.windows(2).any(|w| w[1] >= w[0]) {
             return usage(format!(
@@ -135,7 +137,7 @@ pub struct Level {
 }
 
 /// Triangles `scene` draws: each mesh's once per node that shows it (the
-/// count budgets are of).
+/// count budgets are of, and every command reports).
 pub fn drawn_triangles(scene: &Scene) -> usize {
     scene
         .meshes
@@ -503,6 +505,10 @@ mod tests {
         assert!(Levels::from_lists(&[0.25, 0.5], &[], &[], "--").is_err());
         assert!(Levels::from_lists(&[0.5, 0.5], &[], &[], "--").is_err());
         assert!(Levels::from_lists(&[1.5], &[], &[], "--").is_err());
+        // 0 is the smallest valid level, as `simplify --ratio 0`.
+        assert!(Levels::from_lists(&[0.5, 0.0], &[], &[], "--").is_ok());
+        assert!(Levels::from_lists(&[0.5, -0.1], &[], &[], "--").is_err());
+        assert!(Levels::from_lists(&[f64::NAN], &[], &[], "--").is_err());
         assert!(Levels::from_lists(&[], &[0.01, 0.001], &[], "--").is_err());
         assert!(Levels::from_lists(&[], &[], &[100, 1000], "--").is_err());
         assert!(Levels::from_lists(&[0.5], &[0.01], &[], "--").is_err());

@@ -104,6 +104,10 @@ pub struct FileInfo {
     pub counts: FaceCounts,
     /// Face counts with every mesh counted once per instance.
     pub instanced: FaceCounts,
+    /// Triangles drawn: each mesh triangulated and counted once per node
+    /// that shows it. The count `simplify`, `lod` and `batch` report and
+    /// budget (`instanced.triangulated`, named for what it is).
+    pub drawn_triangles: usize,
     /// Components, summed per mesh.
     pub components: usize,
     /// Boundary edges, summed.
@@ -203,6 +207,7 @@ pub fn describe(doc: &Document, file: &str) -> FileInfo {
         welded_vertices: sum(|m| m.welded_vertices),
         counts,
         instanced,
+        drawn_triangles: instanced.triangulated,
         components: sum(|m| m.components),
         boundary_edges: sum(|m| m.boundary_edges),
         nonmanifold_edges: sum(|m| m.nonmanifold_edges),

@@ -38,11 +38,10 @@ pub use batch::{
     batch_file, mesh_files, run_batch, summary_csv, summary_paths, write_summary, BatchJob,
     BatchSettings, BatchSummary, FileResult,
 };
-pub use chain::drawn_triangles;
 pub use chain::{
-    build_chain, chain_json, chain_paths, coverage_for_error, level_path, normalize_weights,
-    screen_coverage, write_chain, Level, Levels, FULL_VIEW_COVERAGE, PIXEL_TOLERANCE,
-    SCREEN_PIXELS, SCREEN_WIDTH_PIXELS,
+    build_chain, chain_json, chain_paths, coverage_for_error, drawn_triangles, level_path,
+    normalize_weights, screen_coverage, write_chain, Level, Levels, FULL_VIEW_COVERAGE,
+    PIXEL_TOLERANCE, SCREEN_PIXELS, SCREEN_WIDTH_PIXELS,
 };
 pub use compare::{
     compare_files, load_images, Animated, CompareFilesOptions, FileComparison, Frame,
@@ -57,7 +56,7 @@ pub use html_report::{
 pub use info::{describe, FaceCounts, FileInfo, MeshInfo};
 pub use progress::{MeshProgress, NoProgress};
 pub use report::{stop_key, ChainJson, LevelJson, MeshJson, RunJson};
-pub use scene::{file_stem, mesh_name, simplify_scene, MeshRun};
+pub use scene::{clear_unused_joint_slots, file_stem, mesh_name, simplify_scene, MeshRun};
 pub use targets::{scene_diagonal, share_budget, targets_for, world_diagonal, MIN_TRIANGLES};
 pub use textures::{
     choose as choose_textures, has_base_color_texture, texture_excess, worth_rebaking,

@@ -22,6 +22,26 @@ pub struct MeshRun {
     pub seconds: f64,
 }
 
+/// Names joint 0 in every influence slot of `mesh`'s skin that has no
+/// weight. A fitted skin's unused slots keep a joint from a neighbour's
+/// influences at weight 0; that does not move the vertex, but the Khronos
+/// validator flags every such slot (ACCESSOR_JOINTS_USED_ZERO_WEIGHT), so
+/// simplified levels would carry warnings their input did not. Meshes
+/// written unchanged keep their slots as read. Returns the slots changed.
+pub fn clear_unused_joint_slots(mesh: &mut wildlod_mesh::Mesh) -> usize {
+    let Some(skin) = mesh.skinning.as_mut() else {
+        return 0;
+    };
+    let mut changed = 0;
+    for (j, &w) in skin.joints.iter_mut().zip(&skin.weights) {
+        if w == 0.0 && *j != 0 {
+            *j = 0;
+            changed += 1;
+        }
+    }
+    changed
+}
+
 /// How a mesh is named in messages: its own name, the file's stem when it
 /// is the file's only mesh, else `mesh N`.
 pub fn mesh_name(scene: &Scene, m: usize, stem: &str) -> String {
@@ -107,6 +127,7 @@ pub fn simplify_scene<P: MeshProgress>(
             seconds: t0.elapsed().as_secs_f64(),
         });
         scene.meshes[m] = lod;
+        clear_unused_joint_slots(&mut scene.meshes[m]);
     }
     Ok(runs)
 }

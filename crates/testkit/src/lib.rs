@@ -37,11 +37,29 @@ pub fn corpus(test: &str) -> Option<PathBuf> {
             dir.display()
         );
     }
-    eprintln!(
-        "{test}: skipped, mesh corpus not found at {}",
+    skipped(&format!(
+        "{test}: the mesh corpus is not at {} (set WILDLOD_CORPUS)",
         dir.display()
-    );
+    ));
     None
+}
+
+/// Says that a check did not run, and why, where the normal `cargo test`
+/// output shows it: `SKIPPED <test>: <reason>`.
+///
+/// The test harness captures what `eprintln!` prints and shows it only for
+/// failed tests (or with `--nocapture`), so a skipped check used to look
+/// like a pass. Writing to the stderr handle itself is not captured. The
+/// test's name is its thread's: the harness names each test's thread
+/// after it.
+pub fn skipped(reason: &str) {
+    use std::io::Write;
+    let test = std::thread::current()
+        .name()
+        .unwrap_or("a test")
+        .to_string();
+    let mut err = std::io::stderr().lock();
+    let _ = writeln!(err, "SKIPPED {test}: {reason}");
 }
 
 /// Mesh files of the corpus (extensions gltf, glb, obj, ply, stl) under

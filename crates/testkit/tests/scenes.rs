@@ -158,10 +158,10 @@ fn every_scene_passes_the_khronos_validator() {
             "the glTF validator is not installed in {}",
             tool.display()
         );
-        eprintln!(
-            "SKIPPED: run `npm ci` in {} to validate the scenes",
+        wildlod_testkit::skipped(&format!(
+            "run `npm ci` in {} to validate the scenes",
             tool.display()
-        );
+        ));
         return;
     }
     let dir = tempfile::tempdir().unwrap();
@@ -187,7 +187,7 @@ fn every_scene_passes_the_khronos_validator() {
         let out = Command::new("node").arg(&js).arg(&path).output();
         let Ok(out) = out else {
             assert!(!ci, "node is not installed");
-            eprintln!("SKIPPED: node is not installed");
+            wildlod_testkit::skipped("node is not installed");
             return;
         };
         let text = String::from_utf8_lossy(&out.stdout);

@@ -77,6 +77,7 @@ pub fn bake_scene(
     let mut kept: Vec<Option<u32>> = vec![None; scene.materials.len()];
     let mut meshes = Vec::with_capacity(scene.meshes.len());
     let (mut runs, mut lines) = (Vec::new(), Vec::new());
+    let instances = scene.instance_counts();
     for (m, mesh) in scene.meshes.iter().enumerate() {
         let name = match (mesh.name.as_str(), scene.meshes.len()) {
             ("", 1) => stem.to_string(),
@@ -94,9 +95,17 @@ pub fn bake_scene(
             continue;
         }
         let t0 = Instant::now();
+        // Targets and reports count drawn triangles, as without baking: a
+        // mesh shown by k nodes counts each face k times.
+        let k = instances.get(m).copied().unwrap_or(1);
         let options = BakeOptions {
             simplify: Options {
                 target: targets.get(m).cloned().unwrap_or_default(),
+                face_instances: if k > 1 {
+                    vec![u32::try_from(k).unwrap_or(u32::MAX); mesh.faces.len()]
+                } else {
+                    Vec::new()
+                },
                 ..cfg.options.clone()
             },
             texture_size: b.texture_size,
@@ -114,6 +123,7 @@ pub fn bake_scene(
         let seconds = t0.elapsed().as_secs_f64();
         let line = summary(&name, &baked.report.simplify, seconds) + &atlas_summary(&baked);
         let mut out = baked.mesh.clone();
+        wildlod_pipeline::clear_unused_joint_slots(&mut out);
         if baked.images.is_empty() {
             for p in &mut out.parts {
                 p.material = p

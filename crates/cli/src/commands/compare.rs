@@ -35,6 +35,9 @@ pub fn run(a: &CompareArgs) -> anyhow::Result<()> {
     }
 }
 
+/// Width of the label column of [`text`]: the longest label and a gap.
+const LABEL: usize = "shading-normal Chamfer".len() + 2;
+
 /// The human-readable form.
 pub fn text(c: &Comparison) -> String {
     let opt = |v: Option<f64>| v.map_or("n/a".to_string(), |x| format!("{x:.4}"));
@@ -44,55 +47,68 @@ pub fn text(c: &Comparison) -> String {
         (Some(v), Some(f)) => format!("{v:.4}  (sampling floor {f:.4})"),
         _ => opt(v),
     };
+    // One label column wide enough for the longest label, so the values
+    // line up.
+    let row = |label: &str, value: String| format!("  {label:<LABEL$}{value}\n");
+    let plural =
+        |n: usize, one: &str, many: &str| format!("{n} {}", if n == 1 { one } else { many });
+    let faces = |f: &wildlod_eval::FaceCounts| {
+        format!(
+            "{} ({}, {}, {}), {}",
+            plural(f.faces, "face", "faces"),
+            plural(f.triangles, "triangle", "triangles"),
+            plural(f.quads, "quad", "quads"),
+            plural(f.ngons, "n-gon", "n-gons"),
+            plural(f.components, "component", "components")
+        )
+    };
     let mut s = String::new();
     s += &format!(
         "distances relative to the reference diagonal ({:.6}), {} samples per surface\n",
         c.diagonal, c.samples
     );
     if c.outliers_reference > 0 {
-        s += &format!(
-            "  outliers       {} reference vertices left out (diagonal with them {:.6e})\n",
-            c.outliers_reference, c.diagonal_with_outliers
+        s += &row(
+            "outliers",
+            format!(
+                "{} reference vertices left out (diagonal with them {:.6e})",
+                c.outliers_reference, c.diagonal_with_outliers
+            ),
         );
     }
-    s += &format!(
-        "  Hausdorff      {:.6}  (reference→candidate {:.6}, candidate→reference {:.6})\n",
-        c.hausdorff, c.hausdorff_ref_to_cand, c.hausdorff_cand_to_ref
+    s += &row(
+        "Hausdorff",
+        format!(
+            "{:.6}  (reference→candidate {:.6}, candidate→reference {:.6})",
+            c.hausdorff, c.hausdorff_ref_to_cand, c.hausdorff_cand_to_ref
+        ),
     );
-    s += &format!("  Chamfer mean   {:.6}\n", c.chamfer_mean);
-    s += &format!(
-        "  Chamfer²       {:.3e}  (mean squared distance)\n",
-        c.chamfer_squared
+    s += &row("Chamfer mean", format!("{:.6}", c.chamfer_mean));
+    s += &row(
+        "Chamfer²",
+        format!("{:.3e}  (mean squared distance)", c.chamfer_squared),
     );
-    s += &format!("  quad ratio     {}\n", opt(c.quad_ratio));
-    s += &format!(
-        "  texture Chamfer {}\n",
-        floored(c.texture_chamfer, c.texture_chamfer_floor)
+    s += &row("quad ratio", opt(c.quad_ratio));
+    s += &row(
+        "texture Chamfer",
+        floored(c.texture_chamfer, c.texture_chamfer_floor),
     );
-    s += &format!(
-        "  normal Chamfer  {} degrees\n",
-        floored(c.normal_chamfer, c.normal_chamfer_floor)
+    s += &row(
+        "normal Chamfer",
+        format!(
+            "{} degrees",
+            floored(c.normal_chamfer, c.normal_chamfer_floor)
+        ),
     );
-    s += &format!(
-        "  shading-normal Chamfer {} degrees (normal maps applied)\n",
-        floored(c.shading_normal_chamfer, c.shading_normal_chamfer_floor)
+    s += &row(
+        "shading-normal Chamfer",
+        format!(
+            "{} degrees (normal maps applied)",
+            floored(c.shading_normal_chamfer, c.shading_normal_chamfer_floor)
+        ),
     );
-    s += &format!(
-        "  reference      {} faces ({} triangles, {} quads, {} n-gons), {} components\n",
-        c.reference.faces,
-        c.reference.triangles,
-        c.reference.quads,
-        c.reference.ngons,
-        c.reference.components
-    );
-    s += &format!(
-        "  candidate      {} faces ({} triangles, {} quads, {} n-gons), {} components\n",
-        c.candidate.faces,
-        c.candidate.triangles,
-        c.candidate.quads,
-        c.candidate.ngons,
-        c.candidate.components
-    );
+    s += &row("reference", faces(&c.reference));
+    s += &row("candidate", faces(&c.candidate));
     for n in &c.notes {
         s += &format!("  note: {n}\n");
     }

@@ -38,8 +38,8 @@ pub fn text(i: &FileInfo) -> String {
     );
     if i.instanced != i.counts {
         s += &format!(
-            "  instanced   {} faces = {} triangles triangulated\n",
-            i.instanced.faces, i.instanced.triangulated
+            "  drawn       {} faces = {} triangles triangulated (each mesh once per instance: the count simplify, lod and batch use)\n",
+            i.instanced.faces, i.drawn_triangles
         );
     }
     s += &format!(

@@ -63,7 +63,7 @@ pub fn npm_tool(tool: &str, module: &str) -> Option<PathBuf> {
         .join(tool);
     if Command::new("node").arg("--version").output().is_err() {
         assert!(!in_ci(), "node is not installed: {tool} cannot run");
-        eprintln!("SKIPPED: node is not installed, so {tool} cannot run");
+        wildlod_testkit::skipped(&format!("node is not installed, so {tool} cannot run"));
         return None;
     }
     let marker = dir.join("node_modules").join(".wildlod-installed");
@@ -83,7 +83,7 @@ pub fn npm_tool(tool: &str, module: &str) -> Option<PathBuf> {
             && dir.join("node_modules").join(module).exists();
         if !ok {
             assert!(!in_ci(), "npm install of {tool} failed: {o:?}");
-            eprintln!("SKIPPED: could not install {tool}: {o:?}");
+            wildlod_testkit::skipped(&format!("could not install {tool} from npm: {o:?}"));
             return None;
         }
         std::fs::write(&marker, b"").unwrap();
@@ -119,10 +119,10 @@ pub fn chromium() -> Option<PathBuf> {
         "Chromium is not installed at {} (apt-get install chromium): the report test cannot run",
         path.display()
     );
-    eprintln!(
-        "SKIPPED: Chromium is not installed at {} (apt-get install chromium); the report is not checked in a browser",
+    wildlod_testkit::skipped(&format!(
+        "Chromium is not installed at {} (apt-get install chromium); nothing is checked in a browser",
         path.display()
-    );
+    ));
     None
 }
 

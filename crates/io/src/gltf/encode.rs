@@ -482,6 +482,15 @@ fn write_skin(
         _ => ComponentFormat::F32,
     };
     let raw_weights = quantize_weights(&weights, sets * 4, weight_format);
+    // A weight that rounds to zero in the file's encoding leaves its slot
+    // unused: the validator expects joint 0 there
+    // (ACCESSOR_JOINTS_USED_ZERO_WEIGHT). Slots whose weight was zero
+    // already are written as read, so that unchanged files round-trip.
+    for ((j, &raw), &w) in joints.iter_mut().zip(&raw_weights).zip(&weights) {
+        if raw == 0.0 && w != 0.0 {
+            *j = 0;
+        }
+    }
     for set in 0..sets {
         let pick = |i: usize, v: usize| v * sets * 4 + set * 4 + i;
         let jv: Vec<f32> = (0..n)

@@ -15,10 +15,10 @@ use super::text::{
 };
 use crate::ErrorKind;
 
-/// Statements that carry no polygon data we keep (smoothing groups,
-/// lines, points, free-form geometry, display attributes). They are skipped
+/// Statements that carry no polygon data we keep (lines, points,
+/// free-form geometry, display attributes). They are skipped
 /// and reported together in one warning.
-const KNOWN_IGNORED: &str = "s l p vp curv curv2 surf parm trim hole scrv sp end con cstype deg \
+const KNOWN_IGNORED: &str = "l p vp curv curv2 surf parm trim hole scrv sp end con cstype deg \
                              bmat step mg lod bevel c_interp d_interp usemap maplib shadow_obj \
                              trace_obj ctech stech call csh";
 
@@ -160,6 +160,10 @@ pub(crate) fn parse(data: &[u8], warnings: &mut Vec<String>) -> Result<Parsed, E
                 st.current_part = None;
             }
             b"mtllib" => st.mtllibs.push((ln, text::trim(rest).to_vec())),
+            // Smoothing groups are ordinary OBJ and only say how to shade:
+            // accepted without a warning (no normals are derived from them;
+            // a file without `vn` is read without normals, as before).
+            b"s" => {}
             _ => st.ignore(ln, kw, line)?,
         }
     }

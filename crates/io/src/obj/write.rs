@@ -67,7 +67,14 @@ pub(crate) fn write(doc: &Document, path: &Path, files: &mut OutputFiles) -> Res
     let mtl = if materials.order.is_empty() {
         None
     } else {
-        Some(write_mtl(scene, &materials, &mut images, &mut dropped)?)
+        let kept = source_material_lines(doc);
+        Some(write_mtl(
+            scene,
+            &materials,
+            &kept,
+            &mut images,
+            &mut dropped,
+        )?)
     };
     files.add(path, w.out)?;
     if let Some(mtl) = mtl {
@@ -75,6 +82,9 @@ pub(crate) fn write(doc: &Document, path: &Path, files: &mut OutputFiles) -> Res
     }
     for (p, bytes) in images.extracted {
         files.add(&p, bytes)?;
+    }
+    for w in images.warnings {
+        files.warn(w);
     }
     for d in dropped {
         files.warn(format!("OBJ cannot hold {d}; dropped"));
@@ -106,6 +116,81 @@ fn protect_source_libraries(doc: &Document, mtl_path: &Path, files: &mut OutputF
             }
         }
     }
+}
+
+/// MTL statements the scene has no field for but that mean the same in
+/// the output (`Ka`, `Ks`, `Ns`, `Ni`, `illum`, `Tf` and the PBR extension's
+/// sheen, clearcoat and anisotropy, and `bsdf`): copied per material name from the
+/// source OBJ's libraries, so that a simplified asset keeps its look in
+/// renderers that use them. Maps are not copied (only those the scene holds
+/// are written, with their images).
+const KEPT_MTL_STATEMENTS: &[&str] = &[
+    "ka",
+    "ks",
+    "ns",
+    "ni",
+    "illum",
+    "tf",
+    "sharpness",
+    "ps",
+    "pc",
+    "pcr",
+    "aniso",
+    "anisor",
+    "bsdf",
+];
+
+/// The [`KEPT_MTL_STATEMENTS`] of each material of the source OBJ, by
+/// material name (the first definition of a name wins, as when reading).
+fn source_material_lines(doc: &Document) -> HashMap<String, Vec<String>> {
+    let mut out: HashMap<String, Vec<String>> = HashMap::new();
+    let (Some(src), Some(Format::Obj)) = (&doc.source, doc.format) else {
+        return out;
+    };
+    let Ok(data) = crate::regular::read(src, crate::MAX_FILE_BYTES) else {
+        return out;
+    };
+    let dir = super::absolute_dir(src);
+    let mut libs = Vec::new();
+    let mut lines = Lines::new(&data, true);
+    while let Some((_, line)) = lines.next_line() {
+        let (kw, rest) = split_keyword(trim_start(line));
+        if kw == b"mtllib" {
+            libs.extend(library_paths(&dir, rest));
+        }
+    }
+    for lib in libs {
+        let Ok(data) = crate::regular::read(&lib, crate::MAX_FILE_BYTES) else {
+            continue;
+        };
+        let mut current: Option<String> = None;
+        let mut lines = Lines::new(&data, true);
+        while let Some((_, line)) = lines.next_line() {
+            let line = trim_start(line);
+            let (kw, rest) = split_keyword(line);
+            let kw = String::from_utf8_lossy(kw).to_ascii_lowercase();
+            if kw == "newmtl" {
+                let name = super::text::name(rest);
+                current = if out.contains_key(&name) {
+                    None
+                } else {
+                    out.insert(name.clone(), Vec::new());
+                    Some(name)
+                };
+                continue;
+            }
+            if let Some(name) = &current {
+                if KEPT_MTL_STATEMENTS.contains(&kw.as_str()) {
+                    let text = String::from_utf8_lossy(line);
+                    let text = one_line(&text);
+                    if let Some(v) = out.get_mut(name) {
+                        v.push(text);
+                    }
+                }
+            }
+        }
+    }
+    out
 }
 
 /// Content the scene has and OBJ has no place for.
@@ -371,13 +456,30 @@ fn position_colors(
     Some(per)
 }
 
-/// Image file names as the MTL writes them, and images extracted from
-/// memory.
+/// Image file names as the MTL writes them, and the image files written
+/// beside the output, so that the output folder is self-contained and can
+/// be moved: an image already inside the output folder is named by its
+/// relative path; any other image file is copied next to the MTL under its
+/// own file name (`name_2.png`… when two different images share a name);
+/// an image held in memory is written as `<texture name>.<ext>` when the
+/// texture has a name (the rule the `.gltf` writer follows, so a baked atlas
+/// gets the same file name in both formats), else `<stem>_<n>.<ext>`. Each
+/// image is written once, however many textures use it.
 struct Images<'a> {
     out_dir: &'a Path,
     stem: &'a str,
+    /// Texture index → the name the MTL uses.
     names: HashMap<u32, String>,
+    /// Source image file → the name the MTL uses.
+    by_path: HashMap<PathBuf, String>,
+    /// Files to write beside the output: (path, bytes).
     extracted: Vec<(PathBuf, Vec<u8>)>,
+    /// Output file names taken, whether written or referenced in place.
+    taken: HashSet<String>,
+    /// Warnings for the write (an image that cannot be copied).
+    warnings: Vec<String>,
+    /// How many unnamed in-memory images were written.
+    unnamed: usize,
 }
 
 impl<'a> Images<'a> {
@@ -386,49 +488,156 @@ impl<'a> Images<'a> {
             out_dir,
             stem,
             names: HashMap::new(),
+            by_path: HashMap::new(),
             extracted: Vec::new(),
+            taken: HashSet::new(),
+            warnings: Vec::new(),
+            unnamed: 0,
         }
     }
 
-    /// How the MTL names texture `t`: relative to the output directory when
-    /// the image is inside it, else absolute; embedded images become
-    /// `<stem>_<n>.<ext>` beside the output.
+    /// `base.ext`, or `base_2.ext`, `base_3.ext`… when another image took
+    /// that name in this write.
+    fn free(&mut self, base: &str, ext: &str) -> String {
+        let dot = if ext.is_empty() { "" } else { "." };
+        let mut name = format!("{base}{dot}{ext}");
+        let mut k = 2;
+        while self.taken.contains(&name.to_ascii_lowercase()) {
+            name = format!("{base}_{k}{dot}{ext}");
+            k += 1;
+        }
+        self.taken.insert(name.to_ascii_lowercase());
+        name
+    }
+
+    /// How the MTL names texture `t`; see [`Images`].
     fn name(&mut self, scene: &Scene, t: u32) -> Option<String> {
         if let Some(n) = self.names.get(&t) {
             return Some(n.clone());
         }
-        let name = match &scene.textures.get(t as usize)?.source {
-            ImageSource::Path(p) => {
-                let p = super::clean(p);
-                let shown = match p.strip_prefix(self.out_dir) {
-                    Ok(rel) if p.is_absolute() => rel,
-                    _ => p.as_path(),
-                };
-                shown.to_string_lossy().replace('\\', "/")
-            }
+        let texture = scene.textures.get(t as usize)?;
+        let name = match &texture.source {
+            ImageSource::Path(p) => self.file(p),
             ImageSource::Embedded { bytes, mime_type } => {
-                let ext = match mime_type.as_str() {
-                    "image/png" => "png",
-                    "image/jpeg" | "image/jpg" => "jpg",
-                    other => other
-                        .strip_prefix("image/")
-                        .filter(|e| !e.is_empty() && e.chars().all(|c| c.is_ascii_alphanumeric()))
-                        .unwrap_or("bin"),
-                };
-                let file = format!("{}_{}.{ext}", self.stem, self.extracted.len());
-                self.extracted
-                    .push((self.out_dir.join(&file), bytes.clone()));
-                file
+                self.embedded(&texture.name, bytes, mime_type)
             }
         };
         self.names.insert(t, name.clone());
         Some(name)
+    }
+
+    /// The name of an image file, copying it beside the output when it is
+    /// not inside the output folder already.
+    fn file(&mut self, p: &Path) -> String {
+        let p = super::clean(p);
+        if let Some(n) = self.by_path.get(&p) {
+            return n.clone();
+        }
+        let name = match p.strip_prefix(self.out_dir) {
+            Ok(rel) if p.is_absolute() => {
+                let rel = rel.to_string_lossy().replace('\\', "/");
+                self.taken.insert(rel.to_ascii_lowercase());
+                rel
+            }
+            _ => match crate::regular::read(&p, crate::MAX_FILE_BYTES) {
+                Ok(bytes) => {
+                    let (base, ext) = split_name(&p);
+                    let name = self.free(&base, &ext);
+                    self.extracted.push((self.out_dir.join(&name), bytes));
+                    name
+                }
+                // Nothing to copy (the reader warned already that the image
+                // is missing): the MTL keeps naming where it was.
+                Err(e) => {
+                    self.warnings.push(format!(
+                        "image {} cannot be copied beside the output ({e}); the MTL names it by its absolute path",
+                        p.display()
+                    ));
+                    p.to_string_lossy().replace('\\', "/")
+                }
+            },
+        };
+        self.by_path.insert(p, name.clone());
+        name
+    }
+
+    /// The name of an image held in memory, written beside the output once
+    /// per distinct content.
+    fn embedded(&mut self, texture_name: &str, bytes: &[u8], mime_type: &str) -> String {
+        if let Some((p, _)) = self.extracted.iter().find(|(_, b)| b == bytes) {
+            if let Some(n) = p.file_name() {
+                return n.to_string_lossy().into_owned();
+            }
+        }
+        let ext = match mime_type {
+            "image/png" => "png",
+            "image/jpeg" | "image/jpg" => "jpg",
+            other => other
+                .strip_prefix("image/")
+                .filter(|e| !e.is_empty() && e.chars().all(|c| c.is_ascii_alphanumeric()))
+                .unwrap_or("bin"),
+        };
+        let safe = safe_file_part(texture_name, ext);
+        let base = if safe.is_empty() {
+            let b = format!("{}_{}", self.stem, self.unnamed);
+            self.unnamed += 1;
+            b
+        } else {
+            safe
+        };
+        let name = self.free(&base, ext);
+        self.extracted
+            .push((self.out_dir.join(&name), bytes.to_vec()));
+        name
+    }
+}
+
+/// A file's name split into base and extension.
+fn split_name(p: &Path) -> (String, String) {
+    let base = p
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_else(|| "image".into());
+    let ext = p
+        .extension()
+        .map(|e| e.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    (base, ext)
+}
+
+/// A texture name made safe as a file name (ASCII letters, digits, `-_.`),
+/// without a trailing `.ext` it already carries; empty when nothing usable
+/// is left.
+fn safe_file_part(name: &str, ext: &str) -> String {
+    let name = name.trim();
+    let lower = name.to_ascii_lowercase();
+    let name = if lower.ends_with(&format!(".{ext}")) || (ext == "jpg" && lower.ends_with(".jpeg"))
+    {
+        &name[..name.rfind('.').unwrap_or(name.len())]
+    } else {
+        name
+    };
+    let safe: String = name
+        .chars()
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || "-_.".contains(c) {
+                c
+            } else {
+                '_'
+            }
+        })
+        .collect();
+    if safe.trim_matches(|c| c == '.' || c == '_').is_empty() {
+        String::new()
+    } else {
+        safe
     }
 }
 
 fn write_mtl(
     scene: &Scene,
     materials: &MaterialNames,
+    kept: &HashMap<String, Vec<String>>,
     images: &mut Images,
     dropped: &mut BTreeSet<String>,
 ) -> std::io::Result<Vec<u8>> {
@@ -458,6 +667,9 @@ fn write_mtl(
         }
         if mat.metallic != plain.metallic {
             writeln!(out, "Pm {}", mat.metallic)?;
+        }
+        for line in kept.get(&mat.name).into_iter().flatten() {
+            writeln!(out, "{line}")?;
         }
         let maps = [
             (mat.base_color_texture, &["map_Kd"][..]),
