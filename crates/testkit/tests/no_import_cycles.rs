@@ -612,9 +612,12 @@ fn rust_files(dir: &Path) -> Vec<PathBuf> {
     out
 }
 
+/// Source files as (path relative to the module root, contents).
+type Files = Vec<(PathBuf, String)>;
+
 /// The workspace's crates (and each `src/bin/NAME…` as a crate of its own):
 /// name, the folder module paths are relative to, and its files.
-fn workspace_crates() -> Vec<(String, PathBuf, Vec<(PathBuf, String)>)> {
+fn workspace_crates() -> Vec<(String, PathBuf, Files)> {
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
     let crates = root.join("crates");
     let mut names: Vec<String> = std::fs::read_dir(&crates)
@@ -631,7 +634,7 @@ fn workspace_crates() -> Vec<(String, PathBuf, Vec<(PathBuf, String)>)> {
     for name in names {
         let src = crates.join(&name).join("src");
         let mut lib = Vec::new();
-        let mut bins: BTreeMap<String, Vec<(PathBuf, String)>> = BTreeMap::new();
+        let mut bins: BTreeMap<String, Files> = BTreeMap::new();
         for rel in rust_files(&src) {
             if let Ok(in_bin) = rel.strip_prefix("bin") {
                 // bin/x.rs is the root of binary x; bin/x/… its modules.
@@ -769,7 +772,7 @@ fn tarjan_finds_each_circle_and_nothing_else() {
     assert_eq!(circles(&adj(&one)), vec![strings(&["a", "b", "c", "d"])]);
 }
 
-fn files(list: &[(&str, &str)]) -> Vec<(PathBuf, String)> {
+fn files(list: &[(&str, &str)]) -> Files {
     list.iter()
         .map(|(p, t)| (PathBuf::from(p), t.to_string()))
         .collect()

@@ -1088,7 +1088,6 @@ fn read_image(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use wildlod_mesh::transform::apply_point;
 
     /// Bytes of the source buffers a document keeps for writing back, and
     /// the buffers' full length.
