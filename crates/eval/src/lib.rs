@@ -33,8 +33,6 @@ mod eval_mesh;
 mod paired;
 mod pose;
 mod sampling;
-mod shading;
-mod texture;
 
 pub use compare::{
     compare, CompareOptions, Comparison, OutlierVertex, DEFAULT_SEED, MAX_NAMED_OUTLIERS,

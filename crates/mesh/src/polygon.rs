@@ -1,12 +1,13 @@
 //! Splitting large polygons into small pieces along diagonals, in
-//! O(k log k) for a k-gon.
+//! O(k log k) for a k-gon, and triangulating a mesh's polygons
+//! ([`triangulate`]).
 //!
 //! CAD exports and scanned caps carry polygons of thousands of corners.
 //! Anything that is linear per face and runs once per corner of the face
 //! is quadratic on them, and a fan triangulation makes one vertex of
 //! valence k and k slivers whose bounding boxes all overlap. Both the
-//! simplifier (pieces of at most 32 corners) and [`crate::shapes::triangulate`]
-//! (triangles) split such polygons here instead.
+//! simplifier (pieces of at most 32 corners) and [`triangulate`] (triangles)
+//! split such polygons here instead.
 //!
 //! The split is a balanced recursion: cut the polygon by a diagonal between
 //! two corners about half its size apart, then cut both halves the same
@@ -19,9 +20,10 @@
 //! costs accuracy but never time.
 
 use crate::faces::Faces;
+use crate::mesh::Mesh;
 
 /// Polygons up to this many corners are fan-triangulated by
-/// [`crate::shapes::triangulate`] (as they always were: the corpus's largest
+/// [`triangulate`] (as they always were: the corpus's largest
 /// polygon has 16); larger ones are split here into triangles.
 pub const FAN_MAX_CORNERS: usize = 32;
 
@@ -74,6 +76,66 @@ pub fn split_polygon(points: &[[f32; 3]], max_corners: usize, out: &mut Faces) {
         stack.push(second);
         stack.push(first);
     }
+}
+
+/// Triangulates every polygon: a polygon of up to
+/// [`FAN_MAX_CORNERS`] corners by a fan (face `[a, b, c, d]`
+/// becomes `[a, b, c]` and `[a, c, d]`), a larger one by
+/// [`split_polygon`] (a fan there would give one vertex of valence
+/// k and k overlapping slivers). Attribute and skinning indices follow their
+/// corners; parts are kept. Triangles are returned unchanged.
+pub fn triangulate(mesh: &Mesh) -> Mesh {
+    let tri = mesh.faces.triangulated_count();
+    let mut faces = Faces::with_capacity(tri, 3 * tri);
+    let mut corner_src: Vec<usize> = Vec::with_capacity(3 * tri);
+    let mut face_parts = Vec::with_capacity(tri);
+    let mut pieces = Faces::new();
+    let mut points = Vec::new();
+    for f in 0..mesh.faces.len() {
+        let r = mesh.faces.corner_range(f);
+        let part = mesh.face_parts.get(f).copied().unwrap_or(0);
+        if r.len() <= FAN_MAX_CORNERS {
+            for k in 1..r.len().saturating_sub(1) {
+                let cs = [r.start, r.start + k, r.start + k + 1];
+                faces.push(&cs.map(|c| mesh.faces.indices[c]));
+                corner_src.extend_from_slice(&cs);
+                face_parts.push(part);
+            }
+            continue;
+        }
+        points.clear();
+        points.extend(r.clone().map(|c| {
+            mesh.positions
+                .get(mesh.faces.indices[c] as usize)
+                .copied()
+                .unwrap_or([0.0; 3])
+        }));
+        pieces.offsets.truncate(1);
+        pieces.indices.clear();
+        split_polygon(&points, 3, &mut pieces);
+        for t in pieces.iter() {
+            let cs = [0, 1, 2].map(|i| r.start + t[i] as usize);
+            faces.push(&cs.map(|c| mesh.faces.indices[c]));
+            corner_src.extend_from_slice(&cs);
+            face_parts.push(part);
+        }
+    }
+    let mut out = Mesh {
+        name: mesh.name.clone(),
+        positions: mesh.positions.clone(),
+        faces,
+        face_parts,
+        parts: mesh.parts.clone(),
+        attributes: mesh.attributes.clone(),
+        skinning: mesh.skinning.clone(),
+    };
+    for a in &mut out.attributes {
+        a.indices = corner_src.iter().map(|&c| a.indices[c]).collect();
+    }
+    if let Some(s) = &mut out.skinning {
+        s.indices = corner_src.iter().map(|&c| s.indices[c]).collect();
+    }
+    out
 }
 
 /// The diagonal (local positions `a < b` in `piece`) to cut along: the
@@ -316,6 +378,7 @@ fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::shapes::quad_grid;
 
     fn circle(k: usize) -> Vec<[f32; 3]> {
         (0..k)
@@ -413,5 +476,18 @@ mod tests {
         assert_eq!(pieces(&same, 4).triangulated_count(), 48);
         let line: Vec<[f32; 3]> = (0..50).map(|i| [i as f32, 0.0, 0.0]).collect();
         assert_eq!(pieces(&line, 3).triangulated_count(), 48);
+    }
+
+    #[test]
+    fn triangulate_grid_keeps_uvs_per_corner() {
+        let g = quad_grid(2, 1);
+        let t = triangulate(&g);
+        assert_eq!(t.faces.len(), 4);
+        assert_eq!(t.faces.face(1), &[0, 4, 3]);
+        let uv = &t.attributes[0];
+        assert_eq!(uv.indices.len(), 12);
+        // Corner 4 is vertex 4 at (0.5, 1).
+        assert_eq!(uv.corner_value(4), Some(&[0.5, 1.0][..]));
+        t.validate().unwrap();
     }
 }

@@ -4,7 +4,10 @@
 use crate::attribute::{Attribute, ComponentFormat, Semantic};
 use crate::faces::Faces;
 use crate::mesh::Mesh;
-use crate::polygon;
+// `triangulate` lives with the polygon splitting it is built on; it stays
+// reachable here, where the tests and tools that build a shape and
+// triangulate it have always found it.
+pub use crate::polygon::triangulate;
 
 /// An axis-aligned box from `lo` to `hi` as six outward-facing quads over
 /// eight shared vertices: a closed manifold.
@@ -165,66 +168,6 @@ pub fn box_grid(lo: [f32; 3], hi: [f32; 3], n: usize) -> Mesh {
     m
 }
 
-/// Triangulates every polygon: a polygon of up to
-/// [`polygon::FAN_MAX_CORNERS`] corners by a fan (face `[a, b, c, d]`
-/// becomes `[a, b, c]` and `[a, c, d]`), a larger one by
-/// [`polygon::split_polygon`] (a fan there would give one vertex of valence
-/// k and k overlapping slivers). Attribute and skinning indices follow their
-/// corners; parts are kept. Triangles are returned unchanged.
-pub fn triangulate(mesh: &Mesh) -> Mesh {
-    let tri = mesh.faces.triangulated_count();
-    let mut faces = Faces::with_capacity(tri, 3 * tri);
-    let mut corner_src: Vec<usize> = Vec::with_capacity(3 * tri);
-    let mut face_parts = Vec::with_capacity(tri);
-    let mut pieces = Faces::new();
-    let mut points = Vec::new();
-    for f in 0..mesh.faces.len() {
-        let r = mesh.faces.corner_range(f);
-        let part = mesh.face_parts.get(f).copied().unwrap_or(0);
-        if r.len() <= polygon::FAN_MAX_CORNERS {
-            for k in 1..r.len().saturating_sub(1) {
-                let cs = [r.start, r.start + k, r.start + k + 1];
-                faces.push(&cs.map(|c| mesh.faces.indices[c]));
-                corner_src.extend_from_slice(&cs);
-                face_parts.push(part);
-            }
-            continue;
-        }
-        points.clear();
-        points.extend(r.clone().map(|c| {
-            mesh.positions
-                .get(mesh.faces.indices[c] as usize)
-                .copied()
-                .unwrap_or([0.0; 3])
-        }));
-        pieces.offsets.truncate(1);
-        pieces.indices.clear();
-        polygon::split_polygon(&points, 3, &mut pieces);
-        for t in pieces.iter() {
-            let cs = [0, 1, 2].map(|i| r.start + t[i] as usize);
-            faces.push(&cs.map(|c| mesh.faces.indices[c]));
-            corner_src.extend_from_slice(&cs);
-            face_parts.push(part);
-        }
-    }
-    let mut out = Mesh {
-        name: mesh.name.clone(),
-        positions: mesh.positions.clone(),
-        faces,
-        face_parts,
-        parts: mesh.parts.clone(),
-        attributes: mesh.attributes.clone(),
-        skinning: mesh.skinning.clone(),
-    };
-    for a in &mut out.attributes {
-        a.indices = corner_src.iter().map(|&c| a.indices[c]).collect();
-    }
-    if let Some(s) = &mut out.skinning {
-        s.indices = corner_src.iter().map(|&c| s.indices[c]).collect();
-    }
-    out
-}
-
 /// Concatenates meshes into one (parts, attributes and skinning are not
 /// merged: the result has one part and no attribute). For building wild
 /// test inputs from several components.
@@ -294,18 +237,5 @@ mod tests {
         fn sub(a: [f32; 3], b: [f32; 3]) -> [f32; 3] {
             [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
         }
-    }
-
-    #[test]
-    fn triangulate_grid_keeps_uvs_per_corner() {
-        let g = quad_grid(2, 1);
-        let t = triangulate(&g);
-        assert_eq!(t.faces.len(), 4);
-        assert_eq!(t.faces.face(1), &[0, 4, 3]);
-        let uv = &t.attributes[0];
-        assert_eq!(uv.indices.len(), 12);
-        // Corner 4 is vertex 4 at (0.5, 1).
-        assert_eq!(uv.corner_value(4), Some(&[0.5, 1.0][..]));
-        t.validate().unwrap();
     }
 }

@@ -10,8 +10,8 @@ use wildlod_mesh::{shapes, Attribute, ComponentFormat, Mesh, MorphChannel, Seman
 use super::accessor::{
     component_of, push_raw, raw, representable, type_name, vertex_stride, Component,
 };
+use super::attribute_keys::morph_key;
 use super::bin::{Bin, ARRAY_BUFFER, ELEMENT_ARRAY_BUFFER};
-use super::read::morph_key;
 use crate::ErrorKind;
 
 /// Encoding choices for one write.

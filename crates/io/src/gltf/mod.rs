@@ -7,6 +7,7 @@
 
 mod accessor;
 mod animation_json;
+mod attribute_keys;
 mod bin;
 mod encode;
 mod glb;
@@ -17,6 +18,7 @@ mod passthrough;
 mod read;
 mod rewrite;
 mod scene_json;
+mod trs;
 mod uri;
 mod write;
 

@@ -11,13 +11,15 @@ use serde_json::Value;
 use wildlod_mesh::{
     AlphaMode, Animation, Attribute, ComponentFormat, ImageSource, Interpolation, Material, Mesh,
     MorphChannel, Node, Part, Sampler, Scene, Semantic, Skin, Skinning, Texture, TextureRef, Track,
-    TrackPath, Wrap, ABSENT, IDENTITY,
+    TrackPath, Wrap, ABSENT,
 };
 
 use super::accessor::Data;
+use super::attribute_keys::{morph_key, semantic_key};
 use super::load::{self, Loaded};
 use super::passthrough::{MeshSource, Passthrough, SourceBuffer};
 use super::rewrite;
+use super::trs::trs_matrix;
 use super::uri::{self, UriKind};
 use crate::ErrorKind;
 
@@ -467,27 +469,6 @@ fn read_mesh(
     Ok((mesh, source))
 }
 
-/// The glTF attribute name of a non-custom, non-morph semantic.
-pub(crate) fn semantic_key(s: &Semantic) -> String {
-    match s {
-        Semantic::TexCoord(n) => format!("TEXCOORD_{n}"),
-        Semantic::Normal => "NORMAL".into(),
-        Semantic::Tangent => "TANGENT".into(),
-        Semantic::Color(n) => format!("COLOR_{n}"),
-        Semantic::Custom(n) => n.clone(),
-        Semantic::Morph { channel, .. } => morph_key(*channel).into(),
-    }
-}
-
-/// The glTF key of a morph target channel.
-pub(crate) fn morph_key(c: MorphChannel) -> &'static str {
-    match c {
-        MorphChannel::Position => "POSITION",
-        MorphChannel::Normal => "NORMAL",
-        MorphChannel::Tangent => "TANGENT",
-    }
-}
-
 /// Appends a primitive's positions and attribute values (not skinning).
 #[allow(clippy::too_many_arguments)]
 fn read_vertices(
@@ -823,40 +804,6 @@ fn read_nodes(root: &Root) -> Vec<Node> {
         .collect()
 }
 
-/// The column-major matrix T·R·S of a node's translation, rotation
-/// (quaternion x, y, z, w) and scale.
-pub(crate) fn trs_matrix(t: [f32; 3], r: [f32; 4], s: [f32; 3]) -> [f32; 16] {
-    if t == [0.0; 3] && r == [0.0, 0.0, 0.0, 1.0] && s == [1.0; 3] {
-        return IDENTITY;
-    }
-    let [x, y, z, w] = r.map(|c| c as f64);
-    let cols = [
-        [
-            1.0 - 2.0 * (y * y + z * z),
-            2.0 * (x * y + z * w),
-            2.0 * (x * z - y * w),
-        ],
-        [
-            2.0 * (x * y - z * w),
-            1.0 - 2.0 * (x * x + z * z),
-            2.0 * (y * z + x * w),
-        ],
-        [
-            2.0 * (x * z + y * w),
-            2.0 * (y * z - x * w),
-            1.0 - 2.0 * (x * x + y * y),
-        ],
-    ];
-    let mut m = IDENTITY;
-    for c in 0..3 {
-        for r in 0..3 {
-            m[c * 4 + r] = (cols[c][r] * s[c] as f64) as f32;
-        }
-    }
-    m[12..15].copy_from_slice(&t);
-    m
-}
-
 /// The displayed scene's roots: the default scene, else scene 0, else
 /// every node without a parent.
 fn read_roots(root: &Root) -> Vec<u32> {
@@ -1141,7 +1088,6 @@ fn read_image(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use wildlod_mesh::transform::apply_point;
 
     /// Bytes of the source buffers a document keeps for writing back, and
     /// the buffers' full length.
@@ -1208,22 +1154,6 @@ mod tests {
             assert!(copied > 0 && copied < total, "{rel}: {copied} of {total}");
             assert_eq!(kept, copied, "{rel}");
         }
-    }
-
-    #[test]
-    fn trs_applies_scale_then_rotation_then_translation() {
-        // 90° about z: x → y.
-        let h = std::f32::consts::FRAC_1_SQRT_2;
-        let m = trs_matrix([10.0, 0.0, 0.0], [0.0, 0.0, h, h], [2.0, 1.0, 1.0]);
-        let p = apply_point(&m, [1.0, 0.0, 0.0]);
-        assert!(
-            (p[0] - 10.0).abs() < 1e-6 && (p[1] - 2.0).abs() < 1e-6,
-            "{p:?}"
-        );
-        assert_eq!(
-            trs_matrix([0.0; 3], [0.0, 0.0, 0.0, 1.0], [1.0; 3]),
-            IDENTITY
-        );
     }
 
     #[test]

@@ -6,9 +6,9 @@ use serde_json::{json, Map, Value};
 use wildlod_mesh::{AlphaMode, ImageSource, Material, Sampler, Scene, TextureRef, Wrap, IDENTITY};
 
 use super::accessor::Component;
-use super::animation_json::decompose;
 use super::bin::Bin;
 use super::images::ImageWriter;
+use super::trs::decompose;
 use crate::ErrorKind;
 
 /// Nodes; `mesh_map` gives the written index of every scene mesh (`None`

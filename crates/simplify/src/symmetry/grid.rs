@@ -6,7 +6,7 @@ use glam::DVec3;
 use rayon::prelude::*;
 
 use super::matching::{max_matching, MatchingScratch};
-use super::plane::{pair_error, reflect, Plane};
+use super::plane::{floor_i64, pair_error, reflect, Plane};
 use super::{SymmetryOptions, NONE};
 
 /// Each vertex is listed in the grid cells of its box of half-width
@@ -28,19 +28,6 @@ const ROUNDING: f64 = 1e-13;
 /// vertices on one side (duplicated geometry, or `δ` far above the vertex
 /// spacing), where it is a lower bound; and memory stays `O(|V|)`.
 const MAX_CANDIDATES: usize = 64;
-
-/// `⌊x⌋` as an integer, saturating far away and mapping NaN to 0 (which
-/// only makes distant points share a cell; the exact distance test sorts
-/// them out). Inline instead of `f64::floor`, which is a libm call on the
-/// baseline x86-64 target and took a tenth of the time.
-pub(super) fn floor_i64(x: f64) -> i64 {
-    let t = x as i64;
-    if (t as f64) > x {
-        t.saturating_sub(1)
-    } else {
-        t
-    }
-}
 
 /// Cell of `p` in a grid of inverse cell size `inv_h`. Monotone in each
 /// coordinate, which is all the grid's correctness needs.

@@ -2,7 +2,6 @@
 
 use glam::DVec3;
 
-use super::grid::floor_i64;
 use super::EdgeNormals;
 
 /// Below this length the sum `n(f0) + n(f1)` of an edge's two unit normals
@@ -18,6 +17,20 @@ const MIN_SINE: f64 = 1e-9;
 /// from every fraction with a small denominator, so that no regular value
 /// (0, k/10, k/2^m of a cell) lands within rounding of a cell boundary.
 const KEY_SHIFT: f64 = 0.381_966_011_250_105_1;
+
+/// `⌊x⌋` as an integer, saturating far away and mapping NaN to 0 (which
+/// only makes distant points share a cell; the exact distance test sorts
+/// them out). Inline instead of `f64::floor`, which is a libm call on the
+/// baseline x86-64 target and took a tenth of the time. Shared by the
+/// planes' grouping keys ([`Plane::key`]) and the grid's cells.
+pub(super) fn floor_i64(x: f64) -> i64 {
+    let t = x as i64;
+    if (t as f64) > x {
+        t.saturating_sub(1)
+    } else {
+        t
+    }
+}
 
 /// A plane `{x : n·x = c}` with unit normal `n` (Alg. 2's local frame: `x`
 /// axis `n⊥`, origin `e0`).
