@@ -113,17 +113,20 @@ impl Surface {
     /// The largest and the weighted mean distance from this surface's
     /// samples to `other`.
     fn to(&self, other: &Surface) -> (f64, f64) {
-        let (max, sum, weight) = self
+        // Distances in parallel, summed in sample order: a parallel float
+        // reduction associates differently from run to run, and the
+        // steering decision must be the same on every run.
+        let d: Vec<f64> = self
             .samples
             .par_iter()
-            .map(|&(x, w)| {
-                let d = other.set.distance2(x).map_or(0.0, f64::sqrt);
-                (d, d * w, w)
-            })
-            .reduce(
-                || (0.0, 0.0, 0.0),
-                |a, b| (a.0.max(b.0), a.1 + b.1, a.2 + b.2),
-            );
+            .map(|&(x, _)| other.set.distance2(x).map_or(0.0, f64::sqrt))
+            .collect();
+        let (mut max, mut sum, mut weight) = (0.0f64, 0.0, 0.0);
+        for (&d, &(_, w)) in d.iter().zip(&self.samples) {
+            max = max.max(d);
+            sum += d * w;
+            weight += w;
+        }
         (max, if weight > 0.0 { sum / weight } else { 0.0 })
     }
 }
