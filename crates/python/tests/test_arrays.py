@@ -11,7 +11,8 @@ import wildlod
 from conftest import grid, torus
 
 REPORT_KEYS = {"name", "mesh", "input_triangles", "target_triangles", "output_triangles",
-               "error", "stop", "collapses", "split_polygons", "hidden_twins", "twin_slack", "seconds"}
+               "error", "stop", "collapses", "split_polygons", "hidden_twins", "twin_slack", "seconds",
+               "outliers", "steering", "uv_damage"}
 
 
 def check_faces(out, sizes=None):
@@ -142,18 +143,18 @@ def test_options_reach_the_simplifier():
 
 
 def test_vertex_weights_protect_heavy_vertices():
-    # A flat grid with one small bump: at 2% (six triangles) plain QEM
-    # flattens it, a heavy weight on its tip keeps most of it. (At 10% the
-    # flat part's free collapses leave room for the bump either way, now
-    # that the bump's warped quads hold the planes they are drawn with.)
+    # A flat grid with one small bump: at 1% (four triangles) plain QEM
+    # flattens it, a heavy weight on its tip keeps most of it. (At 2%, ten
+    # triangles, the square needs only two of them now that its flat border
+    # stays exact, which leaves room for the bump either way.)
     pos, quads = grid(16)
     pos[:, 2] = 0
     tip = np.argmin(np.linalg.norm(pos[:, :2] - 8, axis=1))
     pos[tip, 2] = 0.3
     heavy = np.ones(len(pos), np.float32)
     heavy[tip] = 1e4
-    light = wildlod.simplify(pos, quads, ratio=0.02)["positions"][:, 2].max()
-    kept = wildlod.simplify(pos, quads, ratio=0.02, vertex_weights=heavy)["positions"][:, 2].max()
+    light = wildlod.simplify(pos, quads, ratio=0.01)["positions"][:, 2].max()
+    kept = wildlod.simplify(pos, quads, ratio=0.01, vertex_weights=heavy)["positions"][:, 2].max()
     assert kept > 0.15 and kept > 2 * light, (kept, light)
 
 

@@ -848,6 +848,9 @@ impl CostModel {
             && position != pi
             && position != pj
             && self.exact_flat_borders
+            // A virtual edge joins separate parts (W §4.1): no region's
+            // border to keep between them.
+            && !c.edges[e as usize].is_virtual()
             && planar_star(c, i, j, &mut s.faces)
         {
             let at = match (bi, bj) {
