@@ -966,6 +966,25 @@ impl Complex {
         count
     }
 
+    /// Whether collapsing `a`–`b` would leave a vertex with no face: the
+    /// last face of its part there would go (a lone triangle, or the rest
+    /// of a lone quad half collapsed). Only triangles on the edge vanish in
+    /// a collapse; a vertex whose every face is one of them is left bare.
+    pub fn collapse_leaves_a_bare_vertex(&self, a: u32, b: u32) -> bool {
+        let on_edge = |f: u32| {
+            let face = self.face(f);
+            face.len() == 3 && face.contains(&a) && face.contains(&b)
+        };
+        let bare = |v: u32| self.vert_faces[v as usize].iter().all(|&f| on_edge(f));
+        if bare(a) && bare(b) {
+            return true;
+        }
+        self.vert_faces[a as usize]
+            .iter()
+            .filter(|&&f| on_edge(f))
+            .any(|&f| self.face(f).iter().any(|&v| v != a && v != b && bare(v)))
+    }
+
     /// The faces around `i` or `j`, each once, in a deterministic order:
     /// `i`'s, then those of `j`'s that do not hold `i` (a star lists a face
     /// once, and exactly the faces that hold its vertex).

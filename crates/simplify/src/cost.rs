@@ -852,6 +852,10 @@ impl CostModel {
             // border to keep between them.
             && !c.edges[e as usize].is_virtual()
             && planar_star(c, i, j, &mut s.faces)
+            // A collapse that only deletes faces (a lone triangle going
+            // to an edge) keeps no border: where its leftover edge lies
+            // matters only to the merges after it.
+            && s.faces.iter().any(|&f| !crate::guards::vanishes(c.face(f), i, j))
         {
             let at = match (bi, bj) {
                 (true, false) => pi,
@@ -1462,6 +1466,43 @@ mod tests {
             .evaluate(&c, &q, &[], &[], &[], &[], None, e, &mut s)
             .unwrap();
         assert!(ev.cost < 1e-12);
+    }
+
+    #[test]
+    fn flat_borders_are_kept_for_faces_that_stay_not_for_a_vanishing_triangle() {
+        let place = |pos: Vec<DVec3>, offsets: &[u32], indices: &[u32], exact: bool| {
+            let (c, _) = Complex::new(pos, offsets, indices);
+            let metric = Metric::default();
+            let q = stored(
+                &c,
+                &vertex_quadrics(&c, &metric, &[], EdgeImportance::default()),
+            );
+            let m = CostModel {
+                exact_flat_borders: exact,
+                ..model_of(metric)
+            };
+            let e = c.edge_between(0, 1).unwrap();
+            m.evaluate(&c, &q, &[], &[], &[], &[], None, e, &mut Scratch::default())
+                .map(|ev| ev.position)
+        };
+        let (p0, p1) = (DVec3::ZERO, DVec3::X);
+        // A lone triangle: collapsing its side 0–1 deletes it, no face of
+        // the region is left to keep inside a border, and the placement is
+        // the free one, strictly between the endpoints (the border planes
+        // of the three sides pull it inward).
+        let lone = vec![p0, p1, DVec3::Y];
+        let free = place(lone.clone(), &[0, 3], &[0, 1, 2], false).unwrap();
+        assert!(
+            free.distance(p0) > 1e-3 && free.distance(p1) > 1e-3,
+            "{free}"
+        );
+        let ruled = place(lone, &[0, 3], &[0, 1, 2], true).unwrap();
+        assert!(ruled.distance(free) < 1e-12, "{ruled} {free}");
+        // A square of two: the triangle (1, 3, 2) stays, so the border
+        // vertices 0 and 1 join at one of them, never between.
+        let square = vec![p0, p1, DVec3::Y, DVec3::new(1.0, 1.0, 0.0)];
+        let at = place(square, &[0, 3, 6], &[0, 1, 2, 1, 3, 2], true).unwrap();
+        assert!(at == p0 || at == p1, "{at}");
     }
 
     #[test]

@@ -63,6 +63,12 @@ pub(crate) fn flipped_face(
     None
 }
 
+/// Whether a face vanishes when `i` and `j` merge: a triangle on the edge.
+#[inline]
+pub(crate) fn vanishes(face: &[u32], i: u32, j: u32) -> bool {
+    face.len() == 3 && face.contains(&i) && face.contains(&j)
+}
+
 /// Whether collapsing `i`–`j` to `x` leaves a surviving face of `star`
 /// that had area with none (its corners on one line, to 1e-12 of its
 /// area). [`flipped_face`] does not judge faces without area, so a face
@@ -73,7 +79,7 @@ pub(crate) fn flattens_a_face(c: &Complex, star: &[u32], i: u32, j: u32, x: DVec
     let mut new_p: smallvec::SmallVec<[DVec3; 8]> = smallvec::SmallVec::new();
     for &f in star {
         let face = c.face(f);
-        if face.len() == 3 && face.contains(&i) && face.contains(&j) {
+        if vanishes(face, i, j) {
             continue;
         }
         old_p.clear();

@@ -109,12 +109,13 @@ pub(crate) struct Tie {
 pub(crate) struct TieOrder {
     relative: f64,
     use_recency: bool,
-    queue: BinaryHeap<Reverse<(u128, u32)>>,
+    queue: BinaryHeap<Reverse<(bool, u128, u32)>>,
     recency: Vec<u32>,
     epoch_of: Vec<u32>,
     epoch: u32,
     cost: Vec<f64>,
     in_tie: Vec<bool>,
+    bare: Vec<bool>,
     class_cost: f64,
 }
 
@@ -131,6 +132,7 @@ impl TieOrder {
             epoch: 1,
             cost: vec![0.0; edges],
             in_tie: vec![false; edges],
+            bare: vec![false; edges],
             class_cost: 0.0,
         }
     }
@@ -162,12 +164,19 @@ impl TieOrder {
         d < epsilon || d <= self.relative * cost.max(self.class_cost)
     }
 
-    /// Edge `e` joins the class with its cost and generation.
-    pub fn push(&mut self, e: u32, cost: f64, gen: u32) {
+    /// Edge `e` joins the class with its cost and generation; `bare` when
+    /// its collapse would take the last face of its part somewhere (see
+    /// `Complex::collapse_leaves_a_bare_vertex`). Bare edges come after
+    /// every other member of the class, whatever their recency: among
+    /// costs taken as equal, shrinking a part beats deleting one (a chord
+    /// that runs through a lone quad would otherwise take the whole part
+    /// while another part of the same cost only had to lose a corner).
+    pub fn push(&mut self, e: u32, cost: f64, gen: u32, bare: bool) {
         self.cost[e as usize] = cost;
         self.in_tie[e as usize] = true;
+        self.bare[e as usize] = bare;
         let r = self.recency(e);
-        self.queue.push(Reverse((tie_key(r, cost, e), gen)));
+        self.queue.push(Reverse((bare, tie_key(r, cost, e), gen)));
     }
 
     /// Alg. 1 line 23: `recency(e) += by`; an edge waiting in the queue is
@@ -181,7 +190,8 @@ impl TieOrder {
         self.epoch_of[e as usize] = self.epoch;
         if self.in_tie[e as usize] {
             let c = self.cost[e as usize];
-            self.queue.push(Reverse((tie_key(r, c, e), gen)));
+            self.queue
+                .push(Reverse((self.bare[e as usize], tie_key(r, c, e), gen)));
         }
     }
 
@@ -189,7 +199,7 @@ impl TieOrder {
     /// The caller checks the generation (a changed cost sends the edge back
     /// to the main queue) and whether the edge is alive.
     pub fn pop(&mut self) -> Option<Tie> {
-        while let Some(Reverse((key, gen))) = self.queue.pop() {
+        while let Some(Reverse((_, key, gen))) = self.queue.pop() {
             let e = key as u32;
             if !self.in_tie[e as usize] {
                 continue;
@@ -245,15 +255,30 @@ mod tests {
     fn serves_highest_recency_then_lowest_cost() {
         let mut t = TieOrder::new(5, 0.0, true);
         t.new_class(1.0);
-        t.push(0, 1.0002, 0);
-        t.push(1, 1.0001, 0);
-        t.push(2, 1.0003, 0);
+        t.push(0, 1.0002, 0, false);
+        t.push(1, 1.0001, 0, false);
+        t.push(2, 1.0003, 0, false);
         // Edge 2 becomes most recent: it jumps ahead.
         t.bump(2, 3, 0);
         let order: Vec<(u32, u32)> = std::iter::from_fn(|| t.pop())
             .map(|x| (x.edge, x.recency))
             .collect();
         assert_eq!(order, vec![(2, 3), (1, 0), (0, 0)]);
+    }
+
+    #[test]
+    fn a_collapse_that_deletes_a_part_comes_last_in_its_class() {
+        let mut t = TieOrder::new(3, 0.0, true);
+        t.new_class(1.0);
+        // Edge 0 is the chord's next side but would take its part's last
+        // face; edge 1 costs a little more and only shrinks its part.
+        t.push(0, 1.0, 0, true);
+        t.push(1, 1.0001, 0, false);
+        t.push(2, 1.0002, 0, false);
+        t.bump(0, 5, 0);
+        t.bump(2, 1, 0);
+        let order: Vec<u32> = std::iter::from_fn(|| t.pop()).map(|x| x.edge).collect();
+        assert_eq!(order, vec![2, 1, 0]);
     }
 
     #[test]
@@ -280,8 +305,8 @@ mod tests {
     fn without_recency_the_class_is_served_by_cost() {
         let mut t = TieOrder::new(3, 0.0, false);
         t.new_class(0.0);
-        t.push(0, 0.3, 0);
-        t.push(1, 0.1, 0);
+        t.push(0, 0.3, 0, false);
+        t.push(1, 0.1, 0, false);
         t.bump(0, 9, 0);
         let order: Vec<u32> = std::iter::from_fn(|| t.pop()).map(|x| x.edge).collect();
         assert_eq!(order, vec![1, 0]);

@@ -932,7 +932,9 @@ impl<'o> Run<'o> {
             self.queue.pop();
             let gen = self.p.complex.edges[e as usize].gen();
             // Still `queued`: it waits in the tie queue now.
-            ties.push(e, cost, gen);
+            let [a, b] = self.p.complex.edges[e as usize].ends;
+            let bare = self.p.complex.collapse_leaves_a_bare_vertex(a, b);
+            ties.push(e, cost, gen, bare);
         }
     }
 

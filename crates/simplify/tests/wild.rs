@@ -130,3 +130,51 @@ fn area_term_keeps_a_flat_panel_that_plain_qem_eats() {
     let ab = area(&plain(Options::classic_qem().metric.border_weight)) / before;
     assert!(ab > 0.9, "border planes kept {ab:.3} of the panel");
 }
+
+#[test]
+fn two_lone_quads_at_one_vertex_each_keep_a_face_at_half() {
+    use wildlod_mesh::{Faces, Mesh};
+    // Two unit-free quads touching only at the origin (a non-manifold
+    // vertex), as quads: four triangles, two to keep. Halving each quad
+    // costs exactly what deleting one does, and in quad mode the deleted
+    // quad's second side is the next of its chord; a part must still not
+    // vanish while a collapse of equal cost only shrinks another.
+    let positions = vec![
+        [-2.0, 0.0, 2.0],
+        [0.0, 0.0, 2.0],
+        [-2.0, 0.0, 0.0],
+        [0.0, 0.0, 0.0],
+        [2.0, 0.0, 0.0],
+        [0.0, 0.0, -2.0],
+        [2.0, 0.0, -2.0],
+    ];
+    let mut faces = Faces::new();
+    faces.push(&[0, 1, 3, 2]);
+    faces.push(&[3, 4, 6, 5]);
+    let mesh = Mesh::from_polygons(positions, faces);
+    for quad_mode in [
+        wildlod_simplify::QuadMode::default(),
+        wildlod_simplify::QuadMode::Never,
+    ] {
+        let options = Options {
+            quad_mode,
+            ..ratio(0.5)
+        };
+        let (out, rep) = simplify_mesh(&mesh, &options).unwrap();
+        assert_eq!(out.triangle_count(), 2, "{quad_mode:?}: {rep:?}");
+        // Each quad keeps a face: some output face has its centroid on
+        // each side of the x = 0 plane.
+        let side = |f: usize| {
+            let c = out.faces.face(f);
+            c.iter()
+                .map(|&v| out.positions[v as usize][0])
+                .sum::<f32>()
+                .signum()
+        };
+        let sides: Vec<f32> = (0..out.faces.len()).map(side).collect();
+        assert!(
+            sides.contains(&-1.0) && sides.contains(&1.0),
+            "{quad_mode:?}: a quad vanished, faces on sides {sides:?}"
+        );
+    }
+}
