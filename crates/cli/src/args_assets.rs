@@ -5,7 +5,7 @@ use std::path::PathBuf;
 
 use clap::Args;
 
-use crate::args::TuningArgs;
+use crate::args::{TextureArg, TuningArgs};
 
 /// Arguments of `wildlod lod`.
 #[derive(Args, Debug)]
@@ -45,6 +45,25 @@ pub struct LodArgs {
     /// With glTF output: one file per level, not MSFT_lod
     #[arg(long)]
     pub split: bool,
+    /// Textures: auto, keep or bake (see --help)
+    ///
+    /// `auto` keeps the input's UVs and shared textures level after level
+    /// while each level shows the texture as the input does (measured as
+    /// simplify --textures auto measures it); from the first level where a
+    /// re-bake measures better, that level and every coarser one are made
+    /// from the input with a re-baked atlas of their own. `keep` shares the
+    /// input's textures at every level; `bake` re-bakes every level.
+    #[arg(long, value_enum, default_value_t = TextureArg::Auto, hide_possible_values = true)]
+    pub textures: TextureArg,
+    /// When re-baking: atlas size in texels (see simplify --texture-size)
+    #[arg(long, value_name = "N")]
+    pub texture_size: Option<u32>,
+    /// When re-baking: one atlas per alpha mode and sidedness
+    #[arg(long)]
+    pub merge_materials: bool,
+    /// When re-baking: JPEG quality for JPEG inputs
+    #[arg(long, value_name = "Q", default_value_t = 90)]
+    pub jpeg_quality: u8,
     /// Also write an HTML report of the chain
     ///
     /// At PATH or, without one, at NAME_report.html beside the output (put a

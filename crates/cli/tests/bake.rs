@@ -444,3 +444,116 @@ fn baked_images_get_the_same_names_beside_a_gltf_and_an_obj() {
     assert_eq!(names[0], names[1]);
     assert!(names[0].iter().all(|n| n.starts_with("torus")), "{names:?}");
 }
+
+/// Decision 4 for chains: `lod` shares the input's texture down to the
+/// first level that `auto` re-bakes, then re-bakes that level and every
+/// coarser one, each with an atlas of its own; `--json` says which and
+/// why. On the torus of one UV chart at 50/10/1% (its texture holds at
+/// 50%, as `simplify` found, and tears at 1%, where the chart cannot stay
+/// whole), with the chain written as one `MSFT_lod` file and as one file
+/// per level.
+#[test]
+fn lod_shares_the_texture_until_auto_rebakes_then_rebakes_the_coarser_levels() {
+    let dir = tempfile::tempdir().unwrap();
+    let png = dir.path().join("paint.png");
+    write_image(&png);
+    let chart = torus_with_uvs(dir.path(), &png, "glb", true);
+    let lod = |out: &Path, split: bool| {
+        let mut args = vec!["lod", s(&chart), "-o", s(out), "--ratios", "0.5,0.1,0.01"];
+        args.extend(["--texture-size", "128", "--json"]);
+        if split {
+            args.push("--split");
+        }
+        let o = wildlod(&args);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        serde_json::from_slice::<serde_json::Value>(&o.stdout).unwrap()
+    };
+    let j = lod(&dir.path().join("split.glb"), true);
+    let levels = j["levels"].as_array().unwrap();
+    assert!(levels[0]["textures"].is_null(), "{j}");
+    let chosen: Vec<&str> = levels[1..]
+        .iter()
+        .map(|l| l["textures"]["chosen"].as_str().unwrap())
+        .collect();
+    eprintln!("chosen per level: {chosen:?}");
+    // Keeps first, then re-bakes to the end, and 1% re-bakes.
+    let first_bake = chosen.iter().position(|&c| c == "bake").unwrap();
+    assert!(first_bake >= 1, "{chosen:?}");
+    assert!(
+        chosen[first_bake..].iter().all(|&c| c == "bake"),
+        "{chosen:?}"
+    );
+    assert!(
+        chosen[..first_bake].iter().all(|&c| c == "keep"),
+        "{chosen:?}"
+    );
+    // The level that started re-baking measured why: keeping its UVs was
+    // visibly off and the re-bake lower.
+    let t = &levels[1 + first_bake]["textures"];
+    assert_eq!(t["mode"], "auto");
+    let (keep, bake) = (
+        t["keep_uv_excess"].as_f64().unwrap(),
+        t["rebaked_excess"].as_f64().unwrap(),
+    );
+    assert!(
+        keep > wildlod_pipeline::VISIBLE_TEXTURE_EXCESS && bake < keep,
+        "{t}"
+    );
+    // Every level reaches its target whatever its textures, and a
+    // re-baked level aims at the count the shared one would have had.
+    for (l, want) in levels[1..].iter().zip([0.5, 0.1, 0.01]) {
+        let m = &l["meshes"][0];
+        let (got, target) = (
+            m["output_triangles"].as_u64().unwrap(),
+            m["target_triangles"].as_u64().unwrap(),
+        );
+        assert!(got.abs_diff(target) <= 1, "{l}");
+        assert!((target as f64 - want * 2304.0).abs() <= 2.0, "{l}");
+    }
+    // Each file draws with its own images: the input's 96² where shared,
+    // a 128² atlas where re-baked.
+    let size = |doc: &Document| {
+        let mat = &doc.scene.materials[doc.scene.meshes[0].parts[0].material.unwrap() as usize];
+        let tex = &doc.scene.textures[mat.base_color_texture.unwrap().texture as usize];
+        let img = wildlod_io::decode_image_rgba8(&tex.source).unwrap();
+        (img.width, img.height)
+    };
+    for (k, l) in levels.iter().enumerate() {
+        let doc = wildlod_io::read(Path::new(l["file"].as_str().unwrap())).unwrap();
+        let want = if k > first_bake { (128, 128) } else { (96, 96) };
+        assert_eq!(size(&doc), want, "level {k}");
+    }
+    // One file: the input's material, then one per re-baked level, each
+    // level's mesh on its own.
+    let one = dir.path().join("chain.glb");
+    lod(&one, false);
+    let doc = wildlod_io::read(&one).unwrap();
+    let baked_levels = chosen.len() - first_bake;
+    assert_eq!(
+        doc.scene.materials.len(),
+        1 + baked_levels,
+        "{:?}",
+        doc.scene.materials
+    );
+    let mut used: Vec<u32> = doc
+        .scene
+        .meshes
+        .iter()
+        .filter_map(|m| m.parts[0].material)
+        .collect();
+    used.sort_unstable();
+    used.dedup();
+    assert_eq!(used.len(), 1 + baked_levels, "{used:?}");
+    // Asked outright: every level shares, or every level re-bakes.
+    for (mode, want) in [("keep", "keep"), ("bake", "bake")] {
+        let mut args = vec!["lod", s(&chart), "-o", s(&one), "--ratios", "0.5,0.1"];
+        args.extend(["--textures", mode, "--json", "--overwrite"]);
+        let o = wildlod(&args);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let j: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+        for l in &j["levels"].as_array().unwrap()[1..] {
+            assert_eq!(l["textures"]["mode"], mode, "{l}");
+            assert_eq!(l["textures"]["chosen"], want, "{l}");
+        }
+    }
+}

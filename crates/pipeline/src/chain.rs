@@ -1,6 +1,9 @@
 //! Chains of levels of detail, each simplified from the one before (nested,
-//! and each step only works on what is left), all sharing the input's
-//! materials and textures (keep-UV mode).
+//! and each step only works on what is left), sharing the input's
+//! materials and textures (keep-UV mode). A level whose textures are
+//! re-baked (`lod --textures`) is made from the input instead, as baking
+//! maps every texel through one collapse history, and draws with
+//! materials of its own ([`LevelMaterials`]).
 //!
 //! glTF output holds every level in one file (`MSFT_lod`, with
 //! `MSFT_screencoverage` hints from each level's error); split output and
@@ -13,7 +16,9 @@ use wildlod_io::{Document, Format, LodLevels, WriteOptions};
 use wildlod_mesh::{Mesh, Scene};
 use wildlod_simplify::{Options, Target};
 
+use crate::level_materials::{append_level_materials, level_scene, LevelMaterials};
 use crate::report::{ChainJson, LevelJson, MeshJson};
+use crate::textures::TextureChoice;
 use crate::{
     file_stem, scene_diagonal, simplify_scene, targets_for, world_diagonal, Error, MeshProgress,
     MeshRun,
@@ -134,6 +139,72 @@ pub struct Level {
     pub mesh_errors: Vec<f64>,
     /// Wall time of this level.
     pub seconds: f64,
+    /// The level's own materials and textures when its textures were
+    /// re-baked; `None`: it shares the input's.
+    pub own_materials: Option<LevelMaterials>,
+    /// How the level's textures were treated and why, for a file with
+    /// textures (set by the caller that chose: `lod --textures`).
+    pub textures: Option<TextureChoice>,
+}
+
+impl Level {
+    /// A level simplified straight from `scene` (a re-baked one): `meshes`
+    /// drawn with `own` materials, made by `runs`, whose errors are
+    /// relative to each input mesh's own diagonal.
+    pub fn from_input(
+        scene: &Scene,
+        level: usize,
+        meshes: Vec<Mesh>,
+        own: LevelMaterials,
+        runs: Vec<MeshRun>,
+        seconds: f64,
+    ) -> Level {
+        let to_file = to_file_scale(scene);
+        let mut mesh_errors = vec![0.0; scene.meshes.len()];
+        for r in &runs {
+            if let Some(e) = mesh_errors.get_mut(r.mesh) {
+                *e = r.report.error;
+            }
+        }
+        let error = mesh_errors
+            .iter()
+            .zip(&to_file)
+            .map(|(e, f)| e * f)
+            .fold(0.0, f64::max);
+        let triangles = drawn_triangles(&level_scene(scene, &meshes, None));
+        Level {
+            level,
+            meshes,
+            runs,
+            triangles,
+            error,
+            mesh_errors,
+            seconds,
+            own_materials: Some(own),
+            textures: None,
+        }
+    }
+
+    /// The scene this level draws: `scene` with its meshes, and its own
+    /// materials when it has them.
+    pub fn scene(&self, scene: &Scene) -> Scene {
+        level_scene(scene, &self.meshes, self.own_materials.as_ref())
+    }
+}
+
+/// How each mesh's own relative error reads against the file's diagonal.
+fn to_file_scale(scene: &Scene) -> Vec<f64> {
+    let file_diag = scene_diagonal(scene);
+    (0..scene.meshes.len())
+        .map(|m| {
+            let d = world_diagonal(scene, m);
+            if file_diag > 0.0 && d > 0.0 {
+                d / file_diag
+            } else {
+                1.0
+            }
+        })
+        .collect()
 }
 
 /// Triangles `scene` draws: each mesh's once per node that shows it (the
@@ -181,18 +252,7 @@ pub fn build_chain<P: MeshProgress>(
         .map(|(m, k)| m.triangle_count() * k)
         .collect();
     let input_diag: Vec<f64> = scene.meshes.iter().map(local_diagonal).collect();
-    let file_diag = scene_diagonal(scene);
-    // How a mesh's own relative error reads against the file's diagonal.
-    let to_file: Vec<f64> = (0..scene.meshes.len())
-        .map(|m| {
-            let d = world_diagonal(scene, m);
-            if file_diag > 0.0 && d > 0.0 {
-                d / file_diag
-            } else {
-                1.0
-            }
-        })
-        .collect();
+    let to_file = to_file_scale(scene);
     let mut current = scene.clone();
     let mut accumulated = vec![0.0f64; scene.meshes.len()];
     let mut out = Vec::with_capacity(levels.len());
@@ -264,6 +324,8 @@ pub fn build_chain<P: MeshProgress>(
             mesh_errors: accumulated.clone(),
             runs,
             seconds: t0.elapsed().as_secs_f64(),
+            own_materials: None,
+            textures: None,
         });
     }
     Ok(out)
@@ -407,12 +469,20 @@ pub fn write_chain(
     let doc = &level_zero(doc);
     let mut warnings = Vec::new();
     if paths.len() == 1 {
-        let meshes: Vec<Vec<Mesh>> = levels.iter().map(|l| l.meshes.clone()).collect();
+        // One file: the input's materials, then each re-baked level's.
+        let mut one = doc.clone();
+        let meshes: Vec<Vec<Mesh>> = levels
+            .iter()
+            .map(|l| match &l.own_materials {
+                Some(own) => append_level_materials(&mut one.scene, &l.meshes, own),
+                None => l.meshes.clone(),
+            })
+            .collect();
         let coverage: Vec<Vec<f64>> = (0..doc.scene.meshes.len())
             .map(|m| screen_coverage(levels, m))
             .collect();
         warnings = wildlod_io::write_lods(
-            doc,
+            &one,
             &LodLevels {
                 levels: &meshes,
                 screen_coverage: &coverage,
@@ -422,12 +492,10 @@ pub fn write_chain(
         )?;
         return Ok((paths, warnings));
     }
-    let mut level_doc = doc.clone();
     for (k, path) in paths.iter().enumerate() {
-        if k > 0 {
-            if let Some(l) = levels.get(k - 1) {
-                level_doc.scene.meshes = l.meshes.clone();
-            }
+        let mut level_doc = doc.clone();
+        if let Some(l) = k.checked_sub(1).and_then(|k| levels.get(k)) {
+            level_doc.scene = l.scene(&doc.scene);
         }
         for w in wildlod_io::write(&level_doc, path, &options)? {
             warnings.push(format!("{}: {w}", path.display()));
@@ -473,6 +541,7 @@ pub fn chain_json(
         file: file(0),
         screen_coverage: coverage(0),
         meshes: Vec::new(),
+        textures: None,
     }];
     for l in levels {
         out.push(LevelJson {
@@ -484,6 +553,7 @@ pub fn chain_json(
             file: file(l.level),
             screen_coverage: coverage(l.level),
             meshes: l.runs.iter().map(MeshJson::new).collect(),
+            textures: l.textures,
         });
     }
     ChainJson {
@@ -527,6 +597,8 @@ mod tests {
             error: e,
             mesh_errors: vec![e],
             seconds: 0.0,
+            own_materials: None,
+            textures: None,
         }
     }
 

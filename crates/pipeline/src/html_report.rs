@@ -614,6 +614,10 @@ pub fn report_files(
     Ok((report, warnings))
 }
 
+/// A level as the chain's report shows it: label, scene, accumulated
+/// error, and its own images when it was re-baked.
+type LevelView = (String, Scene, f64, Option<Vec<Option<Image>>>);
+
 /// The report of a chain (`lod --report`): the input (`doc`, read from
 /// `input`) against every level, with a slider through the levels.
 pub fn write_chain_report(
@@ -626,20 +630,26 @@ pub fn write_chain_report(
     let t0 = Instant::now();
     let (images, _) = load_images(doc, input);
     let stem = file_stem(input);
-    let scenes: Vec<(String, Scene, f64)> = levels
+    // A re-baked level shows its own atlas (embedded, so the path is
+    // only a name for warnings).
+    let scenes: Vec<LevelView> = levels
         .iter()
         .map(|l| {
-            let mut scene = doc.scene.clone();
-            scene.meshes = l.meshes.clone();
-            (format!("lod{}", l.level), scene, l.error)
+            let scene = l.scene(&doc.scene);
+            let own_images = l.own_materials.as_ref().map(|_| {
+                let mut level_doc = doc.clone();
+                level_doc.scene = scene.clone();
+                load_images(&level_doc, input).0
+            });
+            (format!("lod{}", l.level), scene, l.error, own_images)
         })
         .collect();
     let candidates: Vec<ReportModel> = scenes
         .iter()
-        .map(|(label, scene, error)| ReportModel {
+        .map(|(label, scene, error, own_images)| ReportModel {
             label,
             scene,
-            images: &images,
+            images: own_images.as_ref().unwrap_or(&images),
             source: 0,
             chain_error: Some(*error),
         })

@@ -8,7 +8,8 @@
 //!   share of a target ([`targets_for`]), reported as [`RunJson`];
 //! - [`build_chain`], [`write_chain`] and [`lod_file`]: nested levels of
 //!   detail, glTF `MSFT_lod` with `MSFT_screencoverage` hints or one file
-//!   per level, reported as [`ChainJson`];
+//!   per level, reported as [`ChainJson`]; re-baked levels carry their own
+//!   materials ([`LevelMaterials`]);
 //! - [`run_batch`]: every file of a folder, with the summary of
 //!   `batch` ([`BatchSummary`]);
 //! - [`describe`]: what `info --json` prints ([`FileInfo`]);
@@ -27,6 +28,7 @@ mod error;
 mod file;
 mod html_report;
 mod info;
+mod level_materials;
 mod progress;
 mod report;
 mod scene;
@@ -54,6 +56,7 @@ pub use html_report::{
     ReportOptions,
 };
 pub use info::{describe, FaceCounts, FileInfo, MeshInfo};
+pub use level_materials::{append_level_materials, level_scene, LevelMaterials};
 pub use progress::{MeshProgress, NoProgress};
 pub use report::{stop_key, ChainJson, LevelJson, MeshJson, RunJson};
 pub use scene::{clear_unused_joint_slots, file_stem, mesh_name, simplify_scene, MeshRun};

@@ -171,8 +171,13 @@ pub struct LevelJson {
     /// The `MSFT_screencoverage` hint of a file's only mesh; null for files
     /// of several meshes (each base node has its own).
     pub screen_coverage: Option<f64>,
-    /// The simplifier's runs that made it from the level above.
+    /// The simplifier's runs that made it from the level above (from the
+    /// input, for a re-baked level).
     pub meshes: Vec<MeshJson>,
+    /// How the level's textures were treated and why (as `simplify
+    /// --json`'s `textures`); null for the input and for files without
+    /// textures.
+    pub textures: Option<crate::TextureChoice>,
 }
 
 /// `lod --json`: a chain of levels.

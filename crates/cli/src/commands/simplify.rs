@@ -56,31 +56,12 @@ impl Config {
         .map_err(with_flag_names)?;
         let options = tuning_options(&a.tuning)?;
         check_output(&a.input, &a.output, a.overwrite)?;
-        if let Some(n) = a.texture_size {
-            if !(16..=16384).contains(&n) {
-                bail!("--texture-size must be between 16 and 16384, got {n}");
-            }
-        }
-        if !(1..=100).contains(&a.jpeg_quality) {
-            bail!(
-                "--jpeg-quality must be between 1 and 100, got {}",
-                a.jpeg_quality
-            );
-        }
         let textures = match (a.bake, a.textures) {
             (true, TextureArg::Keep) => bail!("--bake contradicts --textures keep"),
-            (true, _) | (false, TextureArg::Bake) => TextureMode::Bake,
-            (false, TextureArg::Auto) => TextureMode::Auto,
-            (false, TextureArg::Keep) => TextureMode::Keep,
+            (true, _) => TextureMode::Bake,
+            (false, t) => texture_mode(t),
         };
-        if textures == TextureMode::Keep && (a.texture_size.is_some() || a.merge_materials) {
-            bail!("--texture-size and --merge-materials apply only when re-baking, not with --textures keep");
-        }
-        let bake = super::bake::BakeConfig {
-            texture_size: a.texture_size,
-            merge_materials: a.merge_materials,
-            jpeg_quality: a.jpeg_quality,
-        };
+        let bake = bake_config(textures, a.texture_size, a.merge_materials, a.jpeg_quality)?;
         Ok(Config {
             json: a.json,
             textures,
@@ -98,11 +79,46 @@ impl Config {
     }
 }
 
+/// `--textures` as the pipeline names it.
+pub(crate) fn texture_mode(t: TextureArg) -> TextureMode {
+    match t {
+        TextureArg::Auto => TextureMode::Auto,
+        TextureArg::Keep => TextureMode::Keep,
+        TextureArg::Bake => TextureMode::Bake,
+    }
+}
+
+/// The re-baking settings, checked: in range, and not given where nothing
+/// is re-baked.
+pub(crate) fn bake_config(
+    textures: TextureMode,
+    texture_size: Option<u32>,
+    merge_materials: bool,
+    jpeg_quality: u8,
+) -> anyhow::Result<super::bake::BakeConfig> {
+    if let Some(n) = texture_size {
+        if !(16..=16384).contains(&n) {
+            bail!("--texture-size must be between 16 and 16384, got {n}");
+        }
+    }
+    if !(1..=100).contains(&jpeg_quality) {
+        bail!("--jpeg-quality must be between 1 and 100, got {jpeg_quality}");
+    }
+    if textures == TextureMode::Keep && (texture_size.is_some() || merge_materials) {
+        bail!("--texture-size and --merge-materials apply only when re-baking, not with --textures keep");
+    }
+    Ok(super::bake::BakeConfig {
+        texture_size,
+        merge_materials,
+        jpeg_quality,
+    })
+}
+
 /// What can be known about the output before any work: its format, its
 /// folder, and whether it would replace the input. (The writer checks all
 /// of this again; checking here saves the user the wait, which on a large
 /// mesh is seconds, and names the problem in the user's terms.)
-fn check_output(input: &Path, output: &Path, overwrite: bool) -> anyhow::Result<()> {
+pub(crate) fn check_output(input: &Path, output: &Path, overwrite: bool) -> anyhow::Result<()> {
     wildlod_io::Format::from_path(output).map_err(|kind| wildlod_io::Error::new(output, kind))?;
     let folder = match output.parent() {
         Some(d) if !d.as_os_str().is_empty() => d,
