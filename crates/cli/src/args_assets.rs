@@ -7,6 +7,32 @@ use clap::Args;
 
 use crate::args::{TextureArg, TuningArgs};
 
+/// Texture arguments of `lod` and `batch`.
+#[derive(Args, Debug)]
+pub struct TextureArgs {
+    /// Textures: auto, keep or bake (see --help)
+    ///
+    /// `auto` keeps the input's UVs and textures while the result shows the
+    /// texture as the input does (texture Chamfer distance over the input's
+    /// own, at most 0.01), else also re-bakes and keeps whichever measures
+    /// better, as simplify --textures auto does. Down a chain, levels share
+    /// the input's textures until the first level that auto re-bakes; that
+    /// level and every coarser one are made from the input with a re-baked
+    /// atlas of their own. `keep` always shares the input's textures; `bake`
+    /// always re-bakes.
+    #[arg(long, value_enum, default_value_t = TextureArg::Auto, hide_possible_values = true)]
+    pub textures: TextureArg,
+    /// When re-baking: atlas size in texels (see simplify --texture-size)
+    #[arg(long, value_name = "N")]
+    pub texture_size: Option<u32>,
+    /// When re-baking: one atlas per alpha mode and sidedness
+    #[arg(long)]
+    pub merge_materials: bool,
+    /// When re-baking: JPEG quality for JPEG inputs
+    #[arg(long, value_name = "Q", default_value_t = 90)]
+    pub jpeg_quality: u8,
+}
+
 /// Arguments of `wildlod lod`.
 #[derive(Args, Debug)]
 #[command(group(
@@ -45,25 +71,9 @@ pub struct LodArgs {
     /// With glTF output: one file per level, not MSFT_lod
     #[arg(long)]
     pub split: bool,
-    /// Textures: auto, keep or bake (see --help)
-    ///
-    /// `auto` keeps the input's UVs and shared textures level after level
-    /// while each level shows the texture as the input does (measured as
-    /// simplify --textures auto measures it); from the first level where a
-    /// re-bake measures better, that level and every coarser one are made
-    /// from the input with a re-baked atlas of their own. `keep` shares the
-    /// input's textures at every level; `bake` re-bakes every level.
-    #[arg(long, value_enum, default_value_t = TextureArg::Auto, hide_possible_values = true)]
-    pub textures: TextureArg,
-    /// When re-baking: atlas size in texels (see simplify --texture-size)
-    #[arg(long, value_name = "N")]
-    pub texture_size: Option<u32>,
-    /// When re-baking: one atlas per alpha mode and sidedness
-    #[arg(long)]
-    pub merge_materials: bool,
-    /// When re-baking: JPEG quality for JPEG inputs
-    #[arg(long, value_name = "Q", default_value_t = 90)]
-    pub jpeg_quality: u8,
+    /// Keep, re-bake or choose textures per level.
+    #[command(flatten)]
+    pub textures: TextureArgs,
     /// Also write an HTML report of the chain
     ///
     /// At PATH or, without one, at NAME_report.html beside the output (put a
@@ -127,6 +137,10 @@ pub struct BatchArgs {
     /// Files simplified at once (default: the number of cores).
     #[arg(long, short = 'j', value_name = "N")]
     pub jobs: Option<usize>,
+    /// Keep, re-bake or choose textures per file (per level of a chain),
+    /// as simplify and lod do.
+    #[command(flatten)]
+    pub textures: TextureArgs,
     /// Skip files whose outputs exist (resume a run)
     ///
     /// They are listed as skipped in the summary.

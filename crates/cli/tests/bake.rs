@@ -557,3 +557,56 @@ fn lod_shares_the_texture_until_auto_rebakes_then_rebakes_the_coarser_levels() {
         }
     }
 }
+
+/// `batch` treats every file's textures as `simplify` does: `auto` re-bakes
+/// the torus of per-quad UV islands at 1% (as simplify does, above), `keep`
+/// keeps the input's image.
+#[test]
+fn batch_chooses_textures_per_file_as_simplify_does() {
+    let dir = tempfile::tempdir().unwrap();
+    let src = dir.path().join("in");
+    std::fs::create_dir(&src).unwrap();
+    let png = src.join("paint.png");
+    write_image(&png);
+    torus_gltf(&src, &png, "glb");
+    for (textures, want) in [("auto", (128, 128)), ("keep", (96, 96))] {
+        let out = dir.path().join(textures);
+        let o = wildlod(&[
+            "batch",
+            s(&src),
+            "-o",
+            s(&out),
+            "--ratio",
+            "0.01",
+            "--textures",
+            textures,
+            "--texture-size",
+            "128",
+            "-q",
+        ]);
+        // --texture-size with keep is refused, as in simplify.
+        if textures == "keep" {
+            assert!(!o.status.success());
+            assert!(String::from_utf8_lossy(&o.stderr).contains("--texture-size"));
+            let o = wildlod(&[
+                "batch",
+                s(&src),
+                "-o",
+                s(&out),
+                "--ratio",
+                "0.01",
+                "--textures",
+                "keep",
+                "-q",
+            ]);
+            assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        } else {
+            assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        }
+        let doc = wildlod_io::read(&out.join("torus.glb")).unwrap();
+        let mat = &doc.scene.materials[doc.scene.meshes[0].parts[0].material.unwrap() as usize];
+        let tex = &doc.scene.textures[mat.base_color_texture.unwrap().texture as usize];
+        let img = wildlod_io::decode_image_rgba8(&tex.source).unwrap();
+        assert_eq!((img.width, img.height), want, "--textures {textures}");
+    }
+}

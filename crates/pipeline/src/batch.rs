@@ -13,8 +13,8 @@ use wildlod_io::{Format, OutputFiles, WriteOptions};
 use wildlod_simplify::Options;
 
 use crate::{
-    build_chain, chain_json, chain_paths, file_stem, simplify_scene, targets_for, write_chain,
-    Error, FileTargets, Levels, MeshProgress, RunJson,
+    build_chain, chain_json, chain_paths, file_stem, rebake_levels, simplify_document, write_chain,
+    Error, FileTargets, Levels, MeshProgress, TextureSettings,
 };
 
 /// What each file becomes.
@@ -38,6 +38,9 @@ pub struct BatchSettings {
     pub job: BatchJob,
     /// How to simplify.
     pub options: Options,
+    /// Keep, re-bake or choose textures per file (and per level of a
+    /// chain), as `simplify` and `lod` do.
+    pub textures: TextureSettings,
     /// Write every output in this format (else each input's own).
     pub format: Option<Format>,
     /// Files at once (at least 1).
@@ -150,36 +153,46 @@ fn process<P: MeshProgress>(
     progress: &dyn Fn(&str) -> P,
 ) -> Result<(usize, usize, f64), Error> {
     let t0 = Instant::now();
-    let mut doc = wildlod_io::read(input)?;
+    let doc = wildlod_io::read(input)?;
     if let Some(dir) = output.parent() {
         std::fs::create_dir_all(dir)
             .map_err(|e| wildlod_io::Error::new(dir, wildlod_io::ErrorKind::Io(e)))?;
     }
     let stem = file_stem(input);
+    let textures = settings.textures.checked()?;
     match &settings.job {
         BatchJob::Simplify(targets) => {
             let t = targets.checked()?;
-            let per_mesh = targets_for(&doc.scene, t.ratio, t.faces, t.error);
-            let runs = simplify_scene(
-                &mut doc.scene,
+            let done = simplify_document(
+                doc,
                 input,
+                output,
+                &t,
                 &settings.options,
-                &per_mesh,
-                &stem,
+                &textures,
                 progress,
             )?;
-            wildlod_io::write(&doc, output, &WriteOptions::default())?;
-            let r = RunJson::new(input, output, &runs, t0.elapsed().as_secs_f64());
+            wildlod_io::write(&done.doc, output, &WriteOptions::default())?;
+            let r = done.json(input, output, t0.elapsed().as_secs_f64());
             Ok((r.input_triangles, r.output_triangles, r.error))
         }
         BatchJob::Chain { levels, split } => {
-            let chain = build_chain(
+            let mut chain = build_chain(
                 &doc.scene,
                 input,
                 &settings.options,
                 levels,
                 &stem,
                 progress,
+            )?;
+            rebake_levels(
+                &doc,
+                &mut chain,
+                input,
+                output,
+                &settings.options,
+                &textures,
+                &stem,
             )?;
             let (files, _) = write_chain(&doc, &chain, output, *split, false)?;
             let j = chain_json(input, &doc.scene, &chain, &files, None, 0.0);

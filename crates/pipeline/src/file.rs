@@ -3,11 +3,14 @@
 use std::path::Path;
 use std::time::Instant;
 
-use wildlod_io::WriteOptions;
+use wildlod_io::{Document, WriteOptions};
+use wildlod_simplify::Options;
 
 use crate::{
-    build_chain, chain_json, file_stem, simplify_scene, targets_for, write_chain, ChainJson, Error,
-    Levels, NoProgress, RunJson, Tuning,
+    build_chain, chain_json, drawn_triangles, file_stem, merge_twins_double_sided, rebake_levels,
+    rebake_scene, simplify_scene, targets_for, treat_textures, write_chain, ChainJson, Error,
+    Levels, MergedTwins, MeshProgress, MeshRun, NoProgress, RunJson, TextureChoice,
+    TextureSettings, Tuning,
 };
 
 /// The limits of simplifying a whole file; the first reached stops.
@@ -47,40 +50,123 @@ impl FileTargets {
     }
 }
 
+/// What simplifying a read file made: the document to write and what to
+/// report about it.
+#[derive(Clone, Debug)]
+pub struct SimplifiedDocument {
+    /// The simplified file.
+    pub doc: Document,
+    /// Every simplified mesh's run.
+    pub runs: Vec<MeshRun>,
+    /// How its textures were treated and why (files with a base colour
+    /// texture, or a re-bake asked for).
+    pub textures: Option<TextureChoice>,
+    /// Reversed twins merged into double-sided faces (glTF outputs).
+    pub twins: MergedTwins,
+    /// Warnings of the re-bake (textures that could not be decoded).
+    pub warnings: Vec<String>,
+}
+
+impl SimplifiedDocument {
+    /// The JSON report of the run, `seconds` long.
+    pub fn json(&self, input: &Path, output: &Path, seconds: f64) -> RunJson {
+        let mut json = RunJson::new(input, output, &self.runs, seconds);
+        json.textures = self.textures;
+        json.double_sided_twins = self.twins.pairs;
+        // The input as the file drew it, before its twins were merged.
+        json.input_triangles += self.twins.triangles;
+        json
+    }
+}
+
+/// Simplifies every mesh of `doc` (read from `input`, to be written to
+/// `output`, whose extension decides what a glTF can say) to its share of
+/// `targets` (checked): reversed twins of a glTF output become one
+/// double-sided face (see [`crate::merge_twins_double_sided`]; a ratio is
+/// then of what the input drew), and textures are kept, re-baked or
+/// chosen per `textures` (see [`treat_textures`]).
+pub fn simplify_document<P: MeshProgress>(
+    mut doc: Document,
+    input: &Path,
+    output: &Path,
+    targets: &FileTargets,
+    options: &Options,
+    textures: &TextureSettings,
+    progress: &dyn Fn(&str) -> P,
+) -> Result<SimplifiedDocument, Error> {
+    let stem = file_stem(input);
+    let gltf = matches!(
+        wildlod_io::Format::from_path(output),
+        Ok(wildlod_io::Format::Gltf | wildlod_io::Format::Glb)
+    );
+    let drawn = drawn_triangles(&doc.scene);
+    let twins = if gltf {
+        merge_twins_double_sided(&mut doc.scene)
+    } else {
+        MergedTwins::default()
+    };
+    let mut t = *targets;
+    if let (Some(r), true) = (t.ratio, twins.triangles > 0) {
+        let of_input = (r * drawn as f64).round() as usize;
+        t.faces = Some(t.faces.map_or(of_input, |n| n.min(of_input)));
+        t.ratio = None;
+    }
+    let per_mesh = targets_for(&doc.scene, t.ratio, t.faces, t.error);
+    let mut warnings = Vec::new();
+    let keep = || -> Result<(Document, Vec<MeshRun>), Error> {
+        let mut out = doc.clone();
+        let runs = simplify_scene(&mut out.scene, input, options, &per_mesh, &stem, progress)?;
+        Ok((out, runs))
+    };
+    let rebake = || -> Result<(Document, Vec<MeshRun>), Error> {
+        let mut out = doc.clone();
+        let (runs, more) =
+            rebake_scene(&mut out, input, options, &textures.bake, &per_mesh, &stem)?;
+        warnings.extend(more);
+        Ok((out, runs.into_iter().map(|r| r.run).collect()))
+    };
+    let ((out, runs), choice) =
+        treat_textures(&doc, input, output, textures.mode, keep, rebake, |r| &r.0)?;
+    Ok(SimplifiedDocument {
+        doc: out,
+        runs,
+        textures: choice,
+        twins,
+        warnings,
+    })
+}
+
 /// Simplifies every mesh of the file `input` and writes `output` (its
-/// extension picks the format): what `wildlod simplify` does without
-/// `--bake`. Refuses to replace `input` unless `overwrite`. Returns the
-/// report and the warnings of the reader and the writer, each naming its
-/// file.
+/// extension picks the format): what `wildlod simplify --per-mesh` does
+/// (see [`simplify_document`]). Refuses to replace `input` unless
+/// `overwrite`. Returns the report and the warnings of the reader, the
+/// re-bake and the writer, each naming its file.
 pub fn simplify_file(
     input: &Path,
     output: &Path,
     targets: &FileTargets,
     tuning: &Tuning,
+    textures: &TextureSettings,
     overwrite: bool,
 ) -> Result<(RunJson, Vec<String>), Error> {
     let t0 = Instant::now();
     let targets = targets.checked()?;
     let options = tuning.options()?;
+    let textures = textures.checked()?;
     // Refuse an output format that does not exist before the work.
     wildlod_io::Format::from_path(output).map_err(|k| wildlod_io::Error::new(output, k))?;
-    let mut doc = wildlod_io::read(input)?;
+    let doc = wildlod_io::read(input)?;
     let mut warnings: Vec<String> = doc
         .warnings
         .iter()
         .map(|w| format!("{}: {w}", input.display()))
         .collect();
-    let per_mesh = targets_for(&doc.scene, targets.ratio, targets.faces, targets.error);
-    let runs = simplify_scene(
-        &mut doc.scene,
-        input,
-        &options,
-        &per_mesh,
-        &file_stem(input),
-        &|_| NoProgress,
-    )?;
+    let done = simplify_document(doc, input, output, &targets, &options, &textures, &|_| {
+        NoProgress
+    })?;
+    warnings.extend(done.warnings.iter().cloned());
     for w in wildlod_io::write(
-        &doc,
+        &done.doc,
         output,
         &WriteOptions {
             allow_overwrite_input: overwrite,
@@ -89,25 +175,29 @@ pub fn simplify_file(
         warnings.push(format!("{}: {w}", output.display()));
     }
     Ok((
-        RunJson::new(input, output, &runs, t0.elapsed().as_secs_f64()),
+        done.json(input, output, t0.elapsed().as_secs_f64()),
         warnings,
     ))
 }
 
 /// Makes a chain of levels of detail of `input` and writes it to `output`
 /// (one glTF file with `MSFT_lod` unless `split`; other formats and split
-/// glTF write `NAME_lod0…NAME_lodN` beside `output`): what `wildlod lod`
-/// does without `--report`. Returns the report and the warnings.
+/// glTF write `NAME_lod0…NAME_lodN` beside `output`), with textures
+/// shared or re-baked per `textures` (see [`rebake_levels`]): what
+/// `wildlod lod` does without `--report`. Returns the report and the
+/// warnings.
 pub fn lod_file(
     input: &Path,
     output: &Path,
     levels: &Levels,
     tuning: &Tuning,
+    textures: &TextureSettings,
     split: bool,
     overwrite: bool,
 ) -> Result<(ChainJson, Vec<String>), Error> {
     let t0 = Instant::now();
     let options = tuning.options()?;
+    let textures = textures.checked()?;
     // Refuse a bad output name before the work.
     crate::chain_paths(output, levels.len(), split)?;
     let doc = wildlod_io::read(input)?;
@@ -116,14 +206,11 @@ pub fn lod_file(
         .iter()
         .map(|w| format!("{}: {w}", input.display()))
         .collect();
-    let chain = build_chain(
-        &doc.scene,
-        input,
-        &options,
-        levels,
-        &file_stem(input),
-        &|_| NoProgress,
-    )?;
+    let stem = file_stem(input);
+    let mut chain = build_chain(&doc.scene, input, &options, levels, &stem, &|_| NoProgress)?;
+    warnings.extend(rebake_levels(
+        &doc, &mut chain, input, output, &options, &textures, &stem,
+    )?);
     let (files, more) = write_chain(&doc, &chain, output, split, overwrite)?;
     warnings.extend(more);
     Ok((
@@ -159,8 +246,15 @@ mod tests {
             ratio: Some(0.25),
             ..FileTargets::default()
         };
-        let (report, _) = simplify_file(&input, &output, &targets, &Tuning::default(), false)
-            .expect("simplified");
+        let (report, _) = simplify_file(
+            &input,
+            &output,
+            &targets,
+            &Tuning::default(),
+            &TextureSettings::default(),
+            false,
+        )
+        .expect("simplified");
         assert_eq!(report.input_triangles, 576);
         assert!(report.output_triangles.abs_diff(144) <= 1, "{report:?}");
         let back = wildlod_io::read(&output).expect("read back");
@@ -181,6 +275,7 @@ mod tests {
             &input,
             &FileTargets::default(),
             &Tuning::default(),
+            &TextureSettings::default(),
             false,
         );
         assert!(matches!(r, Err(Error::Io(_))), "{r:?}");

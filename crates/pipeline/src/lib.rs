@@ -22,6 +22,7 @@
 
 mod batch;
 mod chain;
+mod chain_textures;
 mod compare;
 mod double_sided;
 mod error;
@@ -30,6 +31,7 @@ mod html_report;
 mod info;
 mod level_materials;
 mod progress;
+mod rebake;
 mod report;
 mod scene;
 mod targets;
@@ -45,12 +47,13 @@ pub use chain::{
     normalize_weights, screen_coverage, write_chain, Level, Levels, FULL_VIEW_COVERAGE,
     PIXEL_TOLERANCE, SCREEN_PIXELS, SCREEN_WIDTH_PIXELS,
 };
+pub use chain_textures::rebake_levels;
 pub use compare::{
     compare_files, load_images, Animated, CompareFilesOptions, FileComparison, Frame,
 };
 pub use double_sided::{merge_twins_double_sided, MergedTwins};
 pub use error::Error;
-pub use file::{lod_file, simplify_file, FileTargets};
+pub use file::{lod_file, simplify_document, simplify_file, FileTargets, SimplifiedDocument};
 pub use html_report::{
     report_files, report_page, write_chain_report, CandidateReport, ReportJson, ReportModel,
     ReportOptions,
@@ -58,11 +61,12 @@ pub use html_report::{
 pub use info::{describe, FaceCounts, FileInfo, MeshInfo};
 pub use level_materials::{append_level_materials, level_scene, LevelMaterials};
 pub use progress::{MeshProgress, NoProgress};
+pub use rebake::{rebake_scene, BakeSettings, RebakedRun};
 pub use report::{stop_key, ChainJson, LevelJson, MeshJson, RunJson};
 pub use scene::{clear_unused_joint_slots, file_stem, mesh_name, simplify_scene, MeshRun};
 pub use targets::{scene_diagonal, share_budget, targets_for, world_diagonal, MIN_TRIANGLES};
 pub use textures::{
-    choose as choose_textures, has_base_color_texture, texture_excess, worth_rebaking,
-    TextureChoice, TextureMode, VISIBLE_TEXTURE_EXCESS,
+    choose as choose_textures, has_base_color_texture, texture_excess, treat_textures,
+    worth_rebaking, TextureChoice, TextureMode, TextureSettings, VISIBLE_TEXTURE_EXCESS,
 };
 pub use tuning::{NormalSetting, SeamSetting, Tuning};

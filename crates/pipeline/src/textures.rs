@@ -20,9 +20,14 @@
 //! The threshold only decides when a re-bake is worth its time: the
 //! choice between two results is always by measurement.
 
+use std::path::Path;
+
 use serde::Serialize;
 use wildlod_eval::{compare, CompareOptions, EvalMesh};
+use wildlod_io::Document;
 use wildlod_mesh::{Image, Scene};
+
+use crate::{load_images, BakeSettings, Error};
 
 /// Mean colour difference (RGB in 0..1, Euclidean, as the texture Chamfer
 /// distance measures it) below which a keep-UV result is kept without
@@ -64,6 +69,96 @@ pub struct TextureChoice {
     pub keep_uv_excess: Option<f64>,
     /// The re-baked result's, when measured.
     pub rebaked_excess: Option<f64>,
+}
+
+/// How a file's textures are treated: the mode (`--textures`) and how to
+/// re-bake where that is done. Default: `auto`, [`BakeSettings::default`].
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct TextureSettings {
+    /// Keep the UVs, re-bake, or choose by measurement.
+    pub mode: TextureMode,
+    /// How to re-bake.
+    pub bake: BakeSettings,
+}
+
+impl TextureSettings {
+    /// Checks the ranges, and that re-baking settings are not given where
+    /// nothing is re-baked.
+    pub fn checked(self) -> Result<TextureSettings, Error> {
+        let bake = self.bake.checked()?;
+        if self.mode == TextureMode::Keep && (bake.texture_size.is_some() || bake.merge_materials) {
+            return Err(Error::Usage(
+                "texture_size and merge_materials apply only when re-baking, not with textures keep"
+                    .into(),
+            ));
+        }
+        Ok(self)
+    }
+}
+
+/// A file's result under `mode`: `keep` makes the keep-UV candidate and
+/// `rebake` the re-baked one (each whatever the caller reports with its
+/// document, which `doc_of` gives); `doc` is the input, read from `input`,
+/// and re-baked images are named as if beside `output`. `auto` makes the
+/// keep-UV candidate, measures it, and only where it is visibly off makes
+/// and measures the re-bake and keeps the lower (see the module
+/// documentation). Returns the chosen candidate and, for a file with a
+/// base colour texture (or a re-bake asked for), what was chosen and why.
+pub fn treat_textures<T, E: From<Error>>(
+    doc: &Document,
+    input: &Path,
+    output: &Path,
+    mode: TextureMode,
+    keep: impl FnOnce() -> Result<T, E>,
+    rebake: impl FnOnce() -> Result<T, E>,
+    doc_of: impl Fn(&T) -> &Document,
+) -> Result<(T, Option<TextureChoice>), E> {
+    let textured = has_base_color_texture(&doc.scene);
+    let fixed = |mode| TextureChoice {
+        mode,
+        chosen: mode,
+        keep_uv_excess: None,
+        rebaked_excess: None,
+    };
+    match mode {
+        TextureMode::Bake => Ok((rebake()?, textured.then(|| fixed(TextureMode::Bake)))),
+        TextureMode::Keep => Ok((keep()?, textured.then(|| fixed(TextureMode::Keep)))),
+        TextureMode::Auto if !textured => Ok((keep()?, None)),
+        TextureMode::Auto => {
+            let (input_images, _) = load_images(doc, input);
+            let kept = keep()?;
+            let keep_uv_excess = texture_excess(
+                &doc.scene,
+                &input_images,
+                &doc_of(&kept).scene,
+                &input_images,
+            );
+            let mut choice = TextureChoice {
+                mode,
+                chosen: TextureMode::Keep,
+                keep_uv_excess,
+                rebaked_excess: None,
+            };
+            if !worth_rebaking(keep_uv_excess) {
+                return Ok((kept, Some(choice)));
+            }
+            let baked = rebake()?;
+            let (baked_images, _) = load_images(doc_of(&baked), output);
+            choice.rebaked_excess = texture_excess(
+                &doc.scene,
+                &input_images,
+                &doc_of(&baked).scene,
+                &baked_images,
+            );
+            choice.chosen = choose(keep_uv_excess, choice.rebaked_excess);
+            let result = if choice.chosen == TextureMode::Bake {
+                baked
+            } else {
+                kept
+            };
+            Ok((result, Some(choice)))
+        }
+    }
 }
 
 /// Whether anything of `scene` shows a base colour texture (what the

@@ -13,10 +13,12 @@ mod convert;
 use std::path::PathBuf;
 
 use numpy::{PyReadonlyArray1, PyReadonlyArray2};
+use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use wildlod_pipeline::{
-    BatchJob, BatchSettings, CompareFilesOptions, FileTargets, Levels, NoProgress, ReportOptions,
+    BakeSettings, BatchJob, BatchSettings, CompareFilesOptions, FileTargets, Levels, NoProgress,
+    ReportOptions, TextureMode, TextureSettings,
 };
 
 use crate::convert::{report_dict, to_py, to_pyerr, tuning};
@@ -75,14 +77,22 @@ fn _simplify<'py>(
 /// Targets (the first reached stops; none: `ratio=0.5`): `ratio` of each
 /// mesh's triangles, `faces_target` triangles shared among the meshes,
 /// `error` as a fraction of the file's diagonal. `overwrite` allows `dst`
-/// to be `src`. `**options`: the tuning options (`wildlod.option_names()`).
+/// to be `src`. `textures`: 'auto' (keep the UVs unless the result shows
+/// the texture visibly off and a re-bake measures better), 'keep' or
+/// 'bake', with `texture_size` the re-baked atlas's size (default: the
+/// input's texel density). A `.gltf`/`.glb` `dst` writes reversed twin
+/// faces once with a double-sided material. `**options`: the tuning
+/// options (`wildlod.option_names()`).
 ///
 /// Returns the dict of `wildlod simplify --json` (`input`, `output`,
-/// `input_triangles`, `output_triangles`, `error`, `seconds`, `meshes`)
-/// plus `warnings`. Raises `WildlodOSError` when a file cannot be read or
+/// `input_triangles`, `output_triangles`, `error`, `seconds`, `meshes`,
+/// `textures` for textured files, `double_sided_twins`) plus `warnings`. Raises `WildlodOSError` when a file cannot be read or
 /// written, `WildlodError` for content or settings refused.
 #[pyfunction]
-#[pyo3(signature = (src, dst, *, ratio=None, faces_target=None, error=None, overwrite=false, **options))]
+#[pyo3(signature = (
+    src, dst, *, ratio=None, faces_target=None, error=None, textures="auto", texture_size=None,
+    overwrite=false, **options
+))]
 #[allow(clippy::too_many_arguments)]
 fn simplify_file<'py>(
     py: Python<'py>,
@@ -91,17 +101,22 @@ fn simplify_file<'py>(
     ratio: Option<f64>,
     faces_target: Option<usize>,
     error: Option<f64>,
+    textures: &str,
+    texture_size: Option<u32>,
     overwrite: bool,
     options: Option<&Bound<'py, PyDict>>,
 ) -> PyResult<Bound<'py, PyAny>> {
     let tuning = tuning(py, options)?;
+    let textures = texture_settings(py, textures, texture_size)?;
     let targets = FileTargets {
         ratio,
         faces: faces_target,
         error,
     };
     let (report, warnings) = py
-        .detach(|| wildlod_pipeline::simplify_file(&src, &dst, &targets, &tuning, overwrite))
+        .detach(|| {
+            wildlod_pipeline::simplify_file(&src, &dst, &targets, &tuning, &textures, overwrite)
+        })
         .map_err(|e| to_pyerr(py, e))?;
     with_warnings(py, report_dict(py, &report)?, warnings)
 }
@@ -114,14 +129,16 @@ fn simplify_file<'py>(
 /// file's diagonal, or `faces_targets` triangle budgets. A `.gltf`/`.glb`
 /// `dst` holds every level as `MSFT_lod` with `MSFT_screencoverage` hints
 /// unless `split`; other formats and `split` write `NAME_lod0…NAME_lodN`
-/// beside `dst`.
+/// beside `dst`. `textures` and `texture_size` as in `simplify_file`:
+/// with 'auto', levels share the input's textures down to the first level
+/// that would be re-baked, which and every coarser level are re-baked.
 ///
 /// Returns the dict of `wildlod lod --json` (`input`, `files`, `report`,
 /// `seconds`, `levels`) plus `warnings`.
 #[pyfunction]
 #[pyo3(signature = (
-    src, dst, *, ratios=None, errors=None, faces_targets=None, split=false, overwrite=false,
-    **options
+    src, dst, *, ratios=None, errors=None, faces_targets=None, textures="auto",
+    texture_size=None, split=false, overwrite=false, **options
 ))]
 #[allow(clippy::too_many_arguments)]
 fn lod_chain<'py>(
@@ -131,11 +148,14 @@ fn lod_chain<'py>(
     ratios: Option<Vec<f64>>,
     errors: Option<Vec<f64>>,
     faces_targets: Option<Vec<usize>>,
+    textures: &str,
+    texture_size: Option<u32>,
     split: bool,
     overwrite: bool,
     options: Option<&Bound<'py, PyDict>>,
 ) -> PyResult<Bound<'py, PyAny>> {
     let tuning = tuning(py, options)?;
+    let textures = texture_settings(py, textures, texture_size)?;
     let levels = Levels::from_lists(
         &ratios.unwrap_or_default(),
         &errors.unwrap_or_default(),
@@ -144,9 +164,38 @@ fn lod_chain<'py>(
     )
     .map_err(|e| to_pyerr(py, e))?;
     let (report, warnings) = py
-        .detach(|| wildlod_pipeline::lod_file(&src, &dst, &levels, &tuning, split, overwrite))
+        .detach(|| {
+            wildlod_pipeline::lod_file(&src, &dst, &levels, &tuning, &textures, split, overwrite)
+        })
         .map_err(|e| to_pyerr(py, e))?;
     with_warnings(py, report_dict(py, &report)?, warnings)
+}
+
+/// `textures=` and `texture_size=` as the pipeline takes them, checked.
+fn texture_settings(
+    py: Python<'_>,
+    textures: &str,
+    texture_size: Option<u32>,
+) -> PyResult<TextureSettings> {
+    let mode = match textures {
+        "auto" => TextureMode::Auto,
+        "keep" => TextureMode::Keep,
+        "bake" => TextureMode::Bake,
+        other => {
+            return Err(PyValueError::new_err(format!(
+                "textures must be 'auto', 'keep' or 'bake', got {other:?}"
+            )))
+        }
+    };
+    TextureSettings {
+        mode,
+        bake: BakeSettings {
+            texture_size,
+            ..BakeSettings::default()
+        },
+    }
+    .checked()
+    .map_err(|e| to_pyerr(py, e))
 }
 
 /// Describes a mesh file: the dict of `wildlod info --json` (face counts
@@ -208,7 +257,8 @@ fn compare<'py>(
 /// (finest level first), makes a chain of levels of each (`split` as in
 /// `lod_chain`). Targets of a simplified file as in `simplify_file`
 /// (none: `ratio=0.5`); `format` ('glb', 'obj'…) writes every output in
-/// one format; `skip_existing` skips files whose outputs all exist.
+/// one format; `skip_existing` skips files whose outputs all exist;
+/// `textures` and `texture_size` as in `simplify_file` and `lod_chain`.
 ///
 /// The summary is written to `summary` (`.json` or `.csv`) or to
 /// `dst_dir/wildlod-summary.json` and `.csv`, and returned: the dict of
@@ -220,8 +270,8 @@ fn compare<'py>(
 #[pyfunction]
 #[pyo3(signature = (
     src_dir, dst_dir, *, ratio=None, faces_target=None, error=None, lod_ratios=None,
-    lod_errors=None, lod_faces_targets=None, split=false, format=None, jobs=None,
-    skip_existing=false, summary=None, **options
+    lod_errors=None, lod_faces_targets=None, split=false, textures="auto", texture_size=None,
+    format=None, jobs=None, skip_existing=false, summary=None, **options
 ))]
 #[allow(clippy::too_many_arguments)]
 fn batch<'py>(
@@ -235,6 +285,8 @@ fn batch<'py>(
     lod_errors: Option<Vec<f64>>,
     lod_faces_targets: Option<Vec<usize>>,
     split: bool,
+    textures: &str,
+    texture_size: Option<u32>,
     format: Option<String>,
     jobs: Option<usize>,
     skip_existing: bool,
@@ -273,6 +325,7 @@ fn batch<'py>(
     let settings = BatchSettings {
         job,
         options: tuning.options().map_err(|e| to_pyerr(py, e))?,
+        textures: texture_settings(py, textures, texture_size)?,
         format,
         jobs: jobs.unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get())),
         skip_existing,

@@ -1,291 +1,30 @@
-//! `wildlod simplify --bake`: simplify every mesh with collapses free to
-//! cross UV seams and re-bake its textures onto a new atlas (W §4.3).
-//!
-//! Images are decoded here (8-bit, a quarter of the float decoder's
-//! memory), baked by `wildlod-bake`, encoded as PNG (JPEG when the input's
-//! textures were all JPEG) and put into the scene as embedded images named
-//! `<stem>_<mesh>_<material>_<channel>`; the writers place them (a `.glb`
-//! embeds them, a `.gltf` or `.obj` writes them beside the output). The
-//! input's materials and textures are replaced by the baked ones.
+//! Re-baking for `simplify`: the pipeline's re-bake
+//! ([`wildlod_pipeline::rebake_scene`]) with its warnings printed and one
+//! summary line per mesh, saying what was baked.
 
-use std::path::Path;
-use std::time::Instant;
-
-use anyhow::Context;
-use wildlod_bake::{bake_mesh, BakeInput, BakeOptions, Baked, Channel};
-use wildlod_io::{decode_image_rgba8, encode_image, Document, ImageEncoding};
-use wildlod_mesh::{ImageSource, Material, Rgba8Image, Sampler, Texture, TextureRef, Wrap};
-use wildlod_simplify::{Options, Target};
+use wildlod_io::Document;
+use wildlod_pipeline::{rebake_scene, MeshRun};
+use wildlod_simplify::Target;
 
 use super::simplify::{summary, Config};
-use wildlod_pipeline::MeshRun;
 
-/// Settings of `--bake`.
-#[derive(Clone, Debug)]
-pub struct BakeConfig {
-    pub texture_size: Option<u32>,
-    pub merge_materials: bool,
-    pub jpeg_quality: u8,
-}
-
-/// Bakes every mesh of the document in place; returns every simplified
+/// Re-bakes every mesh of the document in place; returns every simplified
 /// mesh's run and summary line.
 pub fn bake_scene(
     doc: &mut Document,
     cfg: &Config,
-    b: &BakeConfig,
     targets: &[Target],
     stem: &str,
 ) -> anyhow::Result<(Vec<MeshRun>, Vec<String>)> {
-    let scene = &doc.scene;
-    // Decode every texture a material uses; a missing or broken one is a
-    // warning and its channel bakes from the material's factor.
-    let mut used = vec![false; scene.textures.len()];
-    for m in &scene.materials {
-        for r in m.texture_refs() {
-            if let Some(u) = used.get_mut(r.texture as usize) {
-                *u = true;
-            }
+    let (baked, warnings) = rebake_scene(doc, &cfg.input, &cfg.options, &cfg.bake, targets, stem)?;
+    if !cfg.quiet {
+        for w in warnings {
+            eprintln!("warning: {w}");
         }
     }
-    let mut images: Vec<Option<Rgba8Image>> = vec![None; scene.textures.len()];
-    for (t, tex) in scene.textures.iter().enumerate() {
-        if !used[t] {
-            continue;
-        }
-        match decode_image_rgba8(&tex.source) {
-            Ok(img) => images[t] = Some(img),
-            Err(e) => {
-                if !cfg.quiet {
-                    eprintln!(
-                        "warning: {}: texture {t} ({}) cannot be baked from: {e}; its channel uses the material's factor",
-                        cfg.input.display(),
-                        texture_label(tex)
-                    );
-                }
-            }
-        }
-    }
-    let all_jpeg = (0..scene.textures.len())
-        .filter(|&t| used[t])
-        .all(|t| is_jpeg(&scene.textures[t].source))
-        && used.iter().any(|&u| u);
-
-    let mut materials: Vec<Material> = Vec::new();
-    let mut textures: Vec<Texture> = Vec::new();
-    // Input materials kept for meshes that had nothing to bake.
-    let mut kept: Vec<Option<u32>> = vec![None; scene.materials.len()];
-    let mut meshes = Vec::with_capacity(scene.meshes.len());
-    let (mut runs, mut lines) = (Vec::new(), Vec::new());
-    let instances = scene.instance_counts();
-    for (m, mesh) in scene.meshes.iter().enumerate() {
-        let name = match (mesh.name.as_str(), scene.meshes.len()) {
-            ("", 1) => stem.to_string(),
-            ("", _) => format!("mesh {m}"),
-            (n, _) => n.to_string(),
-        };
-        if mesh.faces.is_empty() {
-            let mut mesh = mesh.clone();
-            for p in &mut mesh.parts {
-                p.material = p
-                    .material
-                    .map(|i| keep(i, scene, &mut kept, &mut materials));
-            }
-            meshes.push(mesh);
-            continue;
-        }
-        let t0 = Instant::now();
-        // Targets and reports count drawn triangles, as without baking: a
-        // mesh shown by k nodes counts each face k times.
-        let k = instances.get(m).copied().unwrap_or(1);
-        let options = BakeOptions {
-            simplify: Options {
-                target: targets.get(m).cloned().unwrap_or_default(),
-                face_instances: if k > 1 {
-                    vec![u32::try_from(k).unwrap_or(u32::MAX); mesh.faces.len()]
-                } else {
-                    Vec::new()
-                },
-                ..cfg.options.clone()
-            },
-            texture_size: b.texture_size,
-            merge_materials: b.merge_materials,
-            ..BakeOptions::default()
-        };
-        let input = BakeInput {
-            mesh,
-            materials: &scene.materials,
-            textures: &scene.textures,
-            images: &images,
-        };
-        let baked = bake_mesh(&input, &options)
-            .with_context(|| format!("{}: baking {name}", cfg.input.display()))?;
-        let seconds = t0.elapsed().as_secs_f64();
-        let line = summary(&name, &baked.report.simplify, seconds) + &atlas_summary(&baked);
-        let mut out = baked.mesh.clone();
-        wildlod_pipeline::clear_unused_joint_slots(&mut out);
-        if baked.images.is_empty() {
-            for p in &mut out.parts {
-                p.material = p
-                    .material
-                    .map(|i| keep(i, scene, &mut kept, &mut materials));
-            }
-        } else {
-            let (mat0, tex0) = (materials.len() as u32, textures.len() as u32);
-            for img in &baked.images {
-                let material = &baked.materials[img.material];
-                let label = format!(
-                    "{stem}_{}_{}_{}",
-                    file_part(&name),
-                    file_part(if material.name.is_empty() {
-                        "material"
-                    } else {
-                        &material.name
-                    }),
-                    img.channel.name()
-                );
-                let opaque = img.image.pixels.iter().all(|p| p[3] == 255);
-                let encoding = if all_jpeg && (opaque || img.channel != Channel::BaseColor) {
-                    ImageEncoding::Jpeg {
-                        quality: b.jpeg_quality,
-                    }
-                } else {
-                    ImageEncoding::Png
-                };
-                let bytes = encode_image(&img.image, encoding, &label)?;
-                textures.push(Texture {
-                    name: label,
-                    source: ImageSource::Embedded {
-                        bytes,
-                        mime_type: encoding.mime_type().into(),
-                    },
-                    // The atlas must not wrap: its border is gutter.
-                    sampler: Sampler {
-                        wrap_u: Wrap::ClampToEdge,
-                        wrap_v: Wrap::ClampToEdge,
-                    },
-                });
-            }
-            for mat in &baked.materials {
-                let shift = |r: Option<TextureRef>| {
-                    r.map(|r| TextureRef {
-                        texture: r.texture + tex0,
-                        tex_coord: r.tex_coord,
-                    })
-                };
-                materials.push(Material {
-                    base_color_texture: shift(mat.base_color_texture),
-                    metallic_roughness_texture: shift(mat.metallic_roughness_texture),
-                    normal_texture: shift(mat.normal_texture),
-                    occlusion_texture: shift(mat.occlusion_texture),
-                    emissive_texture: shift(mat.emissive_texture),
-                    ..mat.clone()
-                });
-            }
-            for p in &mut out.parts {
-                p.material = p.material.map(|i| i + mat0);
-            }
-        }
-        lines.push(line);
-        runs.push(MeshRun {
-            mesh: m,
-            name,
-            report: baked.report.simplify.clone(),
-            seconds,
-        });
-        meshes.push(out);
-    }
-    doc.scene.meshes = meshes;
-    doc.scene.materials = materials;
-    doc.scene.textures = textures;
-    Ok((runs, lines))
-}
-
-/// Index of input material `i` among the output materials, copying it
-/// (textures dropped: only meshes without textures keep input materials)
-/// the first time.
-fn keep(
-    i: u32,
-    scene: &wildlod_mesh::Scene,
-    kept: &mut [Option<u32>],
-    materials: &mut Vec<Material>,
-) -> u32 {
-    if let Some(Some(k)) = kept.get(i as usize) {
-        return *k;
-    }
-    let Some(m) = scene.materials.get(i as usize) else {
-        return i;
-    };
-    let k = materials.len() as u32;
-    materials.push(Material {
-        base_color_texture: None,
-        metallic_roughness_texture: None,
-        normal_texture: None,
-        occlusion_texture: None,
-        emissive_texture: None,
-        ..m.clone()
-    });
-    kept[i as usize] = Some(k);
-    k
-}
-
-fn atlas_summary(b: &Baked) -> String {
-    if b.report.atlases.is_empty() {
-        return "; nothing to bake (no texture, no vertex color)".into();
-    }
-    let parts: Vec<String> = b
-        .report
-        .atlases
+    let lines = baked
         .iter()
-        .map(|a| {
-            format!(
-                "{}² ({} charts, {:.0}% used, stretch {:.3}, layout {:.0} ms, bake {:.0} ms)",
-                a.size,
-                a.stats.charts,
-                100.0 * a.stats.utilization,
-                a.stats.stretch_l2,
-                1000.0 * a.layout_seconds,
-                1000.0 * a.seconds
-            )
-        })
+        .map(|b| summary(&b.run.name, &b.run.report, b.run.seconds) + &b.atlases)
         .collect();
-    format!(
-        "; baked {} image(s) in {}",
-        b.images.len(),
-        parts.join(", ")
-    )
-}
-
-fn texture_label(t: &Texture) -> String {
-    match (&t.source, t.name.as_str()) {
-        (ImageSource::Path(p), _) => p.display().to_string(),
-        (_, "") => "embedded image".into(),
-        (_, n) => n.to_string(),
-    }
-}
-
-fn is_jpeg(s: &ImageSource) -> bool {
-    match s {
-        ImageSource::Path(p) => Path::new(p)
-            .extension()
-            .map(|e| {
-                let e = e.to_string_lossy().to_ascii_lowercase();
-                e == "jpg" || e == "jpeg"
-            })
-            .unwrap_or(false),
-        ImageSource::Embedded { mime_type, .. } => mime_type == "image/jpeg",
-    }
-}
-
-/// A name made safe for a file name.
-fn file_part(s: &str) -> String {
-    s.chars()
-        .map(|c| {
-            if c.is_ascii_alphanumeric() || c == '-' {
-                c
-            } else {
-                '_'
-            }
-        })
-        .collect()
+    Ok((baked.into_iter().map(|b| b.run).collect(), lines))
 }

@@ -12,7 +12,7 @@ use indicatif::{MultiProgress, ProgressBar, ProgressDrawTarget, ProgressStyle};
 use wildlod_io::Format;
 use wildlod_pipeline::{BatchJob, BatchSettings, FileTargets, Levels};
 
-use super::simplify::tuning_options;
+use super::simplify::{texture_settings, tuning_options};
 use super::with_flag_names;
 use crate::args_assets::BatchArgs;
 use crate::progress::Progress;
@@ -74,6 +74,7 @@ impl Config {
             settings: BatchSettings {
                 job,
                 options: tuning_options(&a.tuning)?,
+                textures: texture_settings(&a.textures)?,
                 format,
                 jobs,
                 skip_existing: a.skip_existing,

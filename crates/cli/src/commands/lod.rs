@@ -12,16 +12,12 @@
 use std::time::Instant;
 
 use anyhow::Context;
-use wildlod_io::Document;
 use wildlod_pipeline::{
-    build_chain, chain_json, chain_paths, choose_textures, drawn_triangles, file_stem,
-    has_base_color_texture, load_images, texture_excess, worth_rebaking, write_chain, Level,
-    LevelMaterials, Levels, TextureChoice, TextureMode,
+    build_chain, chain_json, chain_paths, drawn_triangles, file_stem, rebake_levels, write_chain,
+    Level, Levels, TextureMode,
 };
-use wildlod_simplify::Target;
 
-use super::bake::{bake_scene, BakeConfig};
-use super::simplify::{bake_config, check_output, texture_mode, tuning_options, Config};
+use super::simplify::{check_output, texture_settings, tuning_options};
 use super::with_flag_names;
 use crate::args_assets::LodArgs;
 use crate::progress::Progress;
@@ -49,87 +45,12 @@ fn level_line(l: &Level, input_tris: usize) -> String {
     )
 }
 
-/// `--textures` over a chain: every level shares the input's textures
-/// until the first level that `auto` re-bakes (a keep-UV texture error
-/// over the visible threshold and a re-bake that measures lower, as
-/// `simplify` decides); that level and every coarser one are simplified
-/// from the input to the same triangle counts and re-baked. `bake`
-/// re-bakes every level, `keep` none.
-fn chain_textures(
-    doc: &Document,
-    chain: &mut [Level],
-    mode: TextureMode,
-    cfg: &Config,
-    stem: &str,
-) -> anyhow::Result<()> {
-    let (input_images, _) = load_images(doc, &cfg.input);
-    let instances = doc.scene.instance_counts();
-    let mut baking = mode == TextureMode::Bake;
-    for level in chain.iter_mut() {
-        let mut choice = TextureChoice {
-            mode,
-            chosen: TextureMode::Keep,
-            keep_uv_excess: None,
-            rebaked_excess: None,
-        };
-        if mode == TextureMode::Keep {
-            level.textures = Some(choice);
-            continue;
-        }
-        if !baking {
-            let kept = level.scene(&doc.scene);
-            choice.keep_uv_excess = texture_excess(&doc.scene, &input_images, &kept, &input_images);
-            if !worth_rebaking(choice.keep_uv_excess) {
-                level.textures = Some(choice);
-                continue;
-            }
-        }
-        // The same drawn triangles per mesh as the keep-UV level.
-        let targets: Vec<Target> = level
-            .meshes
-            .iter()
-            .zip(&instances)
-            .map(|(m, &k)| Target {
-                triangles: Some(m.triangle_count() * k),
-                ..Target::default()
-            })
-            .collect();
-        let t0 = Instant::now();
-        let mut baked = doc.clone();
-        let label = format!("{stem}_lod{}", level.level);
-        let (runs, _) = bake_scene(&mut baked, cfg, &cfg.bake, &targets, &label)
-            .with_context(|| format!("re-baking level {}", level.level))?;
-        if !baking {
-            let (baked_images, _) = load_images(&baked, &cfg.output);
-            choice.rebaked_excess =
-                texture_excess(&doc.scene, &input_images, &baked.scene, &baked_images);
-            if choose_textures(choice.keep_uv_excess, choice.rebaked_excess) != TextureMode::Bake {
-                level.textures = Some(choice);
-                continue;
-            }
-            baking = true;
-        }
-        choice.chosen = TextureMode::Bake;
-        let own = LevelMaterials {
-            materials: std::mem::take(&mut baked.scene.materials),
-            textures: std::mem::take(&mut baked.scene.textures),
-        };
-        let meshes = std::mem::take(&mut baked.scene.meshes);
-        let seconds = t0.elapsed().as_secs_f64();
-        *level = Level::from_input(&doc.scene, level.level, meshes, own, runs, seconds);
-        level.textures = Some(choice);
-    }
-    Ok(())
-}
-
 /// Runs `lod`.
 pub fn run(a: LodArgs) -> anyhow::Result<()> {
     let levels =
         Levels::from_lists(&a.ratios, &a.errors, &a.faces, "--").map_err(with_flag_names)?;
     let options = tuning_options(&a.tuning)?;
-    let textures = texture_mode(a.textures);
-    let bake: BakeConfig =
-        bake_config(textures, a.texture_size, a.merge_materials, a.jpeg_quality)?;
+    let textures = texture_settings(&a.textures)?;
     // Refuse a bad output name or folder before the work.
     for path in chain_paths(&a.output, levels.len(), a.split)? {
         check_output(&a.input, &path, a.overwrite)?;
@@ -146,22 +67,13 @@ pub fn run(a: LodArgs) -> anyhow::Result<()> {
     let mut chain = build_chain(&doc.scene, &a.input, &options, &levels, &stem, &|name| {
         Progress::new(name, show)
     })?;
-    if textures == TextureMode::Bake || has_base_color_texture(&doc.scene) {
-        let cfg = Config {
-            input: a.input.clone(),
-            output: a.output.clone(),
-            options: options.clone(),
-            ratio: None,
-            faces: None,
-            error: None,
-            overwrite: a.overwrite,
-            quiet: a.quiet,
-            per_mesh: true,
-            textures,
-            bake,
-            json: a.json,
-        };
-        chain_textures(&doc, &mut chain, textures, &cfg, &stem)?;
+    let rebake_warnings = rebake_levels(
+        &doc, &mut chain, &a.input, &a.output, &options, &textures, &stem,
+    )?;
+    if !a.quiet {
+        for w in rebake_warnings {
+            eprintln!("warning: {w}");
+        }
     }
     let (files, warnings) = write_chain(&doc, &chain, &a.output, a.split, a.overwrite)?;
     if !a.quiet {

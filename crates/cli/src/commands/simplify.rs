@@ -7,10 +7,9 @@ use anyhow::{bail, Context};
 use wildlod_io::{Document, ErrorKind, WriteOptions};
 use wildlod_mesh::Scene;
 use wildlod_pipeline::{
-    choose_textures, clear_unused_joint_slots, drawn_triangles, file_stem, has_base_color_texture,
-    load_images, merge_twins_double_sided, simplify_scene, targets_for, texture_excess,
-    worth_rebaking, FileTargets, MergedTwins, MeshRun, NormalSetting, RunJson, SeamSetting,
-    TextureChoice, TextureMode, Tuning, MIN_TRIANGLES,
+    clear_unused_joint_slots, drawn_triangles, file_stem, merge_twins_double_sided, simplify_scene,
+    targets_for, treat_textures, BakeSettings, FileTargets, MergedTwins, MeshRun, NormalSetting,
+    RunJson, SeamSetting, TextureChoice, TextureMode, Tuning, MIN_TRIANGLES,
 };
 use wildlod_simplify::{
     simplify_scene_with_progress, Options, Rejections, Report, SceneReport, SteeringOutcome,
@@ -39,7 +38,7 @@ pub struct Config {
     /// Keep the UVs, re-bake, or choose (`--textures`, `--bake`).
     pub textures: TextureMode,
     /// How to re-bake where that is done.
-    pub bake: super::bake::BakeConfig,
+    pub bake: BakeSettings,
     /// Print the JSON report instead of lines.
     pub json: bool,
 }
@@ -79,6 +78,17 @@ impl Config {
     }
 }
 
+/// `--textures` and the re-baking settings of `lod` and `batch`, checked.
+pub(crate) fn texture_settings(
+    t: &crate::args_assets::TextureArgs,
+) -> anyhow::Result<wildlod_pipeline::TextureSettings> {
+    let mode = texture_mode(t.textures);
+    Ok(wildlod_pipeline::TextureSettings {
+        mode,
+        bake: bake_config(mode, t.texture_size, t.merge_materials, t.jpeg_quality)?,
+    })
+}
+
 /// `--textures` as the pipeline names it.
 pub(crate) fn texture_mode(t: TextureArg) -> TextureMode {
     match t {
@@ -95,7 +105,7 @@ pub(crate) fn bake_config(
     texture_size: Option<u32>,
     merge_materials: bool,
     jpeg_quality: u8,
-) -> anyhow::Result<super::bake::BakeConfig> {
+) -> anyhow::Result<BakeSettings> {
     if let Some(n) = texture_size {
         if !(16..=16384).contains(&n) {
             bail!("--texture-size must be between 16 and 16384, got {n}");
@@ -107,7 +117,7 @@ pub(crate) fn bake_config(
     if textures == TextureMode::Keep && (texture_size.is_some() || merge_materials) {
         bail!("--texture-size and --merge-materials apply only when re-baking, not with --textures keep");
     }
-    Ok(super::bake::BakeConfig {
+    Ok(BakeSettings {
         texture_size,
         merge_materials,
         jpeg_quality,
@@ -243,24 +253,15 @@ pub fn run(cfg: &Config) -> anyhow::Result<()> {
         _ => cfg,
     };
     let show = !cfg.quiet && !cfg.json;
-    let textured = has_base_color_texture(&doc.scene);
-    let fixed = |mode| {
-        textured.then_some(TextureChoice {
-            mode,
-            chosen: mode,
-            keep_uv_excess: None,
-            rebaked_excess: None,
-        })
-    };
-    let (done, choice) = match cfg.textures {
-        TextureMode::Bake => (rebake(&doc, cfg, &stem)?, fixed(TextureMode::Bake)),
-        TextureMode::Keep => (keep_uvs(&doc, cfg, &stem, show)?, fixed(TextureMode::Keep)),
-        TextureMode::Auto if !textured => (keep_uvs(&doc, cfg, &stem, show)?, None),
-        TextureMode::Auto => {
-            let (done, choice) = auto_textures(&doc, cfg, &stem, show)?;
-            (done, Some(choice))
-        }
-    };
+    let (done, choice) = treat_textures(
+        &doc,
+        &cfg.input,
+        &cfg.output,
+        cfg.textures,
+        || keep_uvs(&doc, cfg, &stem, show),
+        || rebake(&doc, cfg, &stem),
+        |d: &Done| &d.doc,
+    )?;
     if show {
         for line in &done.lines {
             emit(&(line.clone() + "\n"))?;
@@ -291,42 +292,6 @@ pub fn run(cfg: &Config) -> anyhow::Result<()> {
         emit(&(text + "\n"))?;
     }
     Ok(())
-}
-
-/// `--textures auto`: the keep-UV result, measured; where its texture is
-/// visibly off the input's, also the re-bake, measured; the lower wins
-/// (see [`wildlod_pipeline::TextureMode::Auto`]).
-fn auto_textures(
-    doc: &Document,
-    cfg: &Config,
-    stem: &str,
-    show: bool,
-) -> anyhow::Result<(Done, TextureChoice)> {
-    let (input_images, _) = load_images(doc, &cfg.input);
-    let kept = keep_uvs(doc, cfg, stem, show)?;
-    let keep_uv_excess = texture_excess(&doc.scene, &input_images, &kept.doc.scene, &input_images);
-    let mut choice = TextureChoice {
-        mode: TextureMode::Auto,
-        chosen: TextureMode::Keep,
-        keep_uv_excess,
-        rebaked_excess: None,
-    };
-    if !worth_rebaking(keep_uv_excess) {
-        return Ok((kept, choice));
-    }
-    let baked = rebake(doc, cfg, stem)?;
-    let (baked_images, _) = load_images(&baked.doc, &cfg.output);
-    choice.rebaked_excess =
-        texture_excess(&doc.scene, &input_images, &baked.doc.scene, &baked_images);
-    choice.chosen = choose_textures(keep_uv_excess, choice.rebaked_excess);
-    Ok((
-        if choice.chosen == TextureMode::Bake {
-            baked
-        } else {
-            kept
-        },
-        choice,
-    ))
 }
 
 /// The line saying which texture treatment the output has and why.
@@ -360,7 +325,7 @@ fn texture_line(c: &TextureChoice) -> String {
 fn rebake(doc: &Document, cfg: &Config, stem: &str) -> anyhow::Result<Done> {
     let mut out = doc.clone();
     let targets = mesh_targets(&doc.scene, cfg);
-    let (runs, lines) = super::bake::bake_scene(&mut out, cfg, &cfg.bake, &targets, stem)?;
+    let (runs, lines) = super::bake::bake_scene(&mut out, cfg, &targets, stem)?;
     Ok(Done {
         doc: out,
         runs,

@@ -1,0 +1,108 @@
+//! Textures down a chain (`lod --textures`): every level shares the
+//! input's textures until the first level that `auto` re-bakes (a keep-UV
+//! texture error over the visible threshold and a re-bake that measures
+//! lower, as for a single file, see [`crate::treat_textures`]); that level
+//! and every coarser one are simplified from the input to the same
+//! triangle counts and re-baked, each with materials of its own
+//! ([`crate::LevelMaterials`]). Baking maps every texel through one
+//! collapse history from the input, so a re-baked level is not nested in
+//! the level above; its coarser levels are re-baked without measuring, as
+//! a chain that tore at one level only tears more below it.
+
+use std::path::Path;
+use std::time::Instant;
+
+use wildlod_io::Document;
+use wildlod_simplify::{Options, Target};
+
+use crate::textures::{choose, has_base_color_texture, texture_excess, worth_rebaking};
+use crate::{
+    load_images, rebake_scene, Error, Level, LevelMaterials, TextureChoice, TextureMode,
+    TextureSettings,
+};
+
+/// Applies `settings` to `chain`, made from `doc` (read from `input`, to
+/// be written to `output`) with `options`: sets every level's
+/// [`Level::textures`] and replaces the levels that are re-baked. Files
+/// without a base colour texture are left alone unless `bake` is asked.
+/// Returns the re-bakes' warnings.
+pub fn rebake_levels(
+    doc: &Document,
+    chain: &mut [Level],
+    input: &Path,
+    output: &Path,
+    options: &Options,
+    settings: &TextureSettings,
+    stem: &str,
+) -> Result<Vec<String>, Error> {
+    let mode = settings.mode;
+    let mut warnings = Vec::new();
+    if mode != TextureMode::Bake && !has_base_color_texture(&doc.scene) {
+        return Ok(warnings);
+    }
+    let (input_images, _) = load_images(doc, input);
+    let instances = doc.scene.instance_counts();
+    let mut baking = mode == TextureMode::Bake;
+    for level in chain.iter_mut() {
+        let mut choice = TextureChoice {
+            mode,
+            chosen: TextureMode::Keep,
+            keep_uv_excess: None,
+            rebaked_excess: None,
+        };
+        if mode == TextureMode::Keep {
+            level.textures = Some(choice);
+            continue;
+        }
+        if !baking {
+            let kept = level.scene(&doc.scene);
+            choice.keep_uv_excess = texture_excess(&doc.scene, &input_images, &kept, &input_images);
+            if !worth_rebaking(choice.keep_uv_excess) {
+                level.textures = Some(choice);
+                continue;
+            }
+        }
+        // The same drawn triangles per mesh as the keep-UV level.
+        let targets: Vec<Target> = level
+            .meshes
+            .iter()
+            .zip(&instances)
+            .map(|(m, &k)| Target {
+                triangles: Some(m.triangle_count() * k),
+                ..Target::default()
+            })
+            .collect();
+        let t0 = Instant::now();
+        let mut baked = doc.clone();
+        let label = format!("{stem}_lod{}", level.level);
+        let (runs, more) =
+            rebake_scene(&mut baked, input, options, &settings.bake, &targets, &label).map_err(
+                |e| Error::Level {
+                    level: level.level,
+                    source: Box::new(e),
+                },
+            )?;
+        warnings.extend(more);
+        if !baking {
+            let (baked_images, _) = load_images(&baked, output);
+            choice.rebaked_excess =
+                texture_excess(&doc.scene, &input_images, &baked.scene, &baked_images);
+            if choose(choice.keep_uv_excess, choice.rebaked_excess) != TextureMode::Bake {
+                level.textures = Some(choice);
+                continue;
+            }
+            baking = true;
+        }
+        choice.chosen = TextureMode::Bake;
+        let own = LevelMaterials {
+            materials: std::mem::take(&mut baked.scene.materials),
+            textures: std::mem::take(&mut baked.scene.textures),
+        };
+        let meshes = std::mem::take(&mut baked.scene.meshes);
+        let runs = runs.into_iter().map(|r| r.run).collect();
+        let seconds = t0.elapsed().as_secs_f64();
+        *level = Level::from_input(&doc.scene, level.level, meshes, own, runs, seconds);
+        level.textures = Some(choice);
+    }
+    Ok(warnings)
+}
