@@ -603,7 +603,7 @@ fn batch_chooses_textures_per_file_as_simplify_does() {
         } else {
             assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
         }
-        let doc = wildlod_io::read(&out.join("torus.glb")).unwrap();
+        let doc = wildlod_io::read(out.join("torus.glb")).unwrap();
         let mat = &doc.scene.materials[doc.scene.meshes[0].parts[0].material.unwrap() as usize];
         let tex = &doc.scene.textures[mat.base_color_texture.unwrap().texture as usize];
         let img = wildlod_io::decode_image_rgba8(&tex.source).unwrap();
