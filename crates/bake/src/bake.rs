@@ -110,6 +110,16 @@ pub struct BakeOptions {
     pub merge_materials: bool,
     /// Chart cone angle in degrees ([`AtlasOptions::max_chart_angle`]).
     pub max_chart_angle: f64,
+    /// Bake a tangent-space normal map for every output material from the
+    /// input's shading normals: its normal map applied where it has one,
+    /// else its interpolated vertex normals (its face normals without a
+    /// normal stream), at each texel's mapped input point, in the LOD's
+    /// MikkTSpace frame. The successive mapping gives every texel its
+    /// input point exactly, so unlike ray casting (Simplygon, InstaLOD) it
+    /// never misses on thin or overlapping parts. Default on: a LOD keeps
+    /// the small-scale shape its collapses removed under lighting. Off:
+    /// normal maps are baked only where the input has one.
+    pub bake_normals: bool,
 }
 
 impl Default for BakeOptions {
@@ -121,6 +131,7 @@ impl Default for BakeOptions {
             padding: AtlasOptions::default().padding,
             merge_materials: false,
             max_chart_angle: AtlasOptions::default().max_chart_angle,
+            bake_normals: true,
         }
     }
 }
@@ -211,7 +222,9 @@ pub enum BakeError {
 /// successive mapping (W §4.3, App. B, App. C.2).
 ///
 /// A mesh whose materials have no texture and which has no vertex colors
-/// is only simplified (no atlas, no image).
+/// gets only a normal map ([`BakeOptions::bake_normals`]; its materials
+/// keep their factors), or with that off is only simplified (no atlas, no
+/// image).
 ///
 /// # Errors
 /// [`BakeError::Simplify`] when the mesh or options are invalid.
@@ -318,7 +331,7 @@ pub fn bake_mesh(input: &BakeInput, options: &BakeOptions) -> Result<Baked, Bake
             material: None,
         })
         .collect();
-    if !textured {
+    if !textured && !options.bake_normals {
         // Nothing to bake: keep the input's materials on the parts.
         for (p, &m) in out.parts.iter_mut().zip(&group_first_material) {
             p.material = m;
@@ -389,11 +402,15 @@ pub fn bake_mesh(input: &BakeInput, options: &BakeOptions) -> Result<Baked, Bake
 
     // Which channels each group bakes: those any material of its faces has
     // a texture for (emissive: or a factor, which can differ between merged
-    // materials), base color always.
+    // materials), base color always on a textured mesh (an untextured one
+    // keeps its factors), the normal map from geometry when asked.
     let mut any_normal_map = false;
     let mut group_channels: Vec<Vec<Channel>> = Vec::new();
     for (members, _, _, _) in &group_work {
-        let mut chans = vec![Channel::BaseColor];
+        let mut chans = Vec::new();
+        if textured {
+            chans.push(Channel::BaseColor);
+        }
         for ch in Channel::ALL {
             if ch == Channel::BaseColor {
                 continue;
@@ -403,7 +420,7 @@ pub fn bake_mesh(input: &BakeInput, options: &BakeOptions) -> Result<Baked, Bake
                 let m = channels_in.material(f);
                 ch.texture(m).is_some() || (ch == Channel::Emissive && m.emissive != [0.0; 3])
             });
-            if has {
+            if has || (ch == Channel::Normal && options.bake_normals) {
                 chans.push(ch);
                 any_normal_map |= ch == Channel::Normal;
             }

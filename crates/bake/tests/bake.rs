@@ -450,3 +450,53 @@ fn normal_mapped_plane_keeps_its_lighting_under_the_new_tangent_frame() {
     // The test can tell: ignoring the change of frame breaks lighting.
     assert!(naive_worst > 0.2, "naive {naive_worst}");
 }
+
+#[test]
+fn an_untextured_mesh_bakes_only_a_normal_map_and_keeps_its_factors() {
+    let mesh = plane(12, |x, y| [x, y]);
+    let materials = [Material {
+        name: "paint".into(),
+        base_color: [0.2, 0.4, 0.6, 1.0],
+        metallic: 0.1,
+        roughness: 0.7,
+        ..Material::default()
+    }];
+    let input = BakeInput {
+        mesh: &mesh,
+        materials: &materials,
+        textures: &[],
+        images: &[],
+    };
+    let baked = bake_mesh(&input, &options(0.1, 64)).expect("bakes");
+    let channels: Vec<Channel> = baked.images.iter().map(|i| i.channel).collect();
+    assert_eq!(channels, vec![Channel::Normal]);
+    let m = &baked.materials[baked.mesh.parts[0].material.expect("material") as usize];
+    assert!(
+        m.normal_texture.is_some() && m.base_color_texture.is_none(),
+        "{m:?}"
+    );
+    assert_eq!(
+        (m.base_color, m.metallic, m.roughness),
+        ([0.2, 0.4, 0.6, 1.0], 0.1, 0.7)
+    );
+    // A flat plane's shading normal is its face normal: the neutral texel
+    // wherever a texel is mapped.
+    let img = image_of(&baked, Channel::Normal);
+    let mapped = &baked.images[0].mapped;
+    for (px, _) in img.pixels.iter().zip(mapped).filter(|(_, &m)| m) {
+        for (c, want) in px[..3].iter().zip([128u8, 128, 255]) {
+            assert!(c.abs_diff(want) <= 2, "{px:?}");
+        }
+    }
+    // Off: nothing to bake, the input's material as it was.
+    let plain = bake_mesh(
+        &input,
+        &BakeOptions {
+            bake_normals: false,
+            ..options(0.1, 64)
+        },
+    )
+    .expect("bakes");
+    assert!(plain.images.is_empty());
+    assert_eq!(plain.materials, materials.to_vec());
+}

@@ -178,6 +178,15 @@ pub struct SimplifyArgs {
     /// Used when the input's textures were all JPEG; otherwise PNG is written.
     #[arg(long, value_name = "Q", default_value_t = 90)]
     pub jpeg_quality: u8,
+    /// When re-baking: no normal map from the input's geometry
+    ///
+    /// By default every re-baked material gets a tangent-space normal map of
+    /// the input's shading normals (its normal map applied where it has one,
+    /// else its vertex normals), so the LOD is lit with the detail its
+    /// collapses removed. With this flag normal maps are baked only where the
+    /// input has one.
+    #[arg(long)]
+    pub no_normal_bake: bool,
     /// Simplify every stored mesh alone instead of the whole file
     ///
     /// Each mesh goes to --ratio, --faces is shared in proportion to the

@@ -31,6 +31,10 @@ pub struct TextureArgs {
     /// When re-baking: JPEG quality for JPEG inputs
     #[arg(long, value_name = "Q", default_value_t = 90)]
     pub jpeg_quality: u8,
+    /// When re-baking: no normal map from the input's geometry (see
+    /// simplify --no-normal-bake)
+    #[arg(long)]
+    pub no_normal_bake: bool,
 }
 
 /// Arguments of `wildlod lod`.

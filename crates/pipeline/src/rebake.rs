@@ -30,15 +30,21 @@ pub struct BakeSettings {
     pub merge_materials: bool,
     /// JPEG quality (1 to 100) for inputs whose textures were all JPEG.
     pub jpeg_quality: u8,
+    /// Bake a normal map from the input's shading normals for every
+    /// re-baked material (see `wildlod_bake::BakeOptions::bake_normals`);
+    /// off: only where the input has a normal map (`--no-normal-bake`).
+    pub normal_maps: bool,
 }
 
 impl Default for BakeSettings {
-    /// The input's texel density, an atlas per material, JPEG quality 90.
+    /// The input's texel density, an atlas per material, JPEG quality 90,
+    /// normal maps from geometry.
     fn default() -> Self {
         BakeSettings {
             texture_size: None,
             merge_materials: false,
             jpeg_quality: 90,
+            normal_maps: true,
         }
     }
 }
@@ -157,6 +163,7 @@ pub fn rebake_scene(
             },
             texture_size: settings.texture_size,
             merge_materials: settings.merge_materials,
+            bake_normals: settings.normal_maps,
             ..BakeOptions::default()
         };
         let bake_input = BakeInput {

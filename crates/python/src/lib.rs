@@ -80,7 +80,8 @@ fn _simplify<'py>(
 /// to be `src`. `textures`: 'auto' (keep the UVs unless the result shows
 /// the texture visibly off and a re-bake measures better), 'keep' or
 /// 'bake', with `texture_size` the re-baked atlas's size (default: the
-/// input's texel density). A `.gltf`/`.glb` `dst` writes reversed twin
+/// input's texel density) and `normal_bake` a normal map of the input's
+/// shading normals for every re-baked material (default on). A `.gltf`/`.glb` `dst` writes reversed twin
 /// faces once with a double-sided material. `**options`: the tuning
 /// options (`wildlod.option_names()`).
 ///
@@ -91,7 +92,7 @@ fn _simplify<'py>(
 #[pyfunction]
 #[pyo3(signature = (
     src, dst, *, ratio=None, faces_target=None, error=None, textures="auto", texture_size=None,
-    overwrite=false, **options
+    normal_bake=true, overwrite=false, **options
 ))]
 #[allow(clippy::too_many_arguments)]
 fn simplify_file<'py>(
@@ -103,11 +104,12 @@ fn simplify_file<'py>(
     error: Option<f64>,
     textures: &str,
     texture_size: Option<u32>,
+    normal_bake: bool,
     overwrite: bool,
     options: Option<&Bound<'py, PyDict>>,
 ) -> PyResult<Bound<'py, PyAny>> {
     let tuning = tuning(py, options)?;
-    let textures = texture_settings(py, textures, texture_size)?;
+    let textures = texture_settings(py, textures, texture_size, normal_bake)?;
     let targets = FileTargets {
         ratio,
         faces: faces_target,
@@ -138,7 +140,7 @@ fn simplify_file<'py>(
 #[pyfunction]
 #[pyo3(signature = (
     src, dst, *, ratios=None, errors=None, faces_targets=None, textures="auto",
-    texture_size=None, split=false, overwrite=false, **options
+    texture_size=None, normal_bake=true, split=false, overwrite=false, **options
 ))]
 #[allow(clippy::too_many_arguments)]
 fn lod_chain<'py>(
@@ -150,12 +152,13 @@ fn lod_chain<'py>(
     faces_targets: Option<Vec<usize>>,
     textures: &str,
     texture_size: Option<u32>,
+    normal_bake: bool,
     split: bool,
     overwrite: bool,
     options: Option<&Bound<'py, PyDict>>,
 ) -> PyResult<Bound<'py, PyAny>> {
     let tuning = tuning(py, options)?;
-    let textures = texture_settings(py, textures, texture_size)?;
+    let textures = texture_settings(py, textures, texture_size, normal_bake)?;
     let levels = Levels::from_lists(
         &ratios.unwrap_or_default(),
         &errors.unwrap_or_default(),
@@ -176,6 +179,7 @@ fn texture_settings(
     py: Python<'_>,
     textures: &str,
     texture_size: Option<u32>,
+    normal_bake: bool,
 ) -> PyResult<TextureSettings> {
     let mode = match textures {
         "auto" => TextureMode::Auto,
@@ -191,6 +195,7 @@ fn texture_settings(
         mode,
         bake: BakeSettings {
             texture_size,
+            normal_maps: normal_bake,
             ..BakeSettings::default()
         },
     }
@@ -271,7 +276,7 @@ fn compare<'py>(
 #[pyo3(signature = (
     src_dir, dst_dir, *, ratio=None, faces_target=None, error=None, lod_ratios=None,
     lod_errors=None, lod_faces_targets=None, split=false, textures="auto", texture_size=None,
-    format=None, jobs=None, skip_existing=false, summary=None, **options
+    normal_bake=true, format=None, jobs=None, skip_existing=false, summary=None, **options
 ))]
 #[allow(clippy::too_many_arguments)]
 fn batch<'py>(
@@ -287,6 +292,7 @@ fn batch<'py>(
     split: bool,
     textures: &str,
     texture_size: Option<u32>,
+    normal_bake: bool,
     format: Option<String>,
     jobs: Option<usize>,
     skip_existing: bool,
@@ -325,7 +331,7 @@ fn batch<'py>(
     let settings = BatchSettings {
         job,
         options: tuning.options().map_err(|e| to_pyerr(py, e))?,
-        textures: texture_settings(py, textures, texture_size)?,
+        textures: texture_settings(py, textures, texture_size, normal_bake)?,
         format,
         jobs: jobs.unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get())),
         skip_existing,

@@ -60,7 +60,13 @@ impl Config {
             (true, _) => TextureMode::Bake,
             (false, t) => texture_mode(t),
         };
-        let bake = bake_config(textures, a.texture_size, a.merge_materials, a.jpeg_quality)?;
+        let bake = bake_config(
+            textures,
+            a.texture_size,
+            a.merge_materials,
+            a.jpeg_quality,
+            !a.no_normal_bake,
+        )?;
         Ok(Config {
             json: a.json,
             textures,
@@ -85,7 +91,13 @@ pub(crate) fn texture_settings(
     let mode = texture_mode(t.textures);
     Ok(wildlod_pipeline::TextureSettings {
         mode,
-        bake: bake_config(mode, t.texture_size, t.merge_materials, t.jpeg_quality)?,
+        bake: bake_config(
+            mode,
+            t.texture_size,
+            t.merge_materials,
+            t.jpeg_quality,
+            !t.no_normal_bake,
+        )?,
     })
 }
 
@@ -105,6 +117,7 @@ pub(crate) fn bake_config(
     texture_size: Option<u32>,
     merge_materials: bool,
     jpeg_quality: u8,
+    normal_maps: bool,
 ) -> anyhow::Result<BakeSettings> {
     if let Some(n) = texture_size {
         if !(16..=16384).contains(&n) {
@@ -114,13 +127,15 @@ pub(crate) fn bake_config(
     if !(1..=100).contains(&jpeg_quality) {
         bail!("--jpeg-quality must be between 1 and 100, got {jpeg_quality}");
     }
-    if textures == TextureMode::Keep && (texture_size.is_some() || merge_materials) {
-        bail!("--texture-size and --merge-materials apply only when re-baking, not with --textures keep");
+    if textures == TextureMode::Keep && (texture_size.is_some() || merge_materials || !normal_maps)
+    {
+        bail!("--texture-size, --merge-materials and --no-normal-bake apply only when re-baking, not with --textures keep");
     }
     Ok(BakeSettings {
         texture_size,
         merge_materials,
         jpeg_quality,
+        normal_maps,
     })
 }
 

@@ -35,6 +35,7 @@ def simplify_file(
     error: Optional[float] = ...,
     textures: str = ...,
     texture_size: Optional[int] = ...,
+    normal_bake: bool = ...,
     overwrite: bool = ...,
     **options: Any,
 ) -> Dict[str, Any]: ...
@@ -47,6 +48,7 @@ def lod_chain(
     faces_targets: Optional[Sequence[int]] = ...,
     textures: str = ...,
     texture_size: Optional[int] = ...,
+    normal_bake: bool = ...,
     split: bool = ...,
     overwrite: bool = ...,
     **options: Any,
@@ -76,6 +78,7 @@ def batch(
     split: bool = ...,
     textures: str = ...,
     texture_size: Optional[int] = ...,
+    normal_bake: bool = ...,
     format: Optional[str] = ...,
     jobs: Optional[int] = ...,
     skip_existing: bool = ...,
