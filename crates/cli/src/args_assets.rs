@@ -22,7 +22,9 @@ pub struct TextureArgs {
     /// always re-bakes.
     #[arg(long, value_enum, default_value_t = TextureArg::Auto, hide_possible_values = true)]
     pub textures: TextureArg,
-    /// When re-baking: atlas size in texels (see simplify --texture-size)
+    /// When re-baking: atlas size in texels
+    ///
+    /// As simplify --texture-size.
     #[arg(long, value_name = "N")]
     pub texture_size: Option<u32>,
     /// When re-baking: one atlas per alpha mode and sidedness
@@ -31,8 +33,9 @@ pub struct TextureArgs {
     /// When re-baking: JPEG quality for JPEG inputs
     #[arg(long, value_name = "Q", default_value_t = 90)]
     pub jpeg_quality: u8,
-    /// When re-baking: no normal map from the input's geometry (see
-    /// simplify --no-normal-bake)
+    /// When re-baking: no normal map from geometry
+    ///
+    /// As simplify --no-normal-bake.
     #[arg(long)]
     pub no_normal_bake: bool,
 }
