@@ -23,6 +23,7 @@ use crate::channels::{corner_normals, encode, Channel, Frame, InputChannels};
 use crate::gutter::{apply_fill, nearest_owned};
 use crate::mapping::SuccessiveMap;
 use crate::raster::{rasterize, NO_TRIANGLE};
+use crate::texture_detail::{content_scale, uv_coverage};
 
 /// Margin, in texels, within which texels around a chart get their own
 /// surface point: everything bilinear filtering at level 0 reads (√2 ≈
@@ -97,12 +98,25 @@ pub struct BakeOptions {
     /// The simplification (target, metric, guards). History recording is
     /// turned on by the baker.
     pub simplify: Options,
-    /// Atlas width and height in texels; `None`: keep the input's texel
-    /// density (see [`BakeOptions::max_texture_size`]).
+    /// Atlas width and height in texels; `None`: the input's texel
+    /// density, scaled by the level when [`BakeOptions::density_follows_level`]
+    /// (see [`BakeOptions::max_texture_size`]).
     pub texture_size: Option<u32>,
     /// Largest atlas side chosen from the input's texel density. Default
     /// 4096.
     pub max_texture_size: u32,
+    /// Without a `texture_size`: texel density = the input's × √(output
+    /// triangles / input triangles), at least 256 texels a side (never
+    /// above the input's density). A level is shown where its error is
+    /// about a pixel; its edges are about 1/√ratio times longer than the
+    /// input's, so it is drawn about √ratio times as large on screen, and
+    /// the input's density would spend texels no screen samples (a 1% LOD
+    /// of a 4k-textured asset got a 4k atlas). But never coarser than the
+    /// input's base colour images can be averaged without a visible change
+    /// (`texture_detail.rs`): a face or printed text keeps its texels at
+    /// any level. Default on; off keeps the input's density at every
+    /// ratio.
+    pub density_follows_level: bool,
     /// Empty texels between charts (and along the border). Default 4.
     pub padding: u32,
     /// Bake all materials with the same alpha mode and sidedness into one
@@ -128,6 +142,7 @@ impl Default for BakeOptions {
             simplify: Options::default(),
             texture_size: None,
             max_texture_size: 4096,
+            density_follows_level: true,
             padding: AtlasOptions::default().padding,
             merge_materials: false,
             max_chart_angle: AtlasOptions::default().max_chart_angle,
@@ -363,6 +378,8 @@ pub fn bake_mesh(input: &BakeInput, options: &BakeOptions) -> Result<Baked, Bake
         input_tangents,
     );
 
+    // The linear scale of the level's texel density against the input's.
+    let scale = level_scale(input, &s.report, options);
     // Atlas UVs per triangle corner, group by group.
     let mut corner_uv = vec![[0.0f32; 2]; 3 * triangles.len()];
     let mut materials = Vec::new();
@@ -376,7 +393,7 @@ pub fn bake_mesh(input: &BakeInput, options: &BakeOptions) -> Result<Baked, Bake
         let group_tris: Vec<[u32; 3]> = members.iter().map(|&t| triangles[t as usize]).collect();
         let size = options
             .texture_size
-            .unwrap_or_else(|| density_size(input, &s.positions, &group_tris, options));
+            .unwrap_or_else(|| density_size(input, &s.positions, &group_tris, scale, options));
         let t_layout = Instant::now();
         let atlas = build_atlas(
             &s.positions,
@@ -765,14 +782,72 @@ fn input_tangents(mesh: &Mesh, set: u32) -> Option<Vec<[f32; 4]>> {
     Some(from(&generated))
 }
 
-/// Atlas side that keeps the input's texel density: the input's texels per
-/// unit area (over its textured faces) times the group's area, over an
-/// expected atlas use of 60%, rounded to a power of two in
+/// The smallest atlas side a level's density is scaled down to (unless the
+/// input's own density gives less): below it charts of a few texels blur
+/// whatever they hold.
+const MIN_LEVEL_SIDE: f64 = 256.0;
+
+/// The linear scale of a level's texel density against the input's (see
+/// [`BakeOptions::density_follows_level`]): √(triangles kept), but no
+/// smaller than the most detailed base colour image the mesh uses allows
+/// ([`content_scale`]); 1 with the option off.
+fn level_scale(input: &BakeInput, report: &Report, options: &BakeOptions) -> f64 {
+    let level = report.output_triangles as f64 / report.input_triangles.max(1) as f64;
+    if !(options.density_follows_level && level.is_finite() && level > 0.0) {
+        return 1.0;
+    }
+    let min_scale = level.min(1.0).sqrt();
+    // Per base colour image: the UV triangles of the faces showing it.
+    let mesh = input.mesh;
+    let mut uvs: Vec<(u32, Vec<[[f32; 2]; 3]>)> = Vec::new();
+    for f in 0..mesh.faces.len() {
+        let Some(r) = mesh
+            .parts
+            .get(mesh.face_parts[f] as usize)
+            .and_then(|p| p.material)
+            .and_then(|m| input.materials.get(m as usize))
+            .and_then(|m| m.base_color_texture)
+        else {
+            continue;
+        };
+        let Some(uv) = mesh.attribute(&Semantic::TexCoord(r.tex_coord)) else {
+            continue;
+        };
+        let start = mesh.faces.offsets[f] as usize;
+        let n = mesh.faces.face(f).len();
+        let at = |c: usize| uv.corner_value(c).map(|v| [v[0], v[1]]);
+        let k = match uvs.iter().position(|(t, _)| *t == r.texture) {
+            Some(k) => k,
+            None => {
+                uvs.push((r.texture, Vec::new()));
+                uvs.len() - 1
+            }
+        };
+        for j in 1..n.saturating_sub(1) {
+            if let (Some(a), Some(b), Some(c)) = (at(start), at(start + j), at(start + j + 1)) {
+                uvs[k].1.push([a, b, c]);
+            }
+        }
+    }
+    uvs.iter()
+        .filter_map(|(t, tris)| {
+            let img = input.images.get(*t as usize).and_then(Option::as_ref)?;
+            let used = uv_coverage(img.width, img.height, tris);
+            Some(content_scale(img, &used, min_scale))
+        })
+        .fold(min_scale, f64::max)
+}
+
+/// Atlas side for the input's texel density: the input's texels per unit
+/// area (over its textured faces) times the group's area, over an expected
+/// atlas use of 60%, times `scale` ([`level_scale`]; at least 256 texels,
+/// never above the input's density), rounded to a power of two in
 /// `[64, max_texture_size]`.
 fn density_size(
     input: &BakeInput,
     out_positions: &[[f32; 3]],
     group: &[[u32; 3]],
+    scale: f64,
     options: &BakeOptions,
 ) -> u32 {
     let mesh = input.mesh;
@@ -827,7 +902,8 @@ fn density_size(
     if !(area > 0.0 && texels > 0.0 && out_area > 0.0) {
         return 1024.min(cap);
     }
-    let side = (texels / area * out_area / 0.6).sqrt();
+    let full = (texels / area * out_area / 0.6).sqrt();
+    let side = (full * scale.min(1.0)).max(full.min(MIN_LEVEL_SIDE));
     let pow = side.max(1.0).log2().round().clamp(6.0, 31.0);
     (2f64.powf(pow) as u32).clamp(64, cap)
 }

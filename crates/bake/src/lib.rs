@@ -17,6 +17,9 @@
 //!   the bilinear margin) and where each one is on the surface.
 //! - `channels.rs`: every PBR channel at an input point, normals re-expressed
 //!   in the output's MikkTSpace frame.
+//! - `texture_detail.rs`: how far an input texture may be downsampled
+//!   before its content visibly changes (the floor under a level's
+//!   smaller atlas).
 //! - [`gutter`]: the rest of the atlas filled from the nearest texel, so
 //!   that no mip level shows background (W App. B).
 //! - [`bake_mesh`] (`bake.rs`): the driver, from a mesh, its materials and
@@ -28,6 +31,7 @@ mod channels;
 pub mod gutter;
 mod mapping;
 mod raster;
+mod texture_detail;
 
 pub use atlas::{atlas_stats, build_atlas, Atlas, AtlasOptions, AtlasStats};
 pub use bake::{
@@ -36,3 +40,4 @@ pub use bake::{
 pub use channels::Channel;
 pub use mapping::{SuccessiveMap, SurfacePoint};
 pub use raster::{closest_on_triangle_2d, rasterize, Coverage, NO_TRIANGLE};
+pub use texture_detail::VISIBLE_BLUR;

@@ -500,3 +500,51 @@ fn an_untextured_mesh_bakes_only_a_normal_map_and_keeps_its_factors() {
     assert!(plain.images.is_empty());
     assert_eq!(plain.materials, materials.to_vec());
 }
+
+#[test]
+fn a_levels_atlas_follows_the_level_unless_the_texture_has_fine_detail() {
+    // A plane whose 1024² texture maps onto it once: the input's density
+    // asks for a 1024² atlas at any ratio.
+    let mesh = plane(24, |x, y| [x, y]);
+    let materials = [Material {
+        base_color_texture: Some(TextureRef {
+            texture: 0,
+            tex_coord: 0,
+        }),
+        ..Material::default()
+    }];
+    let textures = [texture()];
+    let atlas_side = |img: Rgba8Image, follow: bool| {
+        let images = [Some(img)];
+        let input = BakeInput {
+            mesh: &mesh,
+            materials: &materials,
+            textures: &textures,
+            images: &images,
+        };
+        let options = BakeOptions {
+            texture_size: None,
+            density_follows_level: follow,
+            bake_normals: false,
+            ..options(0.01, 0)
+        };
+        bake_mesh(&input, &options).expect("bakes").report.atlases[0].size
+    };
+    let n = 1024u32;
+    let image = |f: &dyn Fn(u32, u32) -> [u8; 4]| Rgba8Image {
+        width: n,
+        height: n,
+        pixels: (0..n * n).map(|i| f(i % n, i / n)).collect(),
+    };
+    // A slow gradient survives any averaging: at 1% (a tenth of the
+    // input's density) the atlas drops to the 256 floor.
+    let smooth = |x: u32, y: u32| [(x / 8) as u8, (y / 8) as u8, 100, 255];
+    assert_eq!(atlas_side(image(&smooth), false), 1024);
+    assert_eq!(atlas_side(image(&smooth), true), 256);
+    // A texel checker (printed text) does not: the input's density stays.
+    let fine = |x: u32, y: u32| {
+        let v = if (x + y) % 2 == 0 { 20 } else { 230 };
+        [v, v, v, 255]
+    };
+    assert_eq!(atlas_side(image(&fine), true), 1024);
+}
