@@ -148,6 +148,12 @@ pub struct BatchArgs {
     /// as simplify and lod do.
     #[command(flatten)]
     pub textures: TextureArgs,
+    /// Simplify every stored mesh alone instead of each whole file
+    ///
+    /// As simplify --per-mesh; without it each file is simplified under one
+    /// budget in world space, as simplify does.
+    #[arg(long)]
+    pub per_mesh: bool,
     /// Skip files whose outputs exist (resume a run)
     ///
     /// They are listed as skipped in the summary.

@@ -41,6 +41,9 @@ pub struct BatchSettings {
     /// Keep, re-bake or choose textures per file (and per level of a
     /// chain), as `simplify` and `lod` do.
     pub textures: TextureSettings,
+    /// Every mesh of a file to its own share (`simplify --per-mesh`)
+    /// instead of the whole file under one budget.
+    pub per_mesh: bool,
     /// Write every output in this format (else each input's own).
     pub format: Option<Format>,
     /// Files at once (at least 1).
@@ -168,6 +171,7 @@ fn process<P: MeshProgress>(
                 input,
                 output,
                 &t,
+                settings.per_mesh,
                 &settings.options,
                 &textures,
                 progress,

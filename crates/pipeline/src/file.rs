@@ -8,9 +8,9 @@ use wildlod_simplify::Options;
 
 use crate::{
     build_chain, chain_json, drawn_triangles, file_stem, merge_twins_double_sided, rebake_levels,
-    rebake_scene, simplify_scene, targets_for, treat_textures, write_chain, ChainJson, Error,
-    Levels, MergedTwins, MeshProgress, MeshRun, NoProgress, RunJson, TextureChoice,
-    TextureSettings, Tuning,
+    rebake_scene, simplify_scene, simplify_whole_scene, targets_for, treat_textures, write_chain,
+    ChainJson, Error, Levels, MergedTwins, MeshProgress, MeshRun, NoProgress, RunJson,
+    TextureChoice, TextureSettings, Tuning,
 };
 
 /// The limits of simplifying a whole file; the first reached stops.
@@ -79,17 +79,22 @@ impl SimplifiedDocument {
     }
 }
 
-/// Simplifies every mesh of `doc` (read from `input`, to be written to
-/// `output`, whose extension decides what a glTF can say) to its share of
-/// `targets` (checked): reversed twins of a glTF output become one
+/// Simplifies `doc` (read from `input`, to be written to `output`, whose
+/// extension decides what a glTF can say) to `targets` (checked): the
+/// whole file under one budget in world space, as `wildlod simplify` does
+/// ([`simplify_whole_scene`]), or with `per_mesh` every mesh to its share
+/// ([`targets_for`]); reversed twins of a glTF output become one
 /// double-sided face (see [`crate::merge_twins_double_sided`]; a ratio is
-/// then of what the input drew), and textures are kept, re-baked or
-/// chosen per `textures` (see [`treat_textures`]).
+/// then of what the input drew), and textures are kept, re-baked (always
+/// per mesh: baking maps texels through one mesh's history) or chosen per
+/// `textures` (see [`treat_textures`]).
+#[allow(clippy::too_many_arguments)]
 pub fn simplify_document<P: MeshProgress>(
     mut doc: Document,
     input: &Path,
     output: &Path,
     targets: &FileTargets,
+    per_mesh: bool,
     options: &Options,
     textures: &TextureSettings,
     progress: &dyn Fn(&str) -> P,
@@ -111,17 +116,34 @@ pub fn simplify_document<P: MeshProgress>(
         t.faces = Some(t.faces.map_or(of_input, |n| n.min(of_input)));
         t.ratio = None;
     }
-    let per_mesh = targets_for(&doc.scene, t.ratio, t.faces, t.error);
+    let mesh_targets = targets_for(&doc.scene, t.ratio, t.faces, t.error);
     let mut warnings = Vec::new();
     let keep = || -> Result<(Document, Vec<MeshRun>), Error> {
         let mut out = doc.clone();
-        let runs = simplify_scene(&mut out.scene, input, options, &per_mesh, &stem, progress)?;
+        let runs = if per_mesh {
+            simplify_scene(
+                &mut out.scene,
+                input,
+                options,
+                &mesh_targets,
+                &stem,
+                progress,
+            )?
+        } else {
+            vec![simplify_whole_scene(&mut out.scene, input, options, &t, &stem, progress)?.0]
+        };
         Ok((out, runs))
     };
     let rebake = || -> Result<(Document, Vec<MeshRun>), Error> {
         let mut out = doc.clone();
-        let (runs, more) =
-            rebake_scene(&mut out, input, options, &textures.bake, &per_mesh, &stem)?;
+        let (runs, more) = rebake_scene(
+            &mut out,
+            input,
+            options,
+            &textures.bake,
+            &mesh_targets,
+            &stem,
+        )?;
         warnings.extend(more);
         Ok((out, runs.into_iter().map(|r| r.run).collect()))
     };
@@ -136,15 +158,16 @@ pub fn simplify_document<P: MeshProgress>(
     })
 }
 
-/// Simplifies every mesh of the file `input` and writes `output` (its
-/// extension picks the format): what `wildlod simplify --per-mesh` does
-/// (see [`simplify_document`]). Refuses to replace `input` unless
-/// `overwrite`. Returns the report and the warnings of the reader, the
-/// re-bake and the writer, each naming its file.
+/// Simplifies the file `input` and writes `output` (its extension picks
+/// the format): what `wildlod simplify` does, with `per_mesh` what
+/// `--per-mesh` does (see [`simplify_document`]). Refuses to replace
+/// `input` unless `overwrite`. Returns the report and the warnings of the
+/// reader, the re-bake and the writer, each naming its file.
 pub fn simplify_file(
     input: &Path,
     output: &Path,
     targets: &FileTargets,
+    per_mesh: bool,
     tuning: &Tuning,
     textures: &TextureSettings,
     overwrite: bool,
@@ -161,9 +184,16 @@ pub fn simplify_file(
         .iter()
         .map(|w| format!("{}: {w}", input.display()))
         .collect();
-    let done = simplify_document(doc, input, output, &targets, &options, &textures, &|_| {
-        NoProgress
-    })?;
+    let done = simplify_document(
+        doc,
+        input,
+        output,
+        &targets,
+        per_mesh,
+        &options,
+        &textures,
+        &|_| NoProgress,
+    )?;
     warnings.extend(done.warnings.iter().cloned());
     for w in wildlod_io::write(
         &done.doc,
@@ -250,6 +280,7 @@ mod tests {
             &input,
             &output,
             &targets,
+            false,
             &Tuning::default(),
             &TextureSettings::default(),
             false,
@@ -274,6 +305,7 @@ mod tests {
             &input,
             &input,
             &FileTargets::default(),
+            false,
             &Tuning::default(),
             &TextureSettings::default(),
             false,

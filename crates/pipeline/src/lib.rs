@@ -63,7 +63,10 @@ pub use level_materials::{append_level_materials, level_scene, LevelMaterials};
 pub use progress::{MeshProgress, NoProgress};
 pub use rebake::{rebake_scene, BakeSettings, RebakedRun};
 pub use report::{stop_key, ChainJson, LevelJson, MeshJson, RunJson};
-pub use scene::{clear_unused_joint_slots, file_stem, mesh_name, simplify_scene, MeshRun};
+pub use scene::{
+    clear_unused_joint_slots, file_stem, mesh_name, simplify_scene, simplify_whole_scene,
+    whole_report, MeshRun,
+};
 pub use targets::{scene_diagonal, share_budget, targets_for, world_diagonal, MIN_TRIANGLES};
 pub use textures::{
     choose as choose_textures, has_base_color_texture, texture_excess, treat_textures,

@@ -4,9 +4,12 @@ use std::path::Path;
 use std::time::Instant;
 
 use wildlod_mesh::Scene;
-use wildlod_simplify::{simplify_mesh_with_progress, Options, Report, Target};
+use wildlod_simplify::{
+    simplify_mesh_with_progress, simplify_scene_with_progress, Options, Rejections, Report,
+    SceneReport, SteeringOutcome, Target,
+};
 
-use crate::{Error, MeshProgress};
+use crate::{Error, FileTargets, MeshProgress, MIN_TRIANGLES};
 
 /// One simplified mesh of a file: what the per-mesh line and the JSON
 /// report say.
@@ -130,4 +133,102 @@ pub fn simplify_scene<P: MeshProgress>(
         clear_unused_joint_slots(&mut scene.meshes[m]);
     }
     Ok(runs)
+}
+
+/// Simplifies the whole of `scene` under one budget in world space (W §1,
+/// Fig. 1; see [`wildlod_simplify::simplify_scene`]): the triangles go where
+/// the error is smallest, and a part too small to matter may disappear.
+/// `targets` are the file's (checked); the file keeps at least
+/// [`MIN_TRIANGLES`]. Returns one run for the whole file (named `stem`:
+/// its budget and error, relative to the file's diagonal, are the file's)
+/// and the scene's own report. Errors name `input`.
+pub fn simplify_whole_scene<P: MeshProgress>(
+    scene: &mut Scene,
+    input: &Path,
+    options: &Options,
+    targets: &FileTargets,
+    stem: &str,
+    progress: &dyn Fn(&str) -> P,
+) -> Result<(MeshRun, SceneReport), Error> {
+    let options = Options {
+        target: Target {
+            ratio: targets.ratio,
+            // `ratio 0` means "as small as possible", not an empty file.
+            triangles: Some(targets.faces.unwrap_or(MIN_TRIANGLES).max(MIN_TRIANGLES)),
+            error: targets.error,
+        },
+        ..options.clone()
+    };
+    let bar = progress(stem);
+    let t0 = Instant::now();
+    let (lod, report) =
+        simplify_scene_with_progress(scene, &options, &|f| bar.set(f)).map_err(|source| {
+            Error::Simplify {
+                file: input.to_path_buf(),
+                mesh: "the scene".into(),
+                source,
+            }
+        })?;
+    bar.finish();
+    *scene = lod;
+    for mesh in &mut scene.meshes {
+        clear_unused_joint_slots(mesh);
+    }
+    let run = MeshRun {
+        mesh: 0,
+        name: stem.to_string(),
+        report: whole_report(&report),
+        seconds: t0.elapsed().as_secs_f64(),
+    };
+    Ok((run, report))
+}
+
+/// A scene run as one [`Report`]: the file's triangles, target and error
+/// (relative to the file's diagonal), the guards' refusals summed.
+pub fn whole_report(r: &SceneReport) -> Report {
+    let mut rejected = Rejections::default();
+    for g in &r.groups {
+        let j = &g.report.rejected;
+        rejected.normal_flip += j.normal_flip;
+        rejected.topology += j.topology;
+        rejected.locked_border += j.locked_border;
+        rejected.overshoot += j.overshoot;
+        rejected.error_limit += j.error_limit;
+    }
+    Report {
+        input_triangles: r.input_triangles,
+        target_triangles: r.target_triangles,
+        output_triangles: r.output_triangles,
+        error: r.error,
+        stop: r.stop(),
+        twin_slack: r.groups.iter().any(|g| g.report.twin_slack),
+        rejected,
+        split_polygons: r.groups.iter().map(|g| g.report.split_polygons).sum(),
+        hidden_twins: r.groups.iter().map(|g| g.report.hidden_twins).sum(),
+        collapses: r.groups.iter().map(|g| g.report.collapses).sum(),
+        stray_normals: r.groups.iter().map(|g| g.report.stray_normals).sum(),
+        outliers: r
+            .groups
+            .iter()
+            .flat_map(|g| g.report.outliers.iter().copied())
+            .collect(),
+        uv_damage: r
+            .groups
+            .iter()
+            .filter_map(|g| g.report.uv_damage)
+            .reduce(f64::max),
+        // The file's steering: kept where every group kept its own.
+        steering: r
+            .groups
+            .iter()
+            .filter_map(|g| g.report.steering)
+            .reduce(|a, b| SteeringOutcome {
+                kept: a.kept && b.kept,
+                hausdorff: a.hausdorff.max(b.hausdorff),
+                chamfer: a.chamfer.max(b.chamfer),
+                geometry_hausdorff: a.geometry_hausdorff.max(b.geometry_hausdorff),
+                geometry_chamfer: a.geometry_chamfer.max(b.geometry_chamfer),
+            }),
+        ..Report::default()
+    }
 }

@@ -74,9 +74,11 @@ fn _simplify<'py>(
 /// Simplifies every mesh of a file into another file, as `wildlod
 /// simplify` does; the output's extension picks its format.
 ///
-/// Targets (the first reached stops; none: `ratio=0.5`): `ratio` of each
-/// mesh's triangles, `faces_target` triangles shared among the meshes,
-/// `error` as a fraction of the file's diagonal. `overwrite` allows `dst`
+/// Targets (the first reached stops; none: `ratio=0.5`): `ratio` of the
+/// file's triangles, `faces_target` triangles for the file, `error` as a
+/// fraction of the file's diagonal; the whole file under one budget in
+/// world space, as `wildlod simplify` does, or with `per_mesh` every mesh
+/// to its share (`--per-mesh`). `overwrite` allows `dst`
 /// to be `src`. `textures`: 'auto' (keep the UVs unless the result shows
 /// the texture visibly off and a re-bake measures better), 'keep' or
 /// 'bake', with `texture_size` the re-baked atlas's size (default: the
@@ -91,8 +93,8 @@ fn _simplify<'py>(
 /// written, `WildlodError` for content or settings refused.
 #[pyfunction]
 #[pyo3(signature = (
-    src, dst, *, ratio=None, faces_target=None, error=None, textures="auto", texture_size=None,
-    normal_bake=true, overwrite=false, **options
+    src, dst, *, ratio=None, faces_target=None, error=None, per_mesh=false, textures="auto",
+    texture_size=None, normal_bake=true, overwrite=false, **options
 ))]
 #[allow(clippy::too_many_arguments)]
 fn simplify_file<'py>(
@@ -102,6 +104,7 @@ fn simplify_file<'py>(
     ratio: Option<f64>,
     faces_target: Option<usize>,
     error: Option<f64>,
+    per_mesh: bool,
     textures: &str,
     texture_size: Option<u32>,
     normal_bake: bool,
@@ -117,7 +120,9 @@ fn simplify_file<'py>(
     };
     let (report, warnings) = py
         .detach(|| {
-            wildlod_pipeline::simplify_file(&src, &dst, &targets, &tuning, &textures, overwrite)
+            wildlod_pipeline::simplify_file(
+                &src, &dst, &targets, per_mesh, &tuning, &textures, overwrite,
+            )
         })
         .map_err(|e| to_pyerr(py, e))?;
     with_warnings(py, report_dict(py, &report)?, warnings)
@@ -263,6 +268,7 @@ fn compare<'py>(
 /// `lod_chain`). Targets of a simplified file as in `simplify_file`
 /// (none: `ratio=0.5`); `format` ('glb', 'obj'…) writes every output in
 /// one format; `skip_existing` skips files whose outputs all exist;
+/// `per_mesh` as in `simplify_file`;
 /// `textures` and `texture_size` as in `simplify_file` and `lod_chain`.
 ///
 /// The summary is written to `summary` (`.json` or `.csv`) or to
@@ -275,8 +281,8 @@ fn compare<'py>(
 #[pyfunction]
 #[pyo3(signature = (
     src_dir, dst_dir, *, ratio=None, faces_target=None, error=None, lod_ratios=None,
-    lod_errors=None, lod_faces_targets=None, split=false, textures="auto", texture_size=None,
-    normal_bake=true, format=None, jobs=None, skip_existing=false, summary=None, **options
+    lod_errors=None, lod_faces_targets=None, split=false, per_mesh=false, textures="auto",
+    texture_size=None, normal_bake=true, format=None, jobs=None, skip_existing=false, summary=None, **options
 ))]
 #[allow(clippy::too_many_arguments)]
 fn batch<'py>(
@@ -290,6 +296,7 @@ fn batch<'py>(
     lod_errors: Option<Vec<f64>>,
     lod_faces_targets: Option<Vec<usize>>,
     split: bool,
+    per_mesh: bool,
     textures: &str,
     texture_size: Option<u32>,
     normal_bake: bool,
@@ -332,6 +339,7 @@ fn batch<'py>(
         job,
         options: tuning.options().map_err(|e| to_pyerr(py, e))?,
         textures: texture_settings(py, textures, texture_size, normal_bake)?,
+        per_mesh,
         format,
         jobs: jobs.unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get())),
         skip_existing,

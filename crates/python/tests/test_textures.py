@@ -1,7 +1,8 @@
 """Textures kept, re-baked or chosen per file, as the CLI does (issue 31,
 decision 4): simplify_file, lod_chain and batch take textures='auto'
 (the default), 'keep' or 'bake', and report the choice with the same
-keys and the same measurements as `wildlod simplify --per-mesh --json`."""
+keys and the same measurements as `wildlod simplify --json` (the whole
+file under one budget, or with per_mesh=True as `--per-mesh`)."""
 
 import json
 import os
@@ -39,7 +40,7 @@ def test_simplify_file_chooses_textures_as_the_cli_does(tmp_path):
     run = wildlod.simplify_file(TRUCK, tmp_path / "p.glb", ratio=0.1)
     cli = json.loads(subprocess.run(
         [cli_binary(), "simplify", str(TRUCK), "-o", str(tmp_path / "c.glb"), "--ratio", "0.1",
-         "--per-mesh", "--json"],
+         "--json"],
         check=True, capture_output=True).stdout)
     # The truck's texture tears at 10% with its UVs kept: both re-bake,
     # with the same measurements.
@@ -47,6 +48,15 @@ def test_simplify_file_chooses_textures_as_the_cli_does(tmp_path):
     assert run["textures"]["mode"] == "auto"
     assert run["textures"]["chosen"] == "bake"
     assert run["output_triangles"] == cli["output_triangles"]
+    assert [m["name"] for m in run["meshes"]] == [m["name"] for m in cli["meshes"]]
+    per_mesh = wildlod.simplify_file(TRUCK, tmp_path / "m.glb", ratio=0.1, per_mesh=True,
+                                     textures="keep")
+    cli = json.loads(subprocess.run(
+        [cli_binary(), "simplify", str(TRUCK), "-o", str(tmp_path / "cm.glb"), "--ratio", "0.1",
+         "--per-mesh", "--textures", "keep", "--json"],
+        check=True, capture_output=True).stdout)
+    assert [m["output_triangles"] for m in per_mesh["meshes"]] == \
+        [m["output_triangles"] for m in cli["meshes"]]
 
     kept = wildlod.simplify_file(TRUCK, tmp_path / "k.glb", ratio=0.1, textures="keep")
     assert kept["textures"]["chosen"] == "keep"

@@ -75,6 +75,7 @@ impl Config {
                 job,
                 options: tuning_options(&a.tuning)?,
                 textures: texture_settings(&a.textures)?,
+                per_mesh: a.per_mesh,
                 format,
                 jobs,
                 skip_existing: a.skip_existing,

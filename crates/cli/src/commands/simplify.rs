@@ -7,14 +7,11 @@ use anyhow::{bail, Context};
 use wildlod_io::{Document, ErrorKind, WriteOptions};
 use wildlod_mesh::Scene;
 use wildlod_pipeline::{
-    clear_unused_joint_slots, drawn_triangles, file_stem, merge_twins_double_sided, simplify_scene,
-    targets_for, treat_textures, BakeSettings, FileTargets, MergedTwins, MeshRun, NormalSetting,
-    RunJson, SeamSetting, TextureChoice, TextureMode, Tuning, MIN_TRIANGLES,
+    drawn_triangles, file_stem, merge_twins_double_sided, simplify_scene, targets_for,
+    treat_textures, BakeSettings, FileTargets, MergedTwins, MeshRun, NormalSetting, RunJson,
+    SeamSetting, TextureChoice, TextureMode, Tuning,
 };
-use wildlod_simplify::{
-    simplify_scene_with_progress, Options, Rejections, Report, SceneReport, SteeringOutcome,
-    StopReason, Target,
-};
+use wildlod_simplify::{Options, Report, SceneReport, StopReason, Target};
 
 use super::with_flag_names;
 use crate::args::{NormalArg, SeamArg, SimplifyArgs, TextureArg, TuningArgs};
@@ -389,30 +386,14 @@ struct Done {
     lines: Vec<String>,
 }
 
-/// The whole file under one budget in world space (W §1, Fig. 1): see
-/// [`wildlod_simplify::simplify_scene`].
+/// The whole file under one budget in world space (see
+/// [`wildlod_pipeline::simplify_whole_scene`]), with its summary line.
 fn simplify_whole_scene(
     doc: &mut Document,
     cfg: &Config,
     stem: &str,
     show: bool,
 ) -> anyhow::Result<(MeshRun, String)> {
-    let options = Options {
-        target: Target {
-            ratio: cfg.ratio,
-            // The file keeps at least one triangle: `--ratio 0` means "as
-            // small as possible", not an empty file.
-            triangles: Some(cfg.faces.unwrap_or(MIN_TRIANGLES).max(MIN_TRIANGLES)),
-            error: cfg.error,
-        },
-        ..cfg.options.clone()
-    };
-    let progress = Progress::new(stem, show);
-    let t0 = Instant::now();
-    let (lod, report) = simplify_scene_with_progress(&doc.scene, &options, &|f| progress.set(f))
-        .with_context(|| format!("{}: simplifying the scene", cfg.input.display()))?;
-    progress.finish();
-    let seconds = t0.elapsed().as_secs_f64();
     let names: Vec<String> = doc
         .scene
         .meshes
@@ -423,78 +404,28 @@ fn simplify_whole_scene(
             n => n.to_string(),
         })
         .collect();
-    let line = scene_summary(stem, &report, &names, seconds);
-    doc.scene = lod;
-    for mesh in &mut doc.scene.meshes {
-        clear_unused_joint_slots(mesh);
-    }
-    // One entry for the whole file: its budget and error are the file's.
-    Ok((
-        MeshRun {
-            mesh: 0,
-            name: stem.to_string(),
-            report: whole_report(&report),
-            seconds,
-        },
-        line,
-    ))
-}
-
-/// The scene's run as one [`Report`]: the file's triangles, target and
-/// error (relative to the file's diagonal), the guards' refusals summed.
-fn whole_report(r: &SceneReport) -> Report {
-    let mut rejected = Rejections::default();
-    for g in &r.groups {
-        let j = &g.report.rejected;
-        rejected.normal_flip += j.normal_flip;
-        rejected.topology += j.topology;
-        rejected.locked_border += j.locked_border;
-        rejected.overshoot += j.overshoot;
-        rejected.error_limit += j.error_limit;
-    }
-    Report {
-        input_triangles: r.input_triangles,
-        target_triangles: r.target_triangles,
-        output_triangles: r.output_triangles,
-        error: r.error,
-        stop: r.stop(),
-        twin_slack: r.groups.iter().any(|g| g.report.twin_slack),
-        rejected,
-        split_polygons: r.groups.iter().map(|g| g.report.split_polygons).sum(),
-        hidden_twins: r.groups.iter().map(|g| g.report.hidden_twins).sum(),
-        collapses: r.groups.iter().map(|g| g.report.collapses).sum(),
-        stray_normals: r.groups.iter().map(|g| g.report.stray_normals).sum(),
-        outliers: r
-            .groups
-            .iter()
-            .flat_map(|g| g.report.outliers.iter().copied())
-            .collect(),
-        uv_damage: r
-            .groups
-            .iter()
-            .filter_map(|g| g.report.uv_damage)
-            .reduce(f64::max),
-        // The file's steering: kept where every group kept its own.
-        steering: r
-            .groups
-            .iter()
-            .filter_map(|g| g.report.steering)
-            .reduce(|a, b| SteeringOutcome {
-                kept: a.kept && b.kept,
-                hausdorff: a.hausdorff.max(b.hausdorff),
-                chamfer: a.chamfer.max(b.chamfer),
-                geometry_hausdorff: a.geometry_hausdorff.max(b.geometry_hausdorff),
-                geometry_chamfer: a.geometry_chamfer.max(b.geometry_chamfer),
-            }),
-        ..Report::default()
-    }
+    let targets = FileTargets {
+        ratio: cfg.ratio,
+        faces: cfg.faces,
+        error: cfg.error,
+    };
+    let (run, report) = wildlod_pipeline::simplify_whole_scene(
+        &mut doc.scene,
+        &cfg.input,
+        &cfg.options,
+        &targets,
+        stem,
+        &|name| Progress::new(name, show),
+    )?;
+    let line = scene_summary(stem, &report, &names, run.seconds);
+    Ok((run, line))
 }
 
 /// The scene run's line: the file's triangles and achieved error (relative
 /// to the file's diagonal, and in its units), how the budget was shared,
 /// and the meshes that disappeared.
 pub fn scene_summary(name: &str, r: &SceneReport, names: &[String], seconds: f64) -> String {
-    let whole = whole_report(r);
+    let whole = wildlod_pipeline::whole_report(r);
     let mut s = summary(name, &whole, seconds);
     let shown = r.meshes.iter().filter(|m| m.input_triangles > 0).count();
     s.push_str(&format!(
