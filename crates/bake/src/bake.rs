@@ -230,6 +230,16 @@ pub enum BakeError {
     /// The simplifier refused the input or options.
     #[error(transparent)]
     Simplify(#[from] wildlod_simplify::Error),
+    /// The LOD's charts do not fit the largest atlas allowed (each takes a
+    /// texel and its padding at least): a surface split into tens of
+    /// thousands of charts (a noisy scan's), or a `texture_size` too small.
+    #[error("{charts} atlas charts do not fit a {size}² atlas")]
+    AtlasFull {
+        /// Charts of the layout.
+        charts: usize,
+        /// The largest atlas side tried.
+        size: u32,
+    },
 }
 
 /// Simplifies `input.mesh` with collapses free to cross UV seams, and
@@ -386,25 +396,51 @@ pub fn bake_mesh(input: &BakeInput, options: &BakeOptions) -> Result<Baked, Bake
     let mut images = Vec::new();
     let mut atlases = Vec::new();
     let mut group_work = Vec::new();
+    // Faces of far outlier vertices (left in place by the simplifier) get
+    // no atlas space: one of them would set the charts' common scale and
+    // leave every other chart without a texel.
+    let mut far = vec![false; s.positions.len()];
+    for &o in &s.report.outliers {
+        if let Some(&v) = s.vertex_map.get(o as usize) {
+            if let Some(f) = far.get_mut(v as usize) {
+                *f = true;
+            }
+        }
+    }
     for g in 0..keys.len() {
         let members: Vec<u32> = (0..triangles.len() as u32)
             .filter(|&t| tri_group[t as usize] == g as u32)
+            .filter(|&t| !triangles[t as usize].iter().any(|&v| far[v as usize]))
             .collect();
         let group_tris: Vec<[u32; 3]> = members.iter().map(|&t| triangles[t as usize]).collect();
-        let size = options
+        let mut size = options
             .texture_size
             .unwrap_or_else(|| density_size(input, &s.positions, &group_tris, scale, options));
         let t_layout = Instant::now();
-        let atlas = build_atlas(
-            &s.positions,
-            &group_tris,
-            &[],
-            &AtlasOptions {
-                size,
-                padding: options.padding,
-                max_chart_angle: options.max_chart_angle,
-            },
-        );
+        // A size chosen here grows (up to `max_texture_size`) until every
+        // chart has a place; an asked-for size does not.
+        let atlas = loop {
+            let atlas = build_atlas(
+                &s.positions,
+                &group_tris,
+                &[],
+                &AtlasOptions {
+                    size,
+                    padding: options.padding,
+                    max_chart_angle: options.max_chart_angle,
+                },
+            );
+            if atlas.fits {
+                break atlas;
+            }
+            if options.texture_size.is_some() || size >= options.max_texture_size {
+                return Err(BakeError::AtlasFull {
+                    charts: atlas.chart_count,
+                    size,
+                });
+            }
+            size = (2 * size).min(options.max_texture_size.max(size));
+        };
         for (i, &t) in members.iter().enumerate() {
             for k in 0..3 {
                 let uv = atlas.corner_uvs[3 * i + k];

@@ -5,7 +5,9 @@
 
 use glam::Vec3;
 use wildlod_bake::gutter::mip_chain;
-use wildlod_bake::{bake_mesh, rasterize, BakeInput, BakeOptions, Baked, Channel, NO_TRIANGLE};
+use wildlod_bake::{
+    bake_mesh, rasterize, BakeError, BakeInput, BakeOptions, Baked, Channel, NO_TRIANGLE,
+};
 use wildlod_mesh::shapes::{quad_grid, triangulate};
 use wildlod_mesh::{
     Attribute, ComponentFormat, Faces, ImageSource, Material, Mesh, Part, Rgba8Image, Sampler,
@@ -547,4 +549,51 @@ fn a_levels_atlas_follows_the_level_unless_the_texture_has_fine_detail() {
         [v, v, v, 255]
     };
     assert_eq!(atlas_side(image(&fine), true), 1024);
+}
+
+#[test]
+fn an_atlas_too_small_for_the_charts_is_an_error_and_a_chosen_size_grows() {
+    // A bumpy plane: at 20% its charts cannot share a 16² atlas (each
+    // takes a texel and its padding at least).
+    let mut mesh = plane(16, |x, y| [x, y]);
+    for (k, p) in mesh.positions.iter_mut().enumerate() {
+        p[2] = 0.3 * ((k * 7919) % 13) as f32 / 13.0;
+    }
+    let materials = [Material {
+        base_color_texture: Some(TextureRef {
+            texture: 0,
+            tex_coord: 0,
+        }),
+        ..Material::default()
+    }];
+    let textures = [texture()];
+    let images = [Some(Rgba8Image::filled(8, 8, [200, 100, 50, 255]))];
+    let input = BakeInput {
+        mesh: &mesh,
+        materials: &materials,
+        textures: &textures,
+        images: &images,
+    };
+    match bake_mesh(&input, &options(0.2, 16)) {
+        Err(BakeError::AtlasFull { charts, size }) => {
+            assert_eq!(size, 16);
+            assert!(charts > 2, "{charts}");
+        }
+        other => panic!(
+            "expected AtlasFull, got {:?}",
+            other.map(|b| b.report.atlases)
+        ),
+    }
+    // Chosen by density (an 8² texture asks for the 64² floor), the
+    // atlas grows until every chart has a place.
+    let grown = bake_mesh(
+        &input,
+        &BakeOptions {
+            texture_size: None,
+            ..options(0.2, 16)
+        },
+    )
+    .expect("grows");
+    let a = &grown.report.atlases[0];
+    assert!(a.size >= 64 && a.stats.utilization > 0.0, "{a:?}");
 }

@@ -717,3 +717,47 @@ fn rebaking_bakes_a_normal_map_from_the_input_geometry() {
     );
     eprintln!("shading-normal Chamfer {with_map:.3}° with the baked map, {without:.3}° without");
 }
+
+/// A re-bake that cannot be made (here: an atlas too small for the LOD's
+/// charts) is an error naming the file under `--textures bake`, and under
+/// `auto` leaves the keep-UV result, saying why.
+#[test]
+fn a_rebake_that_cannot_be_made_is_named_and_auto_keeps_the_uvs() {
+    let dir = tempfile::tempdir().unwrap();
+    let png = dir.path().join("paint.png");
+    write_image(&png);
+    let islands = torus_gltf(dir.path(), &png, "gltf");
+    let out = dir.path().join("lod.glb");
+    let run = |mode: &str| {
+        wildlod(&[
+            "simplify",
+            s(&islands),
+            "-o",
+            s(&out),
+            "--ratio",
+            "0.01",
+            "--textures",
+            mode,
+            "--texture-size",
+            "16",
+            "--json",
+        ])
+    };
+    let o = run("bake");
+    assert!(!o.status.success());
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        err.contains("torus.gltf") && err.contains("do not fit a 16² atlas"),
+        "{err}"
+    );
+    assert!(!out.exists(), "no half-written output");
+    let o = run("auto");
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let j: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let t = &j["textures"];
+    assert_eq!(t["chosen"], "keep", "{j}");
+    assert!(
+        t["rebake_failed"].as_str().unwrap().contains("do not fit"),
+        "{t}"
+    );
+}

@@ -271,7 +271,7 @@ pub fn batch_file<P: MeshProgress>(
 }
 
 /// An error with its causes, `: `-separated (as `anyhow`'s `{:#}` shows it).
-fn error_chain(e: &dyn std::error::Error) -> String {
+pub(crate) fn error_chain(e: &dyn std::error::Error) -> String {
     let mut s = e.to_string();
     let mut cause = e.source();
     while let Some(c) = cause {

@@ -553,7 +553,7 @@ pub fn chain_json(
             file: file(l.level),
             screen_coverage: coverage(l.level),
             meshes: l.runs.iter().map(MeshJson::new).collect(),
-            textures: l.textures,
+            textures: l.textures.clone(),
         });
     }
     ChainJson {

@@ -43,14 +43,19 @@ pub fn rebake_levels(
     let (input_images, _) = load_images(doc, input);
     let instances = doc.scene.instance_counts();
     let mut baking = mode == TextureMode::Bake;
+    // Why `auto` stopped trying re-bakes (one could not be made: the
+    // levels below would not fit either), if it did.
+    let mut gave_up: Option<String> = None;
     for level in chain.iter_mut() {
         let mut choice = TextureChoice {
             mode,
             chosen: TextureMode::Keep,
             keep_uv_excess: None,
             rebaked_excess: None,
+            rebake_failed: None,
         };
-        if mode == TextureMode::Keep {
+        if mode == TextureMode::Keep || gave_up.is_some() {
+            choice.rebake_failed = gave_up.clone();
             level.textures = Some(choice);
             continue;
         }
@@ -76,12 +81,23 @@ pub fn rebake_levels(
         let mut baked = doc.clone();
         let label = format!("{stem}_lod{}", level.level);
         let (runs, more) =
-            rebake_scene(&mut baked, input, options, &settings.bake, &targets, &label).map_err(
-                |e| Error::Level {
-                    level: level.level,
-                    source: Box::new(e),
-                },
-            )?;
+            match rebake_scene(&mut baked, input, options, &settings.bake, &targets, &label) {
+                Ok(r) => r,
+                // `auto` keeps this level's shared texture, and says why.
+                Err(e) if !baking => {
+                    let why = crate::batch::error_chain(&e);
+                    choice.rebake_failed = Some(why.clone());
+                    gave_up = Some(why);
+                    level.textures = Some(choice);
+                    continue;
+                }
+                Err(e) => {
+                    return Err(Error::Level {
+                        level: level.level,
+                        source: Box::new(e),
+                    })
+                }
+            };
         warnings.extend(more);
         if !baking {
             let (baked_images, _) = load_images(&baked, output);

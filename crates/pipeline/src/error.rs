@@ -20,6 +20,17 @@ pub enum Error {
         #[source]
         source: wildlod_simplify::Error,
     },
+    /// A mesh of a file could not be re-baked.
+    #[error("{}: re-baking {mesh}", file.display())]
+    Bake {
+        /// The file the mesh came from.
+        file: PathBuf,
+        /// The mesh, as messages name it ([`crate::mesh_name`]).
+        mesh: String,
+        /// Why.
+        #[source]
+        source: wildlod_bake::BakeError,
+    },
     /// A level of a chain could not be made.
     #[error("level of detail {level}")]
     Level {

@@ -71,7 +71,7 @@ impl SimplifiedDocument {
     /// The JSON report of the run, `seconds` long.
     pub fn json(&self, input: &Path, output: &Path, seconds: f64) -> RunJson {
         let mut json = RunJson::new(input, output, &self.runs, seconds);
-        json.textures = self.textures;
+        json.textures = self.textures.clone();
         json.double_sided_twins = self.twins.pairs;
         // The input as the file drew it, before its twins were merged.
         json.input_triangles += self.twins.triangles;

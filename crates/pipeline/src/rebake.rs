@@ -178,6 +178,11 @@ pub fn rebake_scene(
                 mesh: name.clone(),
                 source,
             },
+            source => Error::Bake {
+                file: input.to_path_buf(),
+                mesh: name.clone(),
+                source,
+            },
         })?;
         let seconds = t0.elapsed().as_secs_f64();
         let note = atlas_summary(&baked);

@@ -58,7 +58,7 @@ pub enum TextureMode {
 
 /// What was chosen for a file and why: its `textures` key in
 /// `simplify --json`.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct TextureChoice {
     /// What was asked.
     pub mode: TextureMode,
@@ -69,6 +69,10 @@ pub struct TextureChoice {
     pub keep_uv_excess: Option<f64>,
     /// The re-baked result's, when measured.
     pub rebaked_excess: Option<f64>,
+    /// Why a re-bake that `auto` tried could not be made (the UVs were
+    /// kept); absent otherwise.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub rebake_failed: Option<String>,
 }
 
 /// How a file's textures are treated: the mode (`--textures`) and how to
@@ -104,7 +108,7 @@ impl TextureSettings {
 /// and measures the re-bake and keeps the lower (see the module
 /// documentation). Returns the chosen candidate and, for a file with a
 /// base colour texture (or a re-bake asked for), what was chosen and why.
-pub fn treat_textures<T, E: From<Error>>(
+pub fn treat_textures<T, E: From<Error> + std::fmt::Display>(
     doc: &Document,
     input: &Path,
     output: &Path,
@@ -119,6 +123,7 @@ pub fn treat_textures<T, E: From<Error>>(
         chosen: mode,
         keep_uv_excess: None,
         rebaked_excess: None,
+        rebake_failed: None,
     };
     match mode {
         TextureMode::Bake => Ok((rebake()?, textured.then(|| fixed(TextureMode::Bake)))),
@@ -138,11 +143,20 @@ pub fn treat_textures<T, E: From<Error>>(
                 chosen: TextureMode::Keep,
                 keep_uv_excess,
                 rebaked_excess: None,
+                rebake_failed: None,
             };
             if !worth_rebaking(keep_uv_excess) {
                 return Ok((kept, Some(choice)));
             }
-            let baked = rebake()?;
+            // A re-bake that cannot be made leaves the keep-UV result,
+            // which is a valid LOD, and says why.
+            let baked = match rebake() {
+                Ok(b) => b,
+                Err(e) => {
+                    choice.rebake_failed = Some(format!("{e:#}"));
+                    return Ok((kept, Some(choice)));
+                }
+            };
             let (baked_images, _) = load_images(doc_of(&baked), output);
             choice.rebaked_excess = texture_excess(
                 &doc.scene,

@@ -53,6 +53,10 @@ pub struct Atlas {
     pub chart_count: usize,
     /// Texels per unit of length on the surface (the same for every chart).
     pub texels_per_unit: f64,
+    /// Whether every chart got its own place; false when the charts (each
+    /// at least one texel plus padding) cannot fit the atlas at any scale,
+    /// and every UV is then at the padding corner.
+    pub fits: bool,
 }
 
 /// Lays out `triangles` over `positions` in one square atlas.

@@ -47,9 +47,17 @@ pub(crate) fn pack_charts(charts: &[Chart], triangle_count: usize, o: &AtlasOpti
     }
     let mut scale = hi;
     let mut best: Option<(f64, Vec<[u32; 2]>)> = None;
+    // Every chart takes at least one texel and its padding whatever the
+    // scale; past half the room (rectangle packing wastes the rest) no
+    // scale fits, and trying each would cost seconds on tens of thousands
+    // of charts.
+    let least: f64 = placed.iter().map(|_| f64::from(1 + pad).powi(2)).sum();
+    if least > 0.5 * room * room {
+        scale = 0.0;
+    }
     let mut failed = hi * 1.0001;
     // Shrink until everything fits, then bisect towards the last failure.
-    for _ in 0..60 {
+    for _ in 0..if scale > 0.0 { 60 } else { 0 } {
         match try_pack(&placed, scale, pad, o.size) {
             Some(at) => {
                 best = Some((scale, at));
@@ -73,6 +81,7 @@ pub(crate) fn pack_charts(charts: &[Chart], triangle_count: usize, o: &AtlasOpti
             }
         }
     }
+    let fits = best.is_some() || placed.is_empty();
     let (scale, at) = best.unwrap_or_else(|| (0.0, vec![[pad, pad]; placed.len()]));
     let mut corner_uvs = vec![[0.0f32; 2]; 3 * triangle_count];
     let mut triangle_chart = vec![0u32; triangle_count];
@@ -95,6 +104,7 @@ pub(crate) fn pack_charts(charts: &[Chart], triangle_count: usize, o: &AtlasOpti
         triangle_chart,
         chart_count: charts.len(),
         texels_per_unit: scale,
+        fits,
     }
 }
 

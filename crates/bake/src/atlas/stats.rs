@@ -85,6 +85,7 @@ mod tests {
             triangle_chart: vec![0],
             chart_count: 1,
             texels_per_unit: 8.0,
+            fits: true,
         };
         let s = atlas_stats(&p, &t, &a);
         assert!((s.stretch_l2 - 1.0).abs() < 1e-12, "{s:?}");

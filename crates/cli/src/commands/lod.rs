@@ -31,7 +31,7 @@ fn level_line(l: &Level, input_tris: usize) -> String {
     } else {
         100.0 * l.triangles as f64 / input_tris as f64
     };
-    let textures = match l.textures.map(|t| t.chosen) {
+    let textures = match l.textures.as_ref().map(|t| t.chosen) {
         Some(TextureMode::Bake) => ", textures re-baked",
         Some(_) => ", textures shared",
         None => "",

@@ -315,13 +315,17 @@ fn texture_line(c: &TextureChoice) -> String {
             excess(c.keep_uv_excess),
             excess(c.rebaked_excess)
         ),
-        (TextureMode::Auto, _) => match c.rebaked_excess {
-            Some(_) => format!(
+        (TextureMode::Auto, _) => match (c.rebaked_excess, &c.rebake_failed) {
+            (_, Some(why)) => format!(
+                "textures: UVs kept (texture error over the input's own {}; the re-bake could not be made: {why})",
+                excess(c.keep_uv_excess)
+            ),
+            (Some(_), None) => format!(
                 "textures: UVs kept (texture error over the input's own: keeping the UVs {}, re-baked {})",
                 excess(c.keep_uv_excess),
                 excess(c.rebaked_excess)
             ),
-            None => format!(
+            (None, None) => format!(
                 "textures: UVs kept (texture error over the input's own {}, below the visible {})",
                 excess(c.keep_uv_excess),
                 wildlod_pipeline::VISIBLE_TEXTURE_EXCESS
