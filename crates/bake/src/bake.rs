@@ -418,7 +418,8 @@ pub fn bake_mesh(input: &BakeInput, options: &BakeOptions) -> Result<Baked, Bake
             .unwrap_or_else(|| density_size(input, &s.positions, &group_tris, scale, options));
         let t_layout = Instant::now();
         // A size chosen here grows (up to `max_texture_size`) until every
-        // chart has a place; an asked-for size does not.
+        // chart has a place worth its padding; an asked-for size (or the
+        // largest) is used as long as every chart has a place.
         let atlas = loop {
             let atlas = build_atlas(
                 &s.positions,
@@ -430,10 +431,28 @@ pub fn bake_mesh(input: &BakeInput, options: &BakeOptions) -> Result<Baked, Bake
                     max_chart_angle: options.max_chart_angle,
                 },
             );
-            if atlas.fits {
+            if !textured && !atlas.fits {
+                // Only a normal map was to be baked: it is an addition, not
+                // worth an atlas of mostly gutter; the LOD keeps its
+                // materials as an untextured bake does.
+                for (p, &m) in out.parts.iter_mut().zip(&group_first_material) {
+                    p.material = m;
+                }
+                return Ok(Baked {
+                    mesh: out,
+                    materials: input.materials.to_vec(),
+                    images: Vec::new(),
+                    report: BakeReport {
+                        simplify: s.report,
+                        atlases: Vec::new(),
+                    },
+                });
+            }
+            let fixed = options.texture_size.is_some() || size >= options.max_texture_size;
+            if atlas.fits || (fixed && atlas.placed) {
                 break atlas;
             }
-            if options.texture_size.is_some() || size >= options.max_texture_size {
+            if fixed {
                 return Err(BakeError::AtlasFull {
                     charts: atlas.chart_count,
                     size,

@@ -53,9 +53,13 @@ pub struct Atlas {
     pub chart_count: usize,
     /// Texels per unit of length on the surface (the same for every chart).
     pub texels_per_unit: f64,
-    /// Whether every chart got its own place; false when the charts (each
-    /// at least one texel plus padding) cannot fit the atlas at any scale,
-    /// and every UV is then at the padding corner.
+    /// Whether every chart got its own place (false: the charts, each at
+    /// least a texel plus padding, cannot fit at any scale, and every UV is
+    /// at the padding corner).
+    pub placed: bool,
+    /// Whether they were placed at a scale where the charts hold at least
+    /// as many texels as the padding around them (false: tens of thousands
+    /// of charts squeezed to a texel or two, the atlas mostly gutter).
     pub fits: bool,
 }
 

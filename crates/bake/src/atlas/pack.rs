@@ -48,11 +48,11 @@ pub(crate) fn pack_charts(charts: &[Chart], triangle_count: usize, o: &AtlasOpti
     let mut scale = hi;
     let mut best: Option<(f64, Vec<[u32; 2]>)> = None;
     // Every chart takes at least one texel and its padding whatever the
-    // scale; past half the room (rectangle packing wastes the rest) no
-    // scale fits, and trying each would cost seconds on tens of thousands
-    // of charts.
+    // scale: past the bin's area no scale fits, and trying each would cost
+    // seconds on tens of thousands of charts.
+    let bin = f64::from(o.size.saturating_sub(pad));
     let least: f64 = placed.iter().map(|_| f64::from(1 + pad).powi(2)).sum();
-    if least > 0.5 * room * room {
+    if least > bin * bin {
         scale = 0.0;
     }
     let mut failed = hi * 1.0001;
@@ -65,6 +65,11 @@ pub(crate) fn pack_charts(charts: &[Chart], triangle_count: usize, o: &AtlasOpti
             }
             None => {
                 failed = scale;
+                // Every chart already at its least (one texel): smaller
+                // scales pack the same rectangles and fail the same way.
+                if scale * longest < 1.0 {
+                    break;
+                }
                 scale *= 0.85;
             }
         }
@@ -81,8 +86,26 @@ pub(crate) fn pack_charts(charts: &[Chart], triangle_count: usize, o: &AtlasOpti
             }
         }
     }
-    let fits = best.is_some() || placed.is_empty();
+    let best_found = best.is_some();
     let (scale, at) = best.unwrap_or_else(|| (0.0, vec![[pad, pad]; placed.len()]));
+    // Placed is not enough: at a scale where the padding around the charts
+    // takes more texels than the charts themselves (tens of thousands of
+    // charts squeezed to a texel or two), the atlas holds mostly gutter
+    // and no chart keeps its texture.
+    let content: f64 = placed
+        .iter()
+        .map(|p| p.width * p.height * scale * scale)
+        .sum();
+    let padded: f64 = placed
+        .iter()
+        .map(|p| {
+            let w = (p.width * scale).ceil().max(1.0) + f64::from(pad);
+            let h = (p.height * scale).ceil().max(1.0) + f64::from(pad);
+            w * h
+        })
+        .sum();
+    let all_placed = best_found || placed.is_empty();
+    let fits = all_placed && (placed.is_empty() || content >= padded - content);
     let mut corner_uvs = vec![[0.0f32; 2]; 3 * triangle_count];
     let mut triangle_chart = vec![0u32; triangle_count];
     for (c, (chart, p)) in charts.iter().zip(&placed).enumerate() {
@@ -104,6 +127,7 @@ pub(crate) fn pack_charts(charts: &[Chart], triangle_count: usize, o: &AtlasOpti
         triangle_chart,
         chart_count: charts.len(),
         texels_per_unit: scale,
+        placed: all_placed,
         fits,
     }
 }

@@ -85,6 +85,7 @@ mod tests {
             triangle_chart: vec![0],
             chart_count: 1,
             texels_per_unit: 8.0,
+            placed: true,
             fits: true,
         };
         let s = atlas_stats(&p, &t, &a);
