@@ -30,6 +30,35 @@ pub struct MergedTwins {
     pub triangles: usize,
 }
 
+/// What `simplify` does before simplifying for an output at `output`: a
+/// glTF says "double-sided" directly, so its visible twins are merged
+/// ([`merge_twins_double_sided`]) and a ratio in `targets` becomes a count
+/// of what the input drew (the budget stays of the file as it was); other
+/// formats keep both faces. Returns the twins merged and the targets to
+/// simplify to.
+pub fn merge_twins_for_output(
+    scene: &mut Scene,
+    output: &std::path::Path,
+    targets: &crate::FileTargets,
+) -> (MergedTwins, crate::FileTargets) {
+    let gltf = matches!(
+        wildlod_io::Format::from_path(output),
+        Ok(wildlod_io::Format::Gltf | wildlod_io::Format::Glb)
+    );
+    let mut t = *targets;
+    if !gltf {
+        return (MergedTwins::default(), t);
+    }
+    let drawn = crate::drawn_triangles(scene);
+    let twins = merge_twins_double_sided(scene);
+    if let (Some(r), true) = (t.ratio, twins.triangles > 0) {
+        let of_input = (r * drawn as f64).round() as usize;
+        t.faces = Some(t.faces.map_or(of_input, |n| n.min(of_input)));
+        t.ratio = None;
+    }
+    (twins, t)
+}
+
 /// Merges every reversed twin pair of `scene` that shares a material (see
 /// the module documentation). Faces with a repeated position are left
 /// alone (no cycle to compare).

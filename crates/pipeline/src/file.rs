@@ -7,10 +7,10 @@ use wildlod_io::{Document, WriteOptions};
 use wildlod_simplify::Options;
 
 use crate::{
-    build_chain, chain_json, drawn_triangles, file_stem, merge_twins_double_sided, rebake_levels,
-    rebake_scene, simplify_scene, simplify_whole_scene, targets_for, treat_textures, write_chain,
-    ChainJson, Error, Levels, MergedTwins, MeshProgress, MeshRun, NoProgress, RunJson,
-    TextureChoice, TextureSettings, Tuning,
+    build_chain, chain_json, file_stem, merge_twins_for_output, rebake_levels, rebake_scene,
+    simplify_scene, simplify_whole_scene, targets_for, treat_textures, write_chain, ChainJson,
+    Error, Levels, MergedTwins, MeshProgress, MeshRun, NoProgress, RunJson, TextureChoice,
+    TextureSettings, Tuning,
 };
 
 /// The limits of simplifying a whole file; the first reached stops.
@@ -100,22 +100,7 @@ pub fn simplify_document<P: MeshProgress>(
     progress: &dyn Fn(&str) -> P,
 ) -> Result<SimplifiedDocument, Error> {
     let stem = file_stem(input);
-    let gltf = matches!(
-        wildlod_io::Format::from_path(output),
-        Ok(wildlod_io::Format::Gltf | wildlod_io::Format::Glb)
-    );
-    let drawn = drawn_triangles(&doc.scene);
-    let twins = if gltf {
-        merge_twins_double_sided(&mut doc.scene)
-    } else {
-        MergedTwins::default()
-    };
-    let mut t = *targets;
-    if let (Some(r), true) = (t.ratio, twins.triangles > 0) {
-        let of_input = (r * drawn as f64).round() as usize;
-        t.faces = Some(t.faces.map_or(of_input, |n| n.min(of_input)));
-        t.ratio = None;
-    }
+    let (twins, t) = merge_twins_for_output(&mut doc.scene, output, targets);
     let mesh_targets = targets_for(&doc.scene, t.ratio, t.faces, t.error);
     let mut warnings = Vec::new();
     let keep = || -> Result<(Document, Vec<MeshRun>), Error> {

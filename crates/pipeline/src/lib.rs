@@ -51,7 +51,7 @@ pub use chain_textures::rebake_levels;
 pub use compare::{
     compare_files, load_images, Animated, CompareFilesOptions, FileComparison, Frame,
 };
-pub use double_sided::{merge_twins_double_sided, MergedTwins};
+pub use double_sided::{merge_twins_double_sided, merge_twins_for_output, MergedTwins};
 pub use error::Error;
 pub use file::{lod_file, simplify_document, simplify_file, FileTargets, SimplifiedDocument};
 pub use html_report::{

@@ -7,9 +7,8 @@ use anyhow::{bail, Context};
 use wildlod_io::{Document, ErrorKind, WriteOptions};
 use wildlod_mesh::Scene;
 use wildlod_pipeline::{
-    drawn_triangles, file_stem, merge_twins_double_sided, simplify_scene, targets_for,
-    treat_textures, BakeSettings, FileTargets, MergedTwins, MeshRun, NormalSetting, RunJson,
-    SeamSetting, TextureChoice, TextureMode, Tuning,
+    file_stem, merge_twins_for_output, simplify_scene, targets_for, treat_textures, BakeSettings,
+    FileTargets, MeshRun, NormalSetting, RunJson, SeamSetting, TextureChoice, TextureMode, Tuning,
 };
 use wildlod_simplify::{Options, Report, SceneReport, StopReason, Target};
 
@@ -239,31 +238,19 @@ pub fn run(cfg: &Config) -> anyhow::Result<()> {
         }
     }
     let stem = file_stem(&cfg.input);
-    // glTF says "double-sided" directly: reversed twins become one face of
-    // a double-sided material, and the budget is of what the file drew.
-    let gltf = matches!(
-        wildlod_io::Format::from_path(&cfg.output),
-        Ok(wildlod_io::Format::Gltf | wildlod_io::Format::Glb)
-    );
-    let drawn = drawn_triangles(&doc.scene);
-    let twins = if gltf {
-        merge_twins_double_sided(&mut doc.scene)
-    } else {
-        MergedTwins::default()
+    let targets = FileTargets {
+        ratio: cfg.ratio,
+        faces: cfg.faces,
+        error: cfg.error,
     };
-    let adjusted;
-    let cfg = match cfg.ratio {
-        Some(r) if twins.triangles > 0 => {
-            let of_input = (r * drawn as f64).round() as usize;
-            adjusted = Config {
-                ratio: None,
-                faces: Some(cfg.faces.map_or(of_input, |n| n.min(of_input))),
-                ..cfg.clone()
-            };
-            &adjusted
-        }
-        _ => cfg,
+    let (twins, t) = merge_twins_for_output(&mut doc.scene, &cfg.output, &targets);
+    let adjusted = Config {
+        ratio: t.ratio,
+        faces: t.faces,
+        error: t.error,
+        ..cfg.clone()
     };
+    let cfg = &adjusted;
     let show = !cfg.quiet && !cfg.json;
     let (done, choice) = treat_textures(
         &doc,
