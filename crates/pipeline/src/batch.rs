@@ -257,7 +257,7 @@ pub fn batch_file<P: MeshProgress>(
             result.triangles_out = Some(tout);
             result.error = Some(err);
         }
-        Ok(Err(e)) => result.message = error_chain(&e),
+        Ok(Err(e)) => result.message = crate::error::error_chain(&e),
         Err(panic) => {
             let what = panic
                 .downcast_ref::<&str>()
@@ -268,18 +268,6 @@ pub fn batch_file<P: MeshProgress>(
         }
     }
     result
-}
-
-/// An error with its causes, `: `-separated (as `anyhow`'s `{:#}` shows it).
-pub(crate) fn error_chain(e: &dyn std::error::Error) -> String {
-    let mut s = e.to_string();
-    let mut cause = e.source();
-    while let Some(c) = cause {
-        s.push_str(": ");
-        s.push_str(&c.to_string());
-        cause = c.source();
-    }
-    s
 }
 
 /// Runs a batch: every mesh file below `input` into `output` (created),

@@ -85,7 +85,7 @@ pub fn rebake_levels(
                 Ok(r) => r,
                 // `auto` keeps this level's shared texture, and says why.
                 Err(e) if !baking => {
-                    let why = crate::batch::error_chain(&e);
+                    let why = crate::error::error_chain(&e);
                     choice.rebake_failed = Some(why.clone());
                     gave_up = Some(why);
                     level.textures = Some(choice);

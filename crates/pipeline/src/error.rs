@@ -82,3 +82,15 @@ impl Error {
         }
     }
 }
+
+/// An error with its causes, `: `-separated (as `anyhow`'s `{:#}` shows it).
+pub(crate) fn error_chain(e: &dyn std::error::Error) -> String {
+    let mut s = e.to_string();
+    let mut cause = e.source();
+    while let Some(c) = cause {
+        s.push_str(": ");
+        s.push_str(&c.to_string());
+        cause = c.source();
+    }
+    s
+}
