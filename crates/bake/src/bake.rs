@@ -848,7 +848,10 @@ const MIN_LEVEL_SIDE: f64 = 256.0;
 /// ([`content_scale`]); 1 with the option off.
 fn level_scale(input: &BakeInput, report: &Report, options: &BakeOptions) -> f64 {
     let level = report.output_triangles as f64 / report.input_triangles.max(1) as f64;
-    if !(options.density_follows_level && level.is_finite() && level > 0.0) {
+    // An asked-for size needs no scale (and no pass over the images).
+    if options.texture_size.is_some()
+        || !(options.density_follows_level && level.is_finite() && level > 0.0)
+    {
         return 1.0;
     }
     let min_scale = level.min(1.0).sqrt();
