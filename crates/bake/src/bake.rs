@@ -429,6 +429,9 @@ pub fn bake_mesh(input: &BakeInput, options: &BakeOptions) -> Result<Baked, Bake
                     size,
                     padding: options.padding,
                     max_chart_angle: options.max_chart_angle,
+                    // A size that may still grow needs a useful packing
+                    // or none.
+                    useful_only: options.texture_size.is_none() && size < options.max_texture_size,
                 },
             );
             if !textured && !atlas.fits {

@@ -27,6 +27,11 @@ pub struct AtlasOptions {
     /// chart's first triangle (and mean normal). Orthographic projection
     /// stretches a triangle by at most 1/cos of this angle. Default 50°.
     pub max_chart_angle: f64,
+    /// Only a packing that fits usefully ([`Atlas::fits`]) is wanted: when
+    /// none can exist (the padding alone, a `padding²` per chart, would
+    /// take over half the atlas), the search is skipped and nothing is
+    /// placed. For a caller that tries a larger size next. Default off.
+    pub useful_only: bool,
 }
 
 impl Default for AtlasOptions {
@@ -35,6 +40,7 @@ impl Default for AtlasOptions {
             size: 1024,
             padding: 4,
             max_chart_angle: 50.0,
+            useful_only: false,
         }
     }
 }

@@ -55,6 +55,12 @@ pub(crate) fn pack_charts(charts: &[Chart], triangle_count: usize, o: &AtlasOpti
     if least > bin * bin {
         scale = 0.0;
     }
+    // A useful packing has charts of at least as many texels as their
+    // padding, so the padding (at least `pad²` per chart) takes at most
+    // half the bin.
+    if o.useful_only && placed.len() as f64 * f64::from(pad).powi(2) > 0.5 * bin * bin {
+        scale = 0.0;
+    }
     let mut failed = hi * 1.0001;
     // Shrink until everything fits, then bisect towards the last failure.
     for _ in 0..if scale > 0.0 { 60 } else { 0 } {
@@ -328,5 +334,53 @@ mod tests {
                 assert!(gap_x.max(gap_y) >= 4.0 - 1e-4, "{p:?} {q:?}");
             }
         }
+    }
+
+    #[test]
+    fn many_charts_are_placed_but_do_not_fit_usefully_and_useful_only_skips_them() {
+        // 120 unit squares in a 64² atlas with padding 4 (a 60² bin): each
+        // takes at least 5 × 5 texels (a texel and its padding), 3,000 ≤
+        // 3,600, so they can be placed, but only as charts of a texel or
+        // two inside their padding: not useful.
+        let square = vec![
+            [0.0, 0.0],
+            [1.0, 0.0],
+            [1.0, 1.0],
+            [0.0, 0.0],
+            [1.0, 1.0],
+            [0.0, 1.0],
+        ];
+        let charts = |n: u32| -> Vec<Chart> {
+            (0..n)
+                .map(|i| Chart {
+                    triangles: vec![2 * i, 2 * i + 1],
+                    coords: square.clone(),
+                })
+                .collect()
+        };
+        let o = AtlasOptions {
+            size: 64,
+            padding: 4,
+            ..AtlasOptions::default()
+        };
+        let a = pack_charts(&charts(120), 240, &o);
+        assert!(a.placed && !a.fits, "{} {}", a.placed, a.fits);
+        // Asked for a useful packing only: 120 × 4² = 1,920 > 3,600 / 2,
+        // none can exist, nothing is placed.
+        let b = pack_charts(
+            &charts(120),
+            240,
+            &AtlasOptions {
+                useful_only: true,
+                ..o
+            },
+        );
+        assert!(!b.placed && !b.fits);
+        // More than the bin can hold at any scale (200 × 25 > 3,600).
+        let c = pack_charts(&charts(200), 400, &o);
+        assert!(!c.placed && !c.fits);
+        // A few charts: placed and useful.
+        let d = pack_charts(&charts(4), 8, &o);
+        assert!(d.placed && d.fits);
     }
 }
