@@ -143,15 +143,9 @@ pub struct SimplifyArgs {
     /// limit reached stops.
     #[arg(long, value_name = "E")]
     pub error: Option<f64>,
-    /// Textures: auto, keep or bake (see --help)
-    ///
-    /// `auto` keeps the input's UVs and atlas, measures the texture the
-    /// result shows against the input's (texture Chamfer distance) and, where
-    /// that differs visibly, also re-bakes and keeps whichever measures
-    /// better; `keep` always keeps the UVs; `bake` always re-bakes (see
-    /// --bake).
-    #[arg(long, value_enum, default_value_t = TextureArg::Auto, hide_possible_values = true)]
-    pub textures: TextureArg,
+    /// Keep, re-bake or choose textures, and how to re-bake.
+    #[command(flatten)]
+    pub texture: crate::args_assets::TextureArgs,
     /// Re-bake textures onto a new atlas (same as --textures bake)
     ///
     /// Collapses cross UV seams freely, the simplified mesh gets a new atlas,
@@ -161,32 +155,6 @@ pub struct SimplifyArgs {
     /// bleeding.
     #[arg(long)]
     pub bake: bool,
-    /// When re-baking: atlas size in texels
-    ///
-    /// Default: keep the input's texel density, rounded to a power of two, at
-    /// most 4096.
-    #[arg(long, value_name = "N")]
-    pub texture_size: Option<u32>,
-    /// When re-baking: one atlas per alpha mode and sidedness
-    ///
-    /// Bakes every material with the same alpha mode and sidedness into one
-    /// atlas and one material (fewer draw calls).
-    #[arg(long)]
-    pub merge_materials: bool,
-    /// When re-baking: JPEG quality for JPEG inputs
-    ///
-    /// Used when the input's textures were all JPEG; otherwise PNG is written.
-    #[arg(long, value_name = "Q", default_value_t = 90)]
-    pub jpeg_quality: u8,
-    /// When re-baking: no normal map from the input's geometry
-    ///
-    /// By default every re-baked material gets a tangent-space normal map of
-    /// the input's shading normals (its normal map applied where it has one,
-    /// else its vertex normals), so the LOD is lit with the detail its
-    /// collapses removed. With this flag normal maps are baked only where the
-    /// input has one.
-    #[arg(long)]
-    pub no_normal_bake: bool,
     /// Simplify every stored mesh alone instead of the whole file
     ///
     /// Each mesh goes to --ratio, --faces is shared in proportion to the

@@ -51,17 +51,18 @@ impl Config {
         .map_err(with_flag_names)?;
         let options = tuning_options(&a.tuning)?;
         check_output(&a.input, &a.output, a.overwrite)?;
-        let textures = match (a.bake, a.textures) {
+        let textures = match (a.bake, a.texture.textures) {
             (true, TextureArg::Keep) => bail!("--bake contradicts --textures keep"),
             (true, _) => TextureMode::Bake,
             (false, t) => texture_mode(t),
         };
+        let t = &a.texture;
         let bake = bake_config(
             textures,
-            a.texture_size,
-            a.merge_materials,
-            a.jpeg_quality,
-            !a.no_normal_bake,
+            t.texture_size,
+            t.merge_materials,
+            t.jpeg_quality,
+            !t.no_normal_bake,
         )?;
         Ok(Config {
             json: a.json,
