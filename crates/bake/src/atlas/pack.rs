@@ -258,6 +258,24 @@ fn convex_hull(points: &[[f64; 2]]) -> Vec<[f64; 2]> {
 mod tests {
     use super::*;
 
+    /// `n` charts, each a unit square of two triangles.
+    fn unit_squares(n: u32) -> Vec<Chart> {
+        let square = vec![
+            [0.0, 0.0],
+            [1.0, 0.0],
+            [1.0, 1.0],
+            [0.0, 0.0],
+            [1.0, 1.0],
+            [0.0, 1.0],
+        ];
+        (0..n)
+            .map(|i| Chart {
+                triangles: vec![2 * i, 2 * i + 1],
+                coords: square.clone(),
+            })
+            .collect()
+    }
+
     #[test]
     fn tilted_rectangle_turns_to_its_own_sides() {
         // A 4 × 1 rectangle turned by 30°: its smallest bounding
@@ -284,20 +302,7 @@ mod tests {
     fn packed_charts_keep_the_padding_between_them_and_the_border() {
         // Four unit squares (two triangles each) in a 64-texel atlas with
         // padding 4.
-        let square = vec![
-            [0.0, 0.0],
-            [1.0, 0.0],
-            [1.0, 1.0],
-            [0.0, 0.0],
-            [1.0, 1.0],
-            [0.0, 1.0],
-        ];
-        let charts: Vec<Chart> = (0..4)
-            .map(|i| Chart {
-                triangles: vec![2 * i, 2 * i + 1],
-                coords: square.clone(),
-            })
-            .collect();
+        let charts = unit_squares(4);
         let o = AtlasOptions {
             size: 64,
             padding: 4,
@@ -342,22 +347,7 @@ mod tests {
         // takes at least 5 × 5 texels (a texel and its padding), 3,000 ≤
         // 3,600, so they can be placed, but only as charts of a texel or
         // two inside their padding: not useful.
-        let square = vec![
-            [0.0, 0.0],
-            [1.0, 0.0],
-            [1.0, 1.0],
-            [0.0, 0.0],
-            [1.0, 1.0],
-            [0.0, 1.0],
-        ];
-        let charts = |n: u32| -> Vec<Chart> {
-            (0..n)
-                .map(|i| Chart {
-                    triangles: vec![2 * i, 2 * i + 1],
-                    coords: square.clone(),
-                })
-                .collect()
-        };
+        let charts = unit_squares;
         let o = AtlasOptions {
             size: 64,
             padding: 4,
