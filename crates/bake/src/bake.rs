@@ -256,9 +256,9 @@ pub enum BakeError {
 pub fn bake_mesh(input: &BakeInput, options: &BakeOptions) -> Result<Baked, BakeError> {
     let mesh = input.mesh;
     let mut opts = options.simplify.clone();
-    opts.record_history = true;
-    if opts.vertex_joints.is_empty() {
-        opts.vertex_joints = wildlod_simplify::vertex_joints(mesh);
+    opts.record.history = true;
+    if opts.data.vertex_joints.is_empty() {
+        opts.data.vertex_joints = wildlod_simplify::vertex_joints(mesh);
     }
     // Positions and faces steer the collapses, UVs do not (W: collapses
     // cross seams freely); skin influences are fitted through every

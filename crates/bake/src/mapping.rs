@@ -102,7 +102,7 @@ struct RingTriangle {
 
 impl<'a> SuccessiveMap<'a> {
     /// Indexes `history` (recorded while simplifying `faces` over
-    /// `positions`, [`wildlod_simplify::Options::record_history`]).
+    /// `positions`, [`wildlod_simplify::Record::history`]).
     pub fn new(history: &'a History, positions: &'a [[f32; 3]], faces: &'a Faces) -> Self {
         let nf = faces.len();
         let mut count = vec![0u32; nf + 1];

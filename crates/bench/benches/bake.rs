@@ -126,10 +126,8 @@ fn texel_points(
     size: u32,
     stride: usize,
 ) -> (wildlod_simplify::Simplified, Vec<(u32, [f32; 3])>) {
-    let o = Options {
-        record_history: true,
-        ..options(ratio)
-    };
+    let mut o = options(ratio);
+    o.record.history = true;
     let s = simplify_polygons(&mesh.positions, &mesh.faces, &o).expect("simplifies");
     let mut tris = Vec::new();
     let mut tri_face = Vec::new();

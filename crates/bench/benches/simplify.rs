@@ -102,19 +102,21 @@ fn wildlod(case: &Case, ratio: f64, variant: Variant) -> usize {
             ratio: Some(ratio),
             ..Target::default()
         },
-        quad_mode: if variant == Variant::NoQuads {
-            QuadMode::Never
-        } else {
-            QuadMode::Auto
-        },
-        quad: if variant == Variant::Symmetry {
-            QuadSettings {
-                symmetry: 1.0,
-                tangent_weight: 1.0 / 3.0,
-                ..QuadSettings::default()
+        quad: QuadSettings {
+            mode: if variant == Variant::NoQuads {
+                QuadMode::Never
+            } else {
+                QuadMode::Auto
+            },
+            ..if variant == Variant::Symmetry {
+                QuadSettings {
+                    symmetry: 1.0,
+                    tangent_weight: 1.0 / 3.0,
+                    ..QuadSettings::default()
+                }
+            } else {
+                QuadSettings::default()
             }
-        } else {
-            QuadSettings::default()
         },
         ..Options::default()
     };

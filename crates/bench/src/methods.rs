@@ -141,7 +141,10 @@ pub fn run(
                     let k = d.quad.attribute_weight;
                     let a = d.attributes;
                     Options {
-                        quad_mode: QuadMode::Never,
+                        quad: wildlod_simplify::QuadSettings {
+                            mode: QuadMode::Never,
+                            ..d.quad
+                        },
                         attributes: wildlod_simplify::AttributeOptions {
                             tex_coord_weight: k * a.tex_coord_weight,
                             normal_weight: k * a.normal_weight,

@@ -5,50 +5,7 @@ use std::path::PathBuf;
 
 use clap::Args;
 
-use crate::args::{TextureArg, TuningArgs};
-
-/// Texture arguments of `simplify`, `lod` and `batch`.
-#[derive(Args, Debug)]
-pub struct TextureArgs {
-    /// Textures: auto, keep or bake (see --help)
-    ///
-    /// `auto` keeps the input's UVs and textures while the result shows the
-    /// texture as the input does (texture Chamfer distance over the input's
-    /// own, at most 0.01), else also re-bakes and keeps whichever measures
-    /// better. Down a chain (lod), levels share the input's textures until
-    /// the first level that auto re-bakes; that level and every coarser one
-    /// are made from the input with a re-baked atlas of their own. `keep`
-    /// always keeps the input's textures; `bake` always re-bakes.
-    #[arg(long, value_enum, default_value_t = TextureArg::Auto, hide_possible_values = true)]
-    pub textures: TextureArg,
-    /// When re-baking: atlas size in texels
-    ///
-    /// Default: the input's texel density × √(triangles kept), at least 256
-    /// a side and never coarser than the input's textures can be averaged
-    /// without a visible change, rounded to a power of two, at most 4096.
-    #[arg(long, value_name = "N")]
-    pub texture_size: Option<u32>,
-    /// When re-baking: one atlas per alpha mode and sidedness
-    ///
-    /// Bakes every material with the same alpha mode and sidedness into one
-    /// atlas and one material (fewer draw calls).
-    #[arg(long)]
-    pub merge_materials: bool,
-    /// When re-baking: JPEG quality for JPEG inputs
-    ///
-    /// Used when the input's textures were all JPEG; otherwise PNG is written.
-    #[arg(long, value_name = "Q", default_value_t = 90)]
-    pub jpeg_quality: u8,
-    /// When re-baking: no normal map from geometry
-    ///
-    /// By default every re-baked material gets a tangent-space normal map of
-    /// the input's shading normals (its normal map applied where it has one,
-    /// else its vertex normals), so the LOD is lit with the detail its
-    /// collapses removed. With this flag normal maps are baked only where the
-    /// input has one.
-    #[arg(long)]
-    pub no_normal_bake: bool,
-}
+use crate::flags::{TextureArgs, TuningArgs};
 
 /// Arguments of `wildlod lod`.
 #[derive(Args, Debug)]

@@ -7,6 +7,7 @@ mod allocator;
 mod args;
 mod args_assets;
 mod commands;
+mod flags;
 mod progress;
 mod stdout;
 

@@ -3,7 +3,7 @@
 //! is valid (indices in range, finite positions, `validate()` passes).
 #![allow(clippy::unwrap_used)] // test code
 
-use wildlod_simplify::{simplify_mesh, Options, StopReason, Target};
+use wildlod_simplify::{simplify_mesh, Guards, Options, StopReason, Target};
 use wildlod_testkit::{corpus, mesh_files, short};
 
 #[test]
@@ -136,7 +136,10 @@ fn spider_keeps_its_legs_at_ten_percent() {
     });
     let apart = run(Options {
         target,
-        virtual_edge_radius: 0.0,
+        guards: Guards {
+            virtual_edge_radius: 0.0,
+            ..Guards::default()
+        },
         ..Options::default()
     });
     assert!(

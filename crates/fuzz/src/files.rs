@@ -154,7 +154,7 @@ fn options_for(h: u64) -> Options {
         triangles: ((h >> 16) % 4 == 0).then_some(((h >> 18) % 16) as usize),
         error: ((h >> 22) % 4 == 0).then_some(0.01),
     };
-    o.quad_mode = [QuadMode::Auto, QuadMode::Never, QuadMode::Always][(h >> 24) as usize % 3];
+    o.quad.mode = [QuadMode::Auto, QuadMode::Never, QuadMode::Always][(h >> 24) as usize % 3];
     o.guards.keep_topology = (h >> 26) % 4 == 0;
     o.guards.lock_borders = (h >> 28) % 8 == 0;
     if (h >> 31) % 4 == 0 {

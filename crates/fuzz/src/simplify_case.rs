@@ -123,13 +123,14 @@ fn arbitrary_options(u: &mut Unstructured<'_>, nv: usize) -> arbitrary::Result<O
             None
         },
     };
-    o.virtual_edge_radius = [0.0, 0.0025, 0.05, 0.5][u.int_in_range(0..=3usize)?];
+    o.guards.virtual_edge_radius = [0.0, 0.0025, 0.05, 0.5][u.int_in_range(0..=3usize)?];
     o.guards = Guards {
         max_normal_turn_degrees: [None, Some(90.0), Some(10.0)][u.int_in_range(0..=2usize)?],
         keep_topology: u.ratio(1u8, 4u8)?,
         lock_borders: u.ratio(1u8, 6u8)?,
+        ..o.guards
     };
-    o.quad_mode =
+    o.quad.mode =
         [QuadMode::Auto, QuadMode::Never, QuadMode::Always][u.int_in_range(0..=2usize)?];
     if u.ratio(1u8, 4u8)? {
         o.quad.tangent_weight = 1.0 / 3.0;
@@ -148,11 +149,11 @@ fn arbitrary_options(u: &mut Unstructured<'_>, nv: usize) -> arbitrary::Result<O
         };
     }
     if u.ratio(1u8, 8u8)? {
-        o.vertex_weights = (0..nv)
+        o.data.vertex_weights = (0..nv)
             .map(|_| u.int_in_range(0..=4u8).map(f32::from))
             .collect::<arbitrary::Result<_>>()?;
     }
-    o.record_history = u.ratio(1u8, 8u8)?;
+    o.record.history = u.ratio(1u8, 8u8)?;
     Ok(o)
 }
 

@@ -15,7 +15,7 @@ use std::time::Instant;
 use wildlod_bake::{bake_mesh, BakeError, BakeInput, BakeOptions, Baked, Channel};
 use wildlod_io::{decode_image_rgba8, encode_image, Document, ImageEncoding};
 use wildlod_mesh::{ImageSource, Material, Rgba8Image, Sampler, Texture, TextureRef, Wrap};
-use wildlod_simplify::{Options, Target};
+use wildlod_simplify::{InputData, Options, Target};
 
 use crate::{clear_unused_joint_slots, mesh_name, Error, MeshRun};
 
@@ -154,10 +154,13 @@ pub fn rebake_scene(
         let bake_options = BakeOptions {
             simplify: Options {
                 target: targets.get(m).cloned().unwrap_or_default(),
-                face_instances: if k > 1 {
-                    vec![u32::try_from(k).unwrap_or(u32::MAX); mesh.faces.len()]
-                } else {
-                    Vec::new()
+                data: InputData {
+                    face_instances: if k > 1 {
+                        vec![u32::try_from(k).unwrap_or(u32::MAX); mesh.faces.len()]
+                    } else {
+                        Vec::new()
+                    },
+                    ..options.data.clone()
                 },
                 ..options.clone()
             },

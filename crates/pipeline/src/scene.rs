@@ -5,8 +5,8 @@ use std::time::Instant;
 
 use wildlod_mesh::Scene;
 use wildlod_simplify::{
-    simplify_mesh_with_progress, simplify_scene_with_progress, Options, Rejections, Report,
-    SceneReport, SteeringOutcome, Target,
+    simplify_mesh_with_progress, simplify_scene_with_progress, InputData, Options, Rejections,
+    Report, SceneReport, SteeringOutcome, Target,
 };
 
 use crate::{Error, FileTargets, MeshProgress, MIN_TRIANGLES};
@@ -68,7 +68,7 @@ pub fn file_stem(path: &Path) -> String {
 /// Simplifies every mesh of `scene` in place to its target (keep-UV mode:
 /// every stream fitted, textures shared), one after the other; targets and
 /// reports count the triangles a mesh draws (its own times the nodes that
-/// show it, see `Options::face_instances`); `progress`
+/// show it, see `InputData::face_instances`); `progress`
 /// makes the display for a mesh's name. Meshes without faces and meshes
 /// without a target are left as they are. Errors name `input` and the
 /// mesh.
@@ -81,12 +81,13 @@ pub fn simplify_scene<P: MeshProgress>(
     progress: &dyn Fn(&str) -> P,
 ) -> Result<Vec<MeshRun>, Error> {
     let mut runs = Vec::new();
-    let see_through = if options.see_through_materials.is_empty() {
+    let see_through = if options.data.see_through_materials.is_empty() {
         wildlod_simplify::see_through_materials(scene)
     } else {
-        options.see_through_materials.clone()
+        options.data.see_through_materials.clone()
     };
     let uv_sets = options
+        .data
         .material_uv_sets
         .clone()
         .unwrap_or_else(|| wildlod_simplify::material_uv_sets(scene));
@@ -103,12 +104,15 @@ pub fn simplify_scene<P: MeshProgress>(
         let k = instances.get(m).copied().unwrap_or(1);
         let options = Options {
             target: *target,
-            see_through_materials: see_through.clone(),
-            material_uv_sets: Some(uv_sets.clone()),
-            face_instances: if k > 1 {
-                vec![u32::try_from(k).unwrap_or(u32::MAX); mesh.faces.len()]
-            } else {
-                Vec::new()
+            data: InputData {
+                see_through_materials: see_through.clone(),
+                material_uv_sets: Some(uv_sets.clone()),
+                face_instances: if k > 1 {
+                    vec![u32::try_from(k).unwrap_or(u32::MAX); mesh.faces.len()]
+                } else {
+                    Vec::new()
+                },
+                ..options.data.clone()
             },
             ..options.clone()
         };

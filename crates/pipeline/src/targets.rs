@@ -7,7 +7,7 @@ use wildlod_simplify::Target;
 /// budget (`faces`) of drawn triangles shared in proportion to the
 /// triangles each mesh draws (its own times the nodes that show it; largest
 /// remainders, so the shares sum to the budget), each a count of drawn
-/// triangles too (see `Options::face_instances`); an `error` limit
+/// triangles too (see `InputData::face_instances`); an `error` limit
 /// relative to the file's diagonal converted to each mesh's own.
 ///
 /// Every mesh keeps at least one triangle, whatever the targets: a mesh

@@ -100,11 +100,11 @@ pub struct Tuning {
     pub seam_weight: f64,
     /// How output normals are made.
     pub normals: NormalSetting,
-    /// Sweeps of the final refit to the input (`Options::refit_sweeps`);
+    /// Sweeps of the final refit to the input (`Metric::refit_sweeps`);
     /// 0 is off, and `classic` turns it off.
     pub refit_sweeps: u32,
     /// Keep the reversed copies of faces that cannot be seen
-    /// (`Options::drop_hidden_twins` off).
+    /// (`Guards::drop_hidden_twins` off).
     pub keep_hidden_twins: bool,
 }
 
@@ -113,7 +113,7 @@ impl Default for Tuning {
         let options = Options::default();
         let attributes = AttributeOptions::default();
         Tuning {
-            virtual_radius: options.virtual_edge_radius,
+            virtual_radius: options.guards.virtual_edge_radius,
             keep_topology: false,
             lock_borders: false,
             // The CLI's default: a quarter turn is a fold, not shading.
@@ -139,8 +139,8 @@ impl Default for Tuning {
             seams: SeamSetting::Penalize,
             seam_weight: attributes.seam_weight,
             normals: NormalSetting::Fit,
-            refit_sweeps: options.refit_sweeps,
-            keep_hidden_twins: !options.drop_hidden_twins,
+            refit_sweeps: options.metric.refit_sweeps,
+            keep_hidden_twins: !options.guards.drop_hidden_twins,
         }
     }
 }
@@ -197,13 +197,12 @@ impl Tuning {
         let mut options = if self.classic {
             Options::classic_qem()
         } else {
-            Options {
-                virtual_edge_radius: self.virtual_radius,
-                ..Options::default()
-            }
+            let mut o = Options::default();
+            o.guards.virtual_edge_radius = self.virtual_radius;
+            o
         };
         if self.no_quads {
-            options.quad_mode = QuadMode::Never;
+            options.quad.mode = QuadMode::Never;
         }
         options.quad.epsilon = self.quad_epsilon;
         options.quad.tie_factor = self.quad_tie_factor;
@@ -226,8 +225,8 @@ impl Tuning {
         options.metric.crease_angle = self.crease_angle;
         options.metric.crease_area_weight = self.crease_area_weight;
         // Classic QEM is the plain algorithm, for comparisons.
-        options.refit_sweeps = if self.classic { 0 } else { self.refit_sweeps };
-        options.drop_hidden_twins = !self.keep_hidden_twins;
+        options.metric.refit_sweeps = if self.classic { 0 } else { self.refit_sweeps };
+        options.guards.drop_hidden_twins = !self.keep_hidden_twins;
         options.attributes = AttributeOptions {
             tex_coord_weight: self.uv_weight,
             normal_weight: self.normal_weight,
@@ -249,6 +248,7 @@ impl Tuning {
             max_normal_turn_degrees: (self.max_normal_turn < 180.0).then_some(self.max_normal_turn),
             keep_topology: self.keep_topology,
             lock_borders: self.lock_borders,
+            ..options.guards
         };
         Ok(options)
     }
@@ -335,6 +335,7 @@ mod tests {
             Tuning::default()
                 .options()
                 .expect("valid")
+                .guards
                 .drop_hidden_twins
         );
         let o = Tuning {
@@ -343,14 +344,14 @@ mod tests {
         }
         .options()
         .expect("valid");
-        assert!(!o.drop_hidden_twins);
+        assert!(!o.guards.drop_hidden_twins);
     }
 
     #[test]
     fn refit_sweeps_reach_the_options_except_in_classic_mode() {
         assert_eq!(
             Tuning::default().refit_sweeps,
-            Options::default().refit_sweeps
+            Options::default().metric.refit_sweeps
         );
         let o = Tuning {
             refit_sweeps: 5,
@@ -358,7 +359,7 @@ mod tests {
         }
         .options()
         .expect("valid");
-        assert_eq!(o.refit_sweeps, 5);
+        assert_eq!(o.metric.refit_sweeps, 5);
         let o = Tuning {
             refit_sweeps: 5,
             classic: true,
@@ -366,7 +367,7 @@ mod tests {
         }
         .options()
         .expect("valid");
-        assert_eq!(o.refit_sweeps, 0);
+        assert_eq!(o.metric.refit_sweeps, 0);
     }
 
     #[test]

@@ -4,7 +4,7 @@
 
 use wildlod_eval::{compare, CompareOptions, EvalMesh};
 use wildlod_mesh::{shapes, Mesh};
-use wildlod_simplify::{simplify_mesh, Options, QuadMode, Target};
+use wildlod_simplify::{simplify_mesh, Options, QuadMode, QuadSettings, Target};
 use wildlod_testkit::corpus;
 
 #[test]
@@ -33,7 +33,10 @@ fn a_swords_warped_quads_simplify_like_its_triangles() {
                 ..Target::default()
             },
             // Plain cost order: the surface's quadrics alone decide.
-            quad_mode: QuadMode::Never,
+            quad: QuadSettings {
+                mode: QuadMode::Never,
+                ..QuadSettings::default()
+            },
             ..Options::default()
         };
         let (out, report) = simplify_mesh(m, &o).unwrap();

@@ -280,15 +280,15 @@ pub fn run(
     tuning: &Tuning,
 ) -> Result<(Unwelded, MeshRun), RunError> {
     let targets = targets.checked().map_err(RunError::Pipeline)?;
-    let options = Options {
+    let mut options = Options {
         target: Target {
             ratio: targets.ratio,
             triangles: targets.faces,
             error: targets.error,
         },
-        vertex_weights: mesh.vertex_weights.clone(),
         ..tuning.options().map_err(RunError::Pipeline)?
     };
+    options.data.vertex_weights = mesh.vertex_weights.clone();
     let t0 = std::time::Instant::now();
     let (lod, report) = simplify_mesh(&mesh.mesh(), &options).map_err(RunError::Simplify)?;
     let names: Vec<&'static str> = mesh.streams.attributes.iter().map(|a| a.0).collect();

@@ -26,45 +26,45 @@
 //! # Ok::<(), wildlod_simplify::Error>(())
 //! ```
 
-mod attributes;
-mod complex;
-mod cost;
-mod error;
-mod fidelity;
-mod guards;
-mod heap;
-mod history;
-mod large_polygons;
-mod mesh;
-mod options;
-mod ordering;
-mod posed;
-mod quadric;
+// The simplifier's steps, in the order they run; each imports only the
+// ones before it (and the contracts: `input`, `options`, `report`,
+// `error`), checked by `crates/testkit/tests/no_import_cycles.rs`.
+// 1. check, weld, normalize, build the complex (W §4.1)
+mod prepare;
+// 2. the edges a collapse may take, virtual ones included (W §4.1.1)
+mod edges;
+// 3. the quadrics, every cost term and the guards (W §4.2, Knodt §3)
+mod terms;
+// 4. the collapse loop (W Alg. 1, Knodt Alg. 1)
+mod collapse;
+// 5. the output refit to the input
 mod refit;
+// 6. the output faces, positions and attributes, mapped to the input
+mod assemble;
+
+// The contracts every step reads.
+mod error;
+mod input;
+mod options;
 mod report;
-mod run;
+
+// The entry points, from plain arrays up to whole scenes.
+mod mesh;
 mod scene;
 mod simplify;
-mod star_lists;
-mod stored;
-mod symmetry;
-mod tangent;
-mod twins;
-mod uv_health;
-mod virtual_edges;
 
-pub use attributes::{
+pub use assemble::Simplified;
+pub use collapse::history::{CollapseRecord, History, RingFace, RingInput};
+pub use error::Error;
+pub use input::{
     AttributeInput, AttributeStream, FittedSkin, FittedStream, SeamPolicy, SkinStream, StreamKind,
 };
-pub use error::Error;
-pub use history::{CollapseRecord, History, RingFace, RingInput};
-pub use large_polygons::MAX_POLYGON_CORNERS;
 pub use mesh::{simplify_mesh, simplify_mesh_with_progress, vertex_joints};
 pub use options::{
-    AttributeOptions, Guards, Metric, NormalMode, Options, Partition, QuadMode, QuadSettings,
-    Target,
+    AttributeOptions, Guards, InputData, Metric, NormalMode, Options, Partition, QuadMode,
+    QuadSettings, Record, Target,
 };
-pub use quadric::{place, place_by_planes, place_exact, Placement, Quadric, FREE_DIRECTION};
+pub use prepare::large_polygons::MAX_POLYGON_CORNERS;
 pub use report::{Rejections, Report, SteeringOutcome, StopReason};
 pub use scene::{
     material_uv_sets, see_through_materials, simplify_scene, simplify_scene_with_progress,
@@ -72,5 +72,6 @@ pub use scene::{
 };
 pub use simplify::{
     simplify_polygons, simplify_polygons_with_progress, simplify_triangles,
-    simplify_with_attributes, simplify_with_attributes_and_progress, Simplified,
+    simplify_with_attributes, simplify_with_attributes_and_progress,
 };
+pub use terms::quadric::{place, place_by_planes, place_exact, Placement, Quadric, FREE_DIRECTION};

@@ -5,12 +5,12 @@
 use glam::DVec3;
 use wildlod_mesh::{Attribute, Mesh, Semantic, Skinning, ABSENT};
 
-use crate::attributes::{AttributeInput, AttributeStream, FittedStream, SkinStream, StreamKind};
+use crate::assemble::uv_health::uv_damage;
 use crate::error::Error;
-use crate::options::{NormalMode, Options};
+use crate::input::{AttributeInput, AttributeStream, FittedStream, SkinStream, StreamKind};
+use crate::options::{InputData, NormalMode, Options};
 use crate::report::Report;
 use crate::simplify::simplify_with_attributes_and_progress;
-use crate::uv_health::uv_damage;
 
 /// Simplifies a mesh with its attributes fitted, not copied (Hoppe 1999;
 /// Knodt 2024 §3): every UV set, normal, tangent, color and morph delta is
@@ -51,25 +51,29 @@ pub fn simplify_mesh_with_progress(
     let joints = vertex_joints(mesh);
     let see_through = see_through_faces(mesh, options);
     let with_joints;
-    let options =
-        if (joints.is_empty() || !options.vertex_joints.is_empty()) && see_through.is_empty() {
-            options
-        } else {
-            with_joints = Options {
-                vertex_joints: if options.vertex_joints.is_empty() {
+    let options = if (joints.is_empty() || !options.data.vertex_joints.is_empty())
+        && see_through.is_empty()
+    {
+        options
+    } else {
+        with_joints = Options {
+            data: InputData {
+                vertex_joints: if options.data.vertex_joints.is_empty() {
                     joints
                 } else {
-                    options.vertex_joints.clone()
+                    options.data.vertex_joints.clone()
                 },
                 see_through_faces: if see_through.is_empty() {
-                    options.see_through_faces.clone()
+                    options.data.see_through_faces.clone()
                 } else {
                     see_through
                 },
-                ..options.clone()
-            };
-            &with_joints
+                ..options.data.clone()
+            },
+            ..options.clone()
         };
+        &with_joints
+    };
     // UV sets steer only where a texture samples them: a set read on some
     // faces and not others goes in as two streams, the read corners (which
     // steer) and the others (fitted only), joined again below.
@@ -227,11 +231,11 @@ fn stream<'a>(
 }
 
 /// Per mesh attribute, which faces it steers on, where that is not every
-/// face: `Some` for a UV set when [`Options::material_uv_sets`] is known
+/// face: `Some` for a UV set when [`crate::InputData::material_uv_sets`] is known
 /// and some face's material does not sample it (see there); `None`
 /// otherwise (the stream steers everywhere by its weight).
 fn steering_faces(mesh: &Mesh, options: &Options) -> Vec<Option<Vec<bool>>> {
-    let Some(sets) = &options.material_uv_sets else {
+    let Some(sets) = &options.data.material_uv_sets else {
         return vec![None; mesh.attributes.len()];
     };
     let part_sets: Vec<u32> = mesh
@@ -274,10 +278,10 @@ fn join_streams(first: &mut FittedStream, second: FittedStream) {
     first.values.extend_from_slice(&second.values);
 }
 
-/// The faces of [`Options::see_through_materials`], when the caller named
+/// The faces of [`crate::InputData::see_through_materials`], when the caller named
 /// some and gave no per-face flags; empty otherwise.
 fn see_through_faces(mesh: &Mesh, options: &Options) -> Vec<bool> {
-    if options.see_through_materials.is_empty() || !options.see_through_faces.is_empty() {
+    if options.data.see_through_materials.is_empty() || !options.data.see_through_faces.is_empty() {
         return Vec::new();
     }
     let part_sees: Vec<bool> = mesh
@@ -285,7 +289,7 @@ fn see_through_faces(mesh: &Mesh, options: &Options) -> Vec<bool> {
         .iter()
         .map(|p| {
             p.material
-                .is_some_and(|m| options.see_through_materials.contains(&m))
+                .is_some_and(|m| options.data.see_through_materials.contains(&m))
         })
         .collect();
     if !part_sees.contains(&true) {
@@ -456,7 +460,7 @@ fn fix_stray_normals(
 /// Joint influences per vertex from the mesh's skinning (each vertex takes
 /// the entry of its first corner); empty when the mesh is not skinned. The
 /// input of Knodt's joint-difference term (Knodt 2024 Eq. 3,
-/// [`crate::Options::vertex_joints`]).
+/// [`crate::InputData::vertex_joints`]).
 pub fn vertex_joints(mesh: &Mesh) -> Vec<Vec<(u32, f32)>> {
     let Some(s) = &mesh.skinning else {
         return Vec::new();

@@ -1,4 +1,6 @@
-//! Options of the simplifier: a plain struct with documented defaults.
+//! Options of the simplifier: plain structs with documented defaults,
+//! grouped by what a user decides (see [`Options`]); the fields marked
+//! *Expert* reproduce measurements and are not meant to be tuned per file.
 
 /// When to stop simplifying. Every set criterion applies; the simplifier
 /// stops at the first one met.
@@ -44,16 +46,16 @@ impl Target {
 /// W §4.2). They compose: every enabled term adds a quadric.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Metric {
-    /// Add the Lindstrom–Turk area quadric over the boundary edges of the
+    /// *Expert.* Add the Lindstrom–Turk area quadric over the boundary edges of the
     /// edge's one-ring, recomputed on the current mesh (memoryless; W §4.2).
     /// It keeps planar parts and open sheets from being eaten away. Has no
     /// effect on closed manifolds, where the metric equals classic QEM.
     /// Default: on.
     pub boundary_area: bool,
-    /// Weight of the area term relative to the plane quadrics. Default 1
+    /// *Expert.* Weight of the area term relative to the plane quadrics. Default 1
     /// (W Eq. 15 as written).
     pub boundary_area_weight: f64,
-    /// Gluing cost of virtual edges: collapsing an edge no face uses (a
+    /// *Expert.* Gluing cost of virtual edges: collapsing an edge no face uses (a
     /// virtual edge between parts) adds, for each endpoint, this weight
     /// times its area times the squared distance it travels. Plane quadrics
     /// cannot see the gap a virtual edge bridges, so without this term parts
@@ -67,7 +69,7 @@ pub struct Metric {
     /// it and lower it at 0.1% (0.362 → 0.351), where merging parts is what
     /// keeps the shape. See `docs/design.md`.
     pub gluing_weight: f64,
-    /// Weight of Knodt's per-edge tangent quadrics (Knodt 2024 §3.1, Eq. 2):
+    /// *Expert.* Weight of Knodt's per-edge tangent quadrics (Knodt 2024 §3.1, Eq. 2):
     /// planes through every edge orthogonal to its faces, weighted by
     /// dihedral angle and edge length, with memory. They keep sharp rims and
     /// thin parts from sliding away and space vertices evenly in flat
@@ -78,13 +80,13 @@ pub struct Metric {
     /// distance for regularity (`manifold/armadillo` at 50%: Chamfer
     /// 0.000101 → 0.000150 at 1/3).
     pub tangent_weight: f64,
-    /// Rank collapses by the error they introduce (Knodt 2024 Eq. 5):
+    /// *Expert.* Rank collapses by the error they introduce (Knodt 2024 Eq. 5):
     /// `(Q_i + Q_j)(v) − Q_i(p_i) − Q_j(p_j)`, instead of the error
     /// accumulated since the input. Quadrics keep their memory; the cost
     /// measures the change from the current mesh, like memoryless
     /// simplification does without forgetting the input's constraints.
     pub introduced_error: bool,
-    /// Weight of the border constraint planes (Garland & Heckbert 1997 §6):
+    /// *Expert.* Weight of the border constraint planes (Garland & Heckbert 1997 §6):
     /// through every border side (a face side no other face shares), the
     /// plane orthogonal to its face, weighted by this times the side's
     /// squared length, with memory. They keep open borders where they were
@@ -93,7 +95,7 @@ pub struct Metric {
     /// Default 1 (a unit of border weighs like a unit of area), by
     /// measurement on the corpus: see `docs/design.md`.
     pub border_weight: f64,
-    /// Weight of the crease constraint planes: through every sharp crease
+    /// *Expert.* Weight of the crease constraint planes: through every sharp crease
     /// (a side shared by two faces whose normals turn by more than
     /// [`Metric::crease_angle`]), the plane through it orthogonal to each
     /// face, weighted by this times the side's squared length, as a border
@@ -113,13 +115,13 @@ pub struct Metric {
     /// parts' Chamfer at 50%: the tray 2.24 → 1.28, octagonal_pocket
     /// 0.55 → 0.40); weight 1 gets 1.22 and 1.01 with larger swings.
     pub crease_weight: f64,
-    /// The turn between two faces' normals, in degrees, above which their
+    /// *Expert.* The turn between two faces' normals, in degrees, above which their
     /// shared side is a crease for [`Metric::crease_weight`]. Default 78
     /// (normals' cosine below 0.2): CAD edges of 90° and sharper, not the
     /// folds of a scanned surface (60° held scans' ridges too and measured
     /// worse).
     pub crease_angle: f64,
-    /// Weight, relative to [`Metric::boundary_area_weight`], of W's
+    /// *Expert.* Weight, relative to [`Metric::boundary_area_weight`], of W's
     /// memoryless area term (Eq. 15) at sharp creases: at an endpoint of a
     /// collapse that lies on a crease (a side whose two faces turn by more
     /// than [`Metric::crease_angle`]), each crease side adds the squared
@@ -140,14 +142,14 @@ pub struct Metric {
     /// the best peer, meshes made in code 1.52 → 1.49 and 1.16 → 1.15;
     /// 3.6% more instructions on a smooth scan (armadillo).
     pub crease_area_weight: f64,
-    /// Isotropic regularization (probabilistic quadric, Trettner & Kobbelt
+    /// *Expert.* Isotropic regularization (probabilistic quadric, Trettner & Kobbelt
     /// 2020): normal variance σ² relative to the unit-diagonal mesh, times
     /// each vertex's area. Keeps the optimal-point solve well conditioned in
     /// flat regions. Default 1e-4: small enough to leave the minimizer of any
     /// curved neighbourhood in place (its effect is below 1e-4 of the plane
     /// error), large enough to make A invertible in double precision.
     pub regularization: f64,
-    /// Whether the regularization also chooses: ranks collapses (its cost,
+    /// *Expert.* Whether the regularization also chooses: ranks collapses (its cost,
     /// `σ² · area · travel²`, added to the planes') and places vertices
     /// along the directions the planes hold weakly. Off (default): the
     /// planes alone rank collapses and place the vertex wherever they
@@ -164,7 +166,7 @@ pub struct Metric {
     /// ([`QuadSettings::regularized_choice`]), and so do meshes with
     /// attributes ([`AttributeOptions::regularized_choice`]).
     pub regularized_choice: bool,
-    /// Collapses are ranked as if their endpoints covered at least this
+    /// *Expert.* Collapses are ranked as if their endpoints covered at least this
     /// many times the input's mean face area. Area-weighted plane quadrics
     /// (W Eq. 9–11) make a feature's error cost in proportion to its area,
     /// which is right for the average distance and wrong for features far
@@ -183,7 +185,7 @@ pub struct Metric {
     /// (1.66 → 1.89×) and re-baking `bob` at 10% loses 7% of its texture
     /// fidelity; appearance comes first.
     pub area_floor: f64,
-    /// Added to the cost of a collapse that pinches or folds material
+    /// *Expert.* Added to the cost of a collapse that pinches or folds material
     /// (see `guards::pinches`): the first step by which a thin part (a
     /// chair leg, a blade, a scanned hair) flattens into edges no face
     /// uses, which the output cannot show, so the part vanishes at far
@@ -209,7 +211,7 @@ pub struct Metric {
     /// Chamfer 1.23 → 1.26× (wild meshes at 1%, whose holes and parts
     /// close later).
     pub pinch_cost: f64,
-    /// Caps [`Metric::pinch_cost`] on parts large enough for the target:
+    /// *Expert.* Caps [`Metric::pinch_cost`] on parts large enough for the target:
     /// a thin part (a chair's wire legs) is flattened once the ordinary
     /// collapses left would move the surface by about half this distance
     /// (relative to the bounding-box diagonal), instead of only when
@@ -229,7 +231,7 @@ pub struct Metric {
     /// peer, the tray 2.75 → 2.4×; at 0.02 the spider's legs went at 10%
     /// (Hausdorff 4×), at 0.1 the gain was half.
     pub pinch_distance: f64,
-    /// How face planes are weighted in the vertex quadrics: by area^A,
+    /// *Expert.* How face planes are weighted in the vertex quadrics: by area^A,
     /// scaled by the mean face area^(1−A) so the quadrics keep the scale
     /// of the other terms. 1 is W Eq. 9–11 (area-weighted: a feature costs
     /// in proportion to its area, which minimizes the mean distance); 0
@@ -243,7 +245,7 @@ pub struct Metric {
     /// dragon at 50% 3.2 → 1.35×, textured meshes at 10% 1.95 → 1.34×)
     /// but Chamfer worsens from 1.26 to 1.51× and one target is missed.
     pub area_exponent: f64,
-    /// Face planes weigh at least this many mean face areas (after
+    /// *Expert.* Face planes weigh at least this many mean face areas (after
     /// [`Metric::area_exponent`]). Area-weighted planes make a detail
     /// tessellated finer than the rest (a scanned hair, a fillet, engraved
     /// text) cheap to remove in proportion to its small faces, so it goes
@@ -265,6 +267,18 @@ pub struct Metric {
     /// Chamfer 1.26 → 1.30×; weighing every face alike (`area_exponent` 0)
     /// gets 1.45× Hausdorff for 1.51× Chamfer and misses a target.
     pub face_weight_floor: f64,
+    /// *Expert.* Sweeps of the final refit (see `refit.rs`): once the collapses are
+    /// done, every vertex moves to where its quadric plus the input's
+    /// vertices' distances to its faces are smallest, which the collapses
+    /// alone, each placing one vertex for the faces of its day, leave
+    /// undone. Only positions change. 0 disables it; soft symmetry
+    /// ([`QuadSettings::symmetry`]) turns it off, since it would move vertices
+    /// off the mirror plane.
+    /// Default 1, by measurement on the corpus against the peers
+    /// (`docs/design.md`, "Refit"): Hausdorff 1.46 → 1.35× the best
+    /// peer, Chamfer 1.30 → 1.13×; a second sweep gets 1.34× and 1.13× for
+    /// twice the time.
+    pub refit_sweeps: u32,
 }
 
 impl Default for Metric {
@@ -286,15 +300,34 @@ impl Default for Metric {
             pinch_distance: 0.05,
             area_exponent: 1.0,
             face_weight_floor: 0.5,
+            refit_sweeps: 1,
         }
     }
 }
 
-/// Guards: collapses the user may forbid. Defaults chosen by measurement on
+/// Topology: which separate parts may merge, which hidden twin faces go,
+/// and the collapses the user may forbid. Defaults chosen by measurement on
 /// the corpus (see `docs/design.md`).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Guards {
-    /// Reject a collapse that turns any surviving face's normal by more than
+    /// Virtual edges (W §4.1.1): pairs of triangles of different connected
+    /// components closer than `2 r` get an edge between their closest vertex
+    /// pair. `r` is relative to the bounding-box diagonal; 0 disables them.
+    /// Default 0.0025 (so parts within 0.5% of the diagonal may merge),
+    /// chosen by measurement on the corpus: see `docs/design.md`.
+    pub virtual_edge_radius: f64,
+    /// Drop the twins that cannot be seen before simplifying. A twin is a
+    /// face's reversed copy, how exporters make a sheet double-sided. On a
+    /// closed part one copy of each face looks into the solid and is never
+    /// seen with an opaque material; elsewhere a copy goes when no ray from
+    /// its middle escapes the mesh and no line of sight reaches an opening
+    /// of its part (the inside of an almost closed shell, away from its
+    /// openings). The copy that can be seen is
+    /// kept; open sheets keep both. The ratio of [`Target`] still counts the
+    /// dropped twins, so their share of the budget buys visible detail
+    /// (Blender drops such copies when it imports a file). Default true.
+    pub drop_hidden_twins: bool,
+    /// *Expert.* Reject a collapse that turns any surviving face's normal by more than
     /// this angle (degrees). Default 90: a face that turns past 90° has
     /// flipped over its neighbours. `None` disables the test.
     pub max_normal_turn_degrees: Option<f64>,
@@ -309,6 +342,8 @@ pub struct Guards {
 impl Default for Guards {
     fn default() -> Self {
         Guards {
+            virtual_edge_radius: 0.0025,
+            drop_hidden_twins: true,
             max_normal_turn_degrees: Some(90.0),
             keep_topology: false,
             lock_borders: false,
@@ -329,11 +364,14 @@ pub enum QuadMode {
     Never,
 }
 
-/// Quad-dominant reduction (Knodt 2024 §3): settings that apply when
-/// [`Options::quad_mode`] is active.
+/// Quad-dominant reduction (Knodt 2024 §3): when it applies ([`QuadSettings::mode`])
+/// and its settings, which apply only then (all but `mode` are expert).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct QuadSettings {
-    /// ε_abs of Knodt Eq. 4, as the largest distance relative to the
+    /// When the quad-preserving ordering applies. Default [`QuadMode::Auto`]:
+    /// on inputs with at least one quad.
+    pub mode: QuadMode,
+    /// *Expert.* ε_abs of Knodt Eq. 4, as the largest distance relative to the
     /// bounding-box diagonal at the input's resolution (narrowed on fine
     /// meshes by [`QuadSettings::tie_factor`]): a collapse whose cost differs
     /// from the first of its class by less than the cost of moving its own
@@ -354,7 +392,7 @@ pub struct QuadSettings {
     /// 10% (0.55 on the median mesh); 2e-3 keeps more (0.96) for 10% more
     /// Chamfer distance.
     pub epsilon: f64,
-    /// Ties are narrower on meshes whose collapses are finer: the tie
+    /// *Expert.* Ties are narrower on meshes whose collapses are finer: the tie
     /// distance is this many times the input's median initial collapse
     /// deviation, where that is below [`QuadSettings::epsilon`] (which then
     /// caps it). 0 leaves `epsilon` alone.
@@ -368,35 +406,35 @@ pub struct QuadSettings {
     /// peer, most of it on the dense sword: 3.2 / 2.8 / 2.8 to 1.6 / 1.2 /
     /// 1.0× (quad ratio 1.00 / 0.98 / 0.95 to 0.97 / 0.74 / 0.16). Factor
     /// 1 is where a smooth surface's ties stop buying quads (the generated
-    /// spheres of [`crate::ordering`]) but it kept half the quads of the
+    /// spheres of [`crate::collapse::ordering`]) but it kept half the quads of the
     /// corpus at 10%.
     pub tie_factor: f64,
-    /// ε_rel: costs within this fraction of the larger one are also ties
+    /// *Expert.* ε_rel: costs within this fraction of the larger one are also ties
     /// (Dawson's relative comparison, which Knodt cites and ablates beside
     /// ε_abs). Costs grow by orders of magnitude as a mesh coarsens, so a
     /// relative tolerance keeps classes meaningful at every ratio.
     pub relative_epsilon: f64,
-    /// Within a class, collapse the edge of highest recency first; a
+    /// *Expert.* Within a class, collapse the edge of highest recency first; a
     /// collapse raises the recency of the opposite edges of its quads, so
     /// quad chords collapse together (Alg. 1). Default on.
     pub recency: bool,
-    /// Tangent edge quadric weight used in quad mode (see
+    /// *Expert.* Tangent edge quadric weight used in quad mode (see
     /// [`Metric::tangent_weight`]). Default 0: on `corpus/quad`, 1/3
     /// (Knodt's balance) left the Chamfer distance within −5%…+4% of the
     /// ordering alone but kept far fewer quads (median quad ratio 0.85 /
     /// 0.58 / 0.22 against 0.98 / 0.96 / 0.83 at 50% / 25% / 10%).
     pub tangent_weight: f64,
-    /// Rank by introduced error (Knodt Eq. 5) in quad mode. Default off:
+    /// *Expert.* Rank by introduced error (Knodt Eq. 5) in quad mode. Default off:
     /// with the ordering it raised the Chamfer distance at 50% by 17% (and
     /// the Hausdorff distance by 57%), though at 25% and 10% it kept a few
     /// more quads (0.96 / 0.88) at about the same distance.
     pub introduced_error: bool,
-    /// [`Metric::regularized_choice`] in quad mode. Default on: Knodt's
+    /// *Expert.* [`Metric::regularized_choice`] in quad mode. Default on: Knodt's
     /// tie classes rank collapses whose costs are close, and without the
     /// regularization's share the quad corpus measured worse (Hausdorff
     /// at 1% 1.19 → 1.60–1.72 the best peer, `docs/design.md`).
     pub regularized_choice: bool,
-    /// λ_sym of Eq. 2: weight of the soft symmetry term (Knodt §3.1,
+    /// *Expert.* λ_sym of Eq. 2: weight of the soft symmetry term (Knodt §3.1,
     /// Alg. 2): edges whose plane mirrors much of the model onto itself
     /// weigh more in the tangent quadrics, so symmetry lines and their
     /// mirrored edge loops are kept. Acts through the tangent quadrics
@@ -404,14 +442,14 @@ pub struct QuadSettings {
     /// weights cost O(|V|) per distinct edge plane, capped at about ten
     /// seconds (see [`Report::symmetry_truncated`](crate::Report)).
     pub symmetry: f64,
-    /// δ of Alg. 2: how close a vertex's mirror image must come to another
+    /// *Expert.* δ of Alg. 2: how close a vertex's mirror image must come to another
     /// vertex to count as its partner, relative to the bounding-box
     /// diagonal. Default 1e-3.
     pub symmetry_distance: f64,
-    /// λ_joint of Eq. 2: weight of the joint-influence difference of an
+    /// *Expert.* λ_joint of Eq. 2: weight of the joint-influence difference of an
     /// edge's endpoints, on skinned meshes. Default 1 (Knodt §4).
     pub joints: f64,
-    /// Factor on every attribute weight ([`AttributeOptions`]) in quad mode.
+    /// *Expert.* Factor on every attribute weight ([`AttributeOptions`]) in quad mode.
     /// The ordering keeps quads by treating near-equal costs as ties; the
     /// attribute error of a collapse (a UV field's curvature, say) varies
     /// far more along a quad chord than its distance does and breaks the
@@ -425,6 +463,7 @@ pub struct QuadSettings {
 impl Default for QuadSettings {
     fn default() -> Self {
         QuadSettings {
+            mode: QuadMode::Auto,
             epsilon: 1.5e-3,
             tie_factor: 2.0,
             relative_epsilon: 0.0,
@@ -459,13 +498,13 @@ impl Default for QuadSettings {
 /// The result is deterministic and does not depend on the thread count.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Partition {
-    /// Inputs with fewer triangles go straight to the global loop.
+    /// *Expert.* Inputs with fewer triangles go straight to the global loop.
     /// Default 100 000; `usize::MAX` turns the phase off.
     pub min_triangles: usize,
-    /// Faces per chunk. Default 16 384: a chunk's complex and queue stay in
+    /// *Expert.* Faces per chunk. Default 16 384: a chunk's complex and queue stay in
     /// a core's cache.
     pub chunk_faces: usize,
-    /// The global loop starts when the triangles left to remove are at most
+    /// *Expert.* The global loop starts when the triangles left to remove are at most
     /// this fraction of those the run removes in all. Default 0.02.
     pub handoff: f64,
 }
@@ -541,7 +580,7 @@ pub struct AttributeOptions {
     /// material borders) are kept. Default: crossed only where that costs
     /// less than what else is left.
     pub seams: crate::SeamPolicy,
-    /// Weight of the planes that hold seam vertices on their seam's curve
+    /// *Expert.* Weight of the planes that hold seam vertices on their seam's curve
     /// when a collapse moves them along it, per squared edge length.
     /// Default 0.05: texture Chamfer 0.0622 at 0, 0.0563 at 0.05, 0.0546
     /// at 0.2 for 8% more Chamfer distance (what keeps seams in place keeps
@@ -550,7 +589,7 @@ pub struct AttributeOptions {
     /// How output normals are produced. Default: fitted (normal Chamfer
     /// 8.8° against 9.6° recomputed at 10%, 25.5° against 26.6° at 1%).
     pub normals: NormalMode,
-    /// Whether attributes may move a collapse's vertex (Hoppe 1999's joint
+    /// *Expert.* Whether attributes may move a collapse's vertex (Hoppe 1999's joint
     /// minimization over position and attributes) instead of only ranking
     /// collapses and being fitted where the surface's quadric puts the
     /// vertex. Jointly minimized, a vertex leaves the surface to make an
@@ -569,7 +608,7 @@ pub struct AttributeOptions {
     /// 0.0028), and the corpus scoreboard against the peers improves
     /// (Hausdorff 1.58 → 1.55×, Chamfer 1.26 → 1.25×).
     pub attributes_move_vertices: bool,
-    /// With attributes that steer collapses (any stream of nonzero weight,
+    /// *Expert.* With attributes that steer collapses (any stream of nonzero weight,
     /// or skin weights), the regularization ranks collapses and places
     /// vertices as well ([`Metric::regularized_choice`] on). Attribute
     /// fields are sampled at the input's vertices, and a vertex that
@@ -580,7 +619,7 @@ pub struct AttributeOptions {
     /// 0.0014 to 0.0020 (`docs/design.md`, "Placed and ranked by the
     /// planes").
     pub regularized_choice: bool,
-    /// How much farther from the input than a geometry-only run the
+    /// *Expert.* How much farther from the input than a geometry-only run the
     /// surface may end because attributes steered it: a collapse's cost
     /// is its geometric cost plus its appearance cost (attribute quadrics,
     /// seam planes, the regularization's travel), the latter capped at
@@ -596,7 +635,7 @@ pub struct AttributeOptions {
     /// Default 1.15 (issue 31's bound: a default output's Hausdorff and
     /// Chamfer distances within 1.15× of the geometry-only output's).
     pub geometry_tolerance: f64,
-    /// A distance, relative to the bounding-box diagonal, below which
+    /// *Expert.* A distance, relative to the bounding-box diagonal, below which
     /// attributes steer freely: appearance may always add what moving the
     /// surface by this much over the collapse's area costs. Flat regions,
     /// where every geometric cost is 0, would otherwise give attributes no
@@ -623,25 +662,29 @@ impl Default for AttributeOptions {
     }
 }
 
-/// All options of [`crate::simplify`].
-#[derive(Clone, Debug, PartialEq)]
-pub struct Options {
-    /// When to stop.
-    pub target: Target,
-    /// The error metric.
-    pub metric: Metric,
-    /// Virtual edges (W §4.1.1): pairs of triangles of different connected
-    /// components closer than `2 r` get an edge between their closest vertex
-    /// pair. `r` is relative to the bounding-box diagonal; 0 disables them.
-    /// Default 0.0025 (so parts within 0.5% of the diagonal may merge),
-    /// chosen by measurement on the corpus: see `docs/design.md`.
-    pub virtual_edge_radius: f64,
-    /// Guards against collapses the user does not want.
-    pub guards: Guards,
-    /// When the quad-preserving ordering applies.
-    pub quad_mode: QuadMode,
-    /// Its settings.
-    pub quad: QuadSettings,
+/// What the run records for its caller, beside the output.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Record {
+    /// Record every collapse (edge one-ring before, vertex one-ring after)
+    /// for successive mapping (W §4.3). Default off: it costs memory.
+    pub history: bool,
+    /// Record, after every collapse, the triangles left and the error
+    /// reached so far ([`crate::Report::error_curve`]), so that a caller
+    /// simplifying several meshes under one budget can pick a common error
+    /// threshold (see [`crate::simplify_scene`], W §1 Fig. 1). Collapses of
+    /// the parallel first phase are not recorded: turn it off
+    /// ([`Partition::min_triangles`] = `usize::MAX`) for the whole curve.
+    /// Default off: 16 bytes per collapse.
+    pub error_curve: bool,
+}
+
+/// Data that comes with the faces, per input vertex or face, or per scene
+/// material: importance, skinning, how faces are drawn. Not decisions: the
+/// mesh and scene entry points ([`crate::simplify_mesh`],
+/// [`crate::simplify_scene`]) fill it from the file; callers of the plain
+/// arrays may set it. Empty (default): none.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct InputData {
     /// Per-vertex importance (≥ 0, one per input vertex): the quadrics of a
     /// vertex are multiplied by its weight, so heavier vertices survive
     /// longer (visibility-driven simplification, W Fig. 20). Empty: all 1.
@@ -653,7 +696,7 @@ pub struct Options {
     /// heavier, so joints keep their edges. `simplify_mesh` fills this from
     /// the mesh's skinning.
     pub vertex_joints: Vec<Vec<(u32, f32)>>,
-    /// Poses the skin takes when drawn, for [`Options::vertex_joints`]:
+    /// Poses the skin takes when drawn, for [`InputData::vertex_joints`]:
     /// per pose, every joint's skinning matrix (the joint's world matrix in
     /// that pose times its inverse bind matrix; column-major, input units),
     /// indexed by the joint ids of `vertex_joints`. A skinned mesh is never
@@ -664,53 +707,14 @@ pub struct Options {
     /// fills it from the file's animations (frames spread over each), or,
     /// without animations, from poses bending every joint.
     pub skin_poses: Vec<Vec<[f32; 16]>>,
-    /// Record every collapse (edge one-ring before, vertex one-ring after)
-    /// for successive mapping (W §4.3). Default off: it costs memory.
-    pub record_history: bool,
-    /// Record, after every collapse, the triangles left and the error
-    /// reached so far ([`crate::Report::error_curve`]), so that a caller
-    /// simplifying several meshes under one budget can pick a common error
-    /// threshold (see [`crate::simplify_scene`], W §1 Fig. 1). Collapses of
-    /// the parallel first phase are not recorded: turn it off
-    /// ([`Partition::min_triangles`] = `usize::MAX`) for the whole curve.
-    /// Default off: 16 bytes per collapse.
-    pub record_error_curve: bool,
-    /// The parallel first phase for large inputs (off while recording the
-    /// history, which must see the global order, and with attributes).
-    pub partition: Partition,
-    /// Attributes: their weights in the error, seams, normals.
-    pub attributes: AttributeOptions,
-    /// Sweeps of the final refit (see `refit.rs`): once the collapses are
-    /// done, every vertex moves to where its quadric plus the input's
-    /// vertices' distances to its faces are smallest, which the collapses
-    /// alone, each placing one vertex for the faces of its day, leave
-    /// undone. Only positions change. 0 disables it; soft symmetry
-    /// (`QuadSettings::symmetry`) turns it off, since it would move vertices
-    /// off the mirror plane.
-    /// Default 1, by measurement on the corpus against the peers
-    /// (`docs/design.md`, "Refit"): Hausdorff 1.46 → 1.35× the best
-    /// peer, Chamfer 1.30 → 1.13×; a second sweep gets 1.34× and 1.13× for
-    /// twice the time.
-    pub refit_sweeps: u32,
-    /// Drop the twins that cannot be seen before simplifying. A twin is a
-    /// face's reversed copy, how exporters make a sheet double-sided. On a
-    /// closed part one copy of each face looks into the solid and is never
-    /// seen with an opaque material; elsewhere a copy goes when no ray from
-    /// its middle escapes the mesh and no line of sight reaches an opening
-    /// of its part (the inside of an almost closed shell, away from its
-    /// openings). The copy that can be seen is
-    /// kept; open sheets keep both. The ratio of [`Target`] still counts the
-    /// dropped twins, so their share of the budget buys visible detail
-    /// (Blender drops such copies when it imports a file). Default true.
-    pub drop_hidden_twins: bool,
     /// Input faces that are seen through (a blended material), one flag per
     /// input face: their twins stay even on closed surfaces, since the
     /// inside shows. Empty: none. [`crate::simplify_mesh`] fills it from
-    /// [`Options::see_through_materials`].
+    /// [`InputData::see_through_materials`].
     pub see_through_faces: Vec<bool>,
     /// Materials (ids into the scene's materials) that are seen through:
     /// [`crate::simplify_mesh`] marks their faces in
-    /// [`Options::see_through_faces`]. Empty: none. The pipeline fills it
+    /// [`InputData::see_through_faces`]. Empty: none. The pipeline fills it
     /// from the file's materials (alpha mode blend).
     pub see_through_materials: Vec<u32>,
     /// Which UV sets each material's textures sample, per material (ids
@@ -734,6 +738,44 @@ pub struct Options {
     pub face_instances: Vec<u32>,
 }
 
+/// All options of [`crate::simplify_polygons`] and the other entry points,
+/// grouped by what a user decides (issue 35). Most users set only
+/// `target`; the fields marked *Expert* in each group were measured on the
+/// corpus and are there to reproduce the measurements, not to be tuned per
+/// file.
+///
+/// | group | decides | fields a user sets |
+/// |---|---|---|
+/// | [`target`](Options::target) | when to stop | ratio, triangles, error |
+/// | [`metric`](Options::metric) | quality: how error is measured, the refit | all expert |
+/// | [`guards`](Options::guards) | topology: parts merging, twins, forbidden collapses | `virtual_edge_radius`, `keep_topology`, `lock_borders` |
+/// | [`quad`](Options::quad) | quads: Knodt's ordering | `mode` |
+/// | [`attributes`](Options::attributes) | UVs, normals, colors, skins | weights, `seams`, `normals` |
+/// | [`partition`](Options::partition) | performance on large inputs | all expert |
+/// | [`record`](Options::record) | what the run records | `history`, `error_curve` |
+/// | [`data`](Options::data) | per-vertex and per-face data | filled by the mesh and scene layers |
+#[derive(Clone, Debug, PartialEq)]
+pub struct Options {
+    /// When to stop.
+    pub target: Target,
+    /// Quality: the error metric and the final refit.
+    pub metric: Metric,
+    /// Topology: parts, twins, and the collapses the user forbids.
+    pub guards: Guards,
+    /// Quads: when Knodt's ordering applies, and its settings.
+    pub quad: QuadSettings,
+    /// Attributes: their weights in the error, seams, normals.
+    pub attributes: AttributeOptions,
+    /// Performance: the parallel first phase for large inputs (off while
+    /// recording the history, which must see the global order, and with
+    /// attributes).
+    pub partition: Partition,
+    /// What the run records beside the output.
+    pub record: Record,
+    /// Data that comes with the faces.
+    pub data: InputData,
+}
+
 impl Default for Options {
     fn default() -> Self {
         Options {
@@ -742,23 +784,12 @@ impl Default for Options {
                 ..Target::default()
             },
             metric: Metric::default(),
-            virtual_edge_radius: 0.0025,
             guards: Guards::default(),
-            quad_mode: QuadMode::Auto,
             quad: QuadSettings::default(),
-            vertex_weights: Vec::new(),
-            vertex_joints: Vec::new(),
-            skin_poses: Vec::new(),
-            record_history: false,
-            record_error_curve: false,
-            partition: Partition::default(),
             attributes: AttributeOptions::default(),
-            refit_sweeps: 1,
-            drop_hidden_twins: true,
-            see_through_faces: Vec::new(),
-            see_through_materials: Vec::new(),
-            material_uv_sets: None,
-            face_instances: Vec::new(),
+            partition: Partition::default(),
+            record: Record::default(),
+            data: InputData::default(),
         }
     }
 }
@@ -774,18 +805,24 @@ impl Options {
                 gluing_weight: 0.0,
                 pinch_cost: 0.0,
                 face_weight_floor: 0.0,
+                refit_sweeps: 0,
                 ..Metric::default()
             },
-            virtual_edge_radius: 0.0,
-            quad_mode: QuadMode::Never,
-            refit_sweeps: 0,
+            guards: Guards {
+                virtual_edge_radius: 0.0,
+                ..Guards::default()
+            },
+            quad: QuadSettings {
+                mode: QuadMode::Never,
+                ..QuadSettings::default()
+            },
             ..Options::default()
         }
     }
 
     /// Whether the quad ordering applies to an input with `quads` quad faces.
     pub fn quads_active(&self, quads: usize) -> bool {
-        match self.quad_mode {
+        match self.quad.mode {
             QuadMode::Auto => quads > 0,
             QuadMode::Always => true,
             QuadMode::Never => false,

@@ -1,5 +1,5 @@
-//! Refitting the simplified surface to the input, once the collapses are
-//! done.
+//! Step 5 of the simplifier: refitting the simplified surface to the input,
+//! once the collapses are done.
 //!
 //! Every vertex was placed where its quadric (the planes of the input faces
 //! merged into it, W Eq. 13–14) is smallest *when it was made*. Later
@@ -50,10 +50,78 @@ use rayon::prelude::*;
 use smallvec::SmallVec;
 use wildlod_geometry::closest_point_on_triangle;
 
-use crate::complex::Complex;
-use crate::cost::polygon_normal;
-use crate::quadric::Quadric;
-use crate::stored::{Isotropic, StoredQuadric};
+use wildlod_mesh::Faces;
+
+use crate::collapse::Collapsed;
+use crate::prepare::complex::Complex;
+use crate::prepare::geometry::polygon_normal;
+use crate::terms::quadric::Quadric;
+use crate::terms::stored::{Isotropic, StoredQuadric};
+
+/// The final refit of a finished run against the input (`positions`,
+/// and the `faces` over them) that the complex kept (`kept`, per face;
+/// empty: all). With the history recorded too: successive mapping projects
+/// the final mesh's points onto the recorded one-rings by closest point (W
+/// §4.3.1), which a surface moved closer to the input only helps.
+pub(crate) fn refit_run(
+    run: &mut Collapsed<'_>,
+    positions: &[[f32; 3]],
+    faces: &Faces,
+    kept: &[bool],
+) {
+    let sweeps = run.options.metric.refit_sweeps;
+    // Soft symmetry asks for a mirror-symmetric result: vertices on the
+    // mirror plane stay on it, which a fit to the input points around
+    // them, never quite symmetric, would undo.
+    // Nothing collapsed: the output is the input, already on itself.
+    if sweeps == 0
+        || run.p.rep.is_empty()
+        || run.options.quad.symmetry > 0.0
+        || run.report.collapses == 0
+    {
+        return;
+    }
+    let root = run.roots();
+    let c = &run.p.complex;
+    let fixed: Vec<bool> = if run.options.guards.lock_borders && c.has_adjacency() {
+        (0..c.pos.len() as u32).map(|v| c.on_boundary(v)).collect()
+    } else {
+        Vec::new()
+    };
+    // Never more than a right angle, whatever the flip guard allows.
+    let min_cos = run
+        .options
+        .guards
+        .max_normal_turn_degrees
+        .map_or(0.0, |d| d.to_radians().cos().max(0.0));
+    // What neither the refit nor `assemble` reads, freed first: the
+    // refit then fits under the run's earlier peak.
+    run.p.complex.clear_adjacency();
+    // The input's positions by welded vertex, made now that the run's
+    // adjacency is gone.
+    let welded: Vec<[f32; 3]> = run.p.rep.iter().map(|&v| positions[v as usize]).collect();
+    let origins = run.p.complex.pos.clone();
+    let input = RefitInput {
+        positions: &welded,
+        center: run.p.center,
+        scale: run.p.scale,
+        offsets: &faces.offsets,
+        indices: &faces.indices,
+        weld: &run.p.weld,
+        kept,
+        root: &root,
+        quadrics: &run.quadrics,
+        origins: &origins,
+        regularization: &run.reg,
+        fixed: &fixed,
+        min_cos,
+        exact_flat_borders: run.exact_flat_borders,
+    };
+    let moved = refit(&mut run.p.complex, &input, sweeps);
+    for (m, r) in run.moved.iter_mut().zip(moved) {
+        *m |= r;
+    }
+}
 
 /// Damping λ of a vertex's step, relative to the weight it carries: small
 /// enough that a vertex goes nearly all the way to its minimizer, large
@@ -373,7 +441,7 @@ fn on_a_flat_border(c: &Complex, star: &Stars, v: u32) -> bool {
         }
         match first {
             None => first = Some(*n),
-            Some(n0) if !crate::cost::coplanar(n0, *n) => return false,
+            Some(n0) if !crate::prepare::geometry::coplanar(n0, *n) => return false,
             Some(_) => {}
         }
     }

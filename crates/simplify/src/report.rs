@@ -65,7 +65,7 @@ pub struct SteeringOutcome {
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Report {
     /// Triangles of the triangulated input (a quad counts 2), each face as
-    /// many times as it is drawn ([`crate::Options::face_instances`]).
+    /// many times as it is drawn ([`crate::InputData::face_instances`]).
     pub input_triangles: usize,
     /// Triangles the run aimed for.
     pub target_triangles: usize,
@@ -76,7 +76,7 @@ pub struct Report {
     pub cleaned_faces: usize,
     /// Reversed copies of faces that cannot be seen (inside a closed or
     /// almost closed surface), dropped before simplifying (see
-    /// [`crate::Options::drop_hidden_twins`]).
+    /// [`crate::Guards::drop_hidden_twins`]).
     pub hidden_twins: usize,
     /// Collapses made.
     pub collapses: usize,
@@ -136,7 +136,7 @@ pub struct Report {
     /// [`crate::AttributeOptions::geometry_tolerance`]). `None` when
     /// nothing steered.
     pub steering: Option<SteeringOutcome>,
-    /// With [`crate::Options::record_error_curve`]: after every collapse of
+    /// With [`crate::Record::error_curve`]: after every collapse of
     /// the global loop, the triangles left and [`Report::error`] so far, in
     /// order (so both columns are monotone). Empty otherwise.
     pub error_curve: Vec<(usize, f64)>,

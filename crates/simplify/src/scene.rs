@@ -25,7 +25,7 @@
 //!
 //! Across groups the budget is allocated so that every group stops at the
 //! same world-space error: a first pass records each group's
-//! error-vs-triangles curve ([`Options::record_error_curve`]) down to as
+//! error-vs-triangles curve ([`crate::Record::error_curve`]) down to as
 //! few triangles as it can go; the smallest threshold whose triangle sum
 //! fits the budget is chosen; a second pass reruns each group to its count
 //! at that threshold (the greedy order is deterministic, so it stops at the
@@ -45,7 +45,7 @@ use wildlod_mesh::{Attribute, ComponentFormat, Mesh, Scene, Semantic, Skinning, 
 
 use crate::error::Error;
 use crate::mesh::simplify_mesh_with_progress;
-use crate::options::{Options, Partition, Target};
+use crate::options::{InputData, Options, Partition, Record, Target};
 use crate::report::{Report, StopReason};
 
 /// Why a group was not merged with the world-space meshes.
@@ -149,8 +149,8 @@ impl SceneReport {
 /// the triangles the scene draws (each mesh once per node that shows it),
 /// `error` to the scene's world
 /// bounding-box diagonal. A mesh may lose every triangle (it is then empty;
-/// [`MeshOutcome::removed`]). Per-vertex options ([`Options::vertex_weights`],
-/// [`Options::vertex_joints`]) and the history do not apply to a scene and
+/// [`MeshOutcome::removed`]). Per-vertex options ([`crate::InputData::vertex_weights`],
+/// [`crate::InputData::vertex_joints`]) and the history do not apply to a scene and
 /// are ignored. Materials, nodes, skins and animations are unchanged.
 ///
 /// ```
@@ -179,21 +179,28 @@ pub fn simplify_scene_with_progress(
     progress: &dyn Fn(f64),
 ) -> Result<(Scene, SceneReport), Error> {
     let base = Options {
-        vertex_weights: Vec::new(),
-        vertex_joints: Vec::new(),
-        record_history: false,
-        see_through_materials: if options.see_through_materials.is_empty() {
-            see_through_materials(scene)
-        } else {
-            options.see_through_materials.clone()
+        record: Record {
+            history: false,
+            ..options.record
         },
-        see_through_faces: Vec::new(),
-        material_uv_sets: Some(
-            options
-                .material_uv_sets
-                .clone()
-                .unwrap_or_else(|| material_uv_sets(scene)),
-        ),
+        data: InputData {
+            vertex_weights: Vec::new(),
+            vertex_joints: Vec::new(),
+            see_through_materials: if options.data.see_through_materials.is_empty() {
+                see_through_materials(scene)
+            } else {
+                options.data.see_through_materials.clone()
+            },
+            see_through_faces: Vec::new(),
+            material_uv_sets: Some(
+                options
+                    .data
+                    .material_uv_sets
+                    .clone()
+                    .unwrap_or_else(|| material_uv_sets(scene)),
+            ),
+            ..options.data.clone()
+        },
         ..options.clone()
     };
     let placements = placements(scene);
@@ -204,7 +211,7 @@ pub fn simplify_scene_with_progress(
         .collect();
     let diagonal = world_diagonal(scene);
     // The budget is of drawn triangles: a mesh counts once per node that
-    // shows it, and each group's faces say so (`Options::face_instances`).
+    // shows it, and each group's faces say so (`InputData::face_instances`).
     let instances = scene.instance_counts();
     let drawn = |meshes: &[Mesh]| -> usize {
         meshes
@@ -258,11 +265,14 @@ pub fn simplify_scene_with_progress(
         let work = merged[g].mesh.triangle_count();
         let start = done;
         let options = &Options {
-            face_instances: face_instances[g].clone(),
-            skin_poses: if options.skin_poses.is_empty() {
-                poses[g].clone()
-            } else {
-                options.skin_poses.clone()
+            data: InputData {
+                face_instances: face_instances[g].clone(),
+                skin_poses: if options.data.skin_poses.is_empty() {
+                    poses[g].clone()
+                } else {
+                    options.data.skin_poses.clone()
+                },
+                ..options.data.clone()
             },
             ..options.clone()
         };
@@ -286,7 +296,10 @@ pub fn simplify_scene_with_progress(
                     triangles: Some(0),
                     error: limit(g),
                 },
-                record_error_curve: true,
+                record: Record {
+                    error_curve: true,
+                    ..base.record
+                },
                 partition: sequential,
                 ..base.clone()
             };
@@ -814,7 +827,7 @@ fn common_shares(curves: &[Curve], budget: usize) -> Vec<usize> {
 
 /// Bounding-box diagonal of everything the scene shows, in world space.
 /// The scene's materials that are seen through (alpha blended): their
-/// twins stay (see [`Options::see_through_materials`]).
+/// twins stay (see [`crate::InputData::see_through_materials`]).
 pub fn see_through_materials(scene: &Scene) -> Vec<u32> {
     scene
         .materials
@@ -838,7 +851,7 @@ const MAX_POSES: usize = 32;
 /// rigged limb is built to bend through.
 const BEND_DEGREES: f32 = 45.0;
 
-/// The poses `skin` is drawn in (see [`Options::skin_poses`]): frames
+/// The poses `skin` is drawn in (see [`crate::InputData::skin_poses`]): frames
 /// spread evenly over each animation of the file (both ends included), or,
 /// when it has none, every joint turned by [`BEND_DEGREES`] about its
 /// frame's x and z axes, each way (four poses).
@@ -877,7 +890,7 @@ pub fn skin_poses(scene: &Scene, skin: u32) -> Vec<Vec<[f32; 16]>> {
 }
 
 /// Per material, the UV sets its textures sample, as a bitmask (see
-/// [`Options::material_uv_sets`]).
+/// [`crate::InputData::material_uv_sets`]).
 pub fn material_uv_sets(scene: &Scene) -> Vec<u32> {
     scene
         .materials

@@ -1,50 +1,25 @@
-//! The collapse loop (W §4, App. C.1), as a pipeline of small steps over
-//! flat arrays: prepare (weld, normalize, build the complex) → virtual edges
-//! → vertex quadrics → initial queue → loop { pop, guard, collapse, update }
-//! → assemble the output.
+//! The simplifier's entry points on plain arrays: the six steps in order,
+//! each a module that imports only the ones before it — `prepare` (check,
+//! weld, normalize, build the complex; W §4.1) → `edges` (virtual edges;
+//! W §4.1) → `terms` (the quadrics and every cost term; W §4.2, Knodt §3)
+//! → `collapse` (the loop; W Alg. 1, Knodt Alg. 1) → `refit` → `assemble`
+//! (the output and its maps back to the input). The steering check (two
+//! runs, appearance within a geometric budget) is decided here.
 
 use glam::DVec3;
-use wildlod_mesh::bounds::{robust_bounds, OutlierRule};
-use wildlod_mesh::weld::weld_positions;
 use wildlod_mesh::Faces;
 
-use crate::attributes::{
-    AttributeInput, AttributeState, AttributeStream, FittedSkin, FittedStream, SkinStream,
-};
-use crate::complex::Complex;
+use crate::assemble::fidelity::fidelity;
+use crate::assemble::{assemble, Simplified};
+use crate::collapse::Run;
 use crate::error::Error;
-use crate::fidelity::fidelity;
-use crate::history::History;
+use crate::input::{AttributeInput, AttributeStream, SkinStream, StreamKind};
 use crate::options::Options;
-use crate::report::{Report, SteeringOutcome};
-use crate::run::Run;
-
-/// The simplified polygons and how they map to the input.
-#[derive(Clone, Debug, Default)]
-pub struct Simplified {
-    /// Output positions (input units).
-    pub positions: Vec<[f32; 3]>,
-    /// Output faces over `positions`; every face is an input face with
-    /// merged vertices.
-    pub faces: Faces,
-    /// For every output face, the input face it is.
-    pub face_origin: Vec<u32>,
-    /// For every output corner, the input corner it is (so per-corner
-    /// attributes can be carried over).
-    pub corner_origin: Vec<u32>,
-    /// For every input vertex, the output vertex it merged into
-    /// (`u32::MAX` when its faces all vanished).
-    pub vertex_map: Vec<u32>,
-    /// The attribute streams given to [`simplify_with_attributes`], fitted
-    /// (in the order given; empty without attributes).
-    pub attributes: Vec<FittedStream>,
-    /// The skin influences, one set per output vertex, when given.
-    pub skin: Option<FittedSkin>,
-    /// What was reached, and why it stopped.
-    pub report: Report,
-    /// The collapse history, when [`Options::record_history`] was set.
-    pub history: Option<History>,
-}
+use crate::prepare::large_polygons::split_large;
+use crate::prepare::{check_input, prepare};
+use crate::refit::refit_run;
+use crate::report::SteeringOutcome;
+use crate::terms::attributes::AttributeState;
 
 /// Simplifies polygon faces over `positions` (W §4): vertex-pair collapse on
 /// the simplicial complex with virtual edges and the area-aware quadric.
@@ -149,7 +124,7 @@ pub fn simplify_with_attributes_and_progress(
     }
     let t = &options.target;
     let counted = t.ratio.is_some() || t.triangles.is_some();
-    if !steers(attributes) || tolerance.is_infinite() || !counted || options.record_error_curve {
+    if !steers(attributes) || tolerance.is_infinite() || !counted || options.record.error_curve {
         // Nothing steers, the user lets it steer without bound, an error
         // target bounds every collapse's distance already, or the run only
         // measures how far it could go (a scene's first pass).
@@ -207,7 +182,7 @@ fn steers(attributes: &AttributeInput<'_>) -> bool {
     attributes
         .streams
         .iter()
-        .any(|s| s.weight > 0.0 && s.kind != crate::StreamKind::Carried)
+        .any(|s| s.weight > 0.0 && s.kind != StreamKind::Carried)
         || attributes.skin.is_some_and(|s| s.weight > 0.0)
 }
 
@@ -241,7 +216,7 @@ fn simplify_once(
     // Polygons above a few dozen corners are worked on in pieces (see
     // `large_polygons.rs`): otherwise their collapses cost O(k²) each. The
     // per-corner streams and per-face groups follow the pieces.
-    let split = crate::large_polygons::split_large(positions, faces, attributes);
+    let split = split_large(positions, faces, attributes);
     let split_attributes = split.as_ref().map(|s| s.attributes(attributes));
     let attributes = match &split_attributes {
         Some(a) => a.input(attributes),
@@ -257,19 +232,19 @@ fn simplify_once(
     }
     let with_attributes = !attributes.is_empty();
     // `see_through_faces` names input faces; the complex sees the pieces.
-    let see = &options.see_through_faces;
+    let see = &options.data.see_through_faces;
     let see_through = |f: u32| {
         let input = split.as_ref().map_or(f, |s| s.input_face(f));
         see.get(input as usize).copied().unwrap_or(false)
     };
     // So does `face_instances`.
-    let instances: Vec<u32> = if options.face_instances.is_empty() {
+    let instances: Vec<u32> = if options.data.face_instances.is_empty() {
         Vec::new()
     } else {
         (0..faces.len() as u32)
             .map(|f| {
                 let input = split.as_ref().map_or(f, |s| s.input_face(f));
-                options.face_instances[input as usize].max(1)
+                options.data.face_instances[input as usize].max(1)
             })
             .collect()
     };
@@ -306,7 +281,7 @@ fn simplify_once(
     };
     // The input faces the complex keeps (duplicates and twins folded
     // away), for the refit to see the surface the quadrics saw.
-    let kept: Vec<bool> = if options.refit_sweeps > 0 {
+    let kept: Vec<bool> = if options.metric.refit_sweeps > 0 {
         prepared.complex.faces.iter().map(|f| f.len > 0).collect()
     } else {
         Vec::new()
@@ -316,11 +291,12 @@ fn simplify_once(
     let mut run = Run::new(prepared, options, attrs);
     run.start(progress);
     run.collapse_loop(progress);
-    run.refit(positions, faces, &kept);
+    let mut collapsed = run.finish();
+    refit_run(&mut collapsed, positions, faces, &kept);
     progress(1.0);
-    let mut out = run.assemble(positions, attributes);
+    let mut out = assemble(collapsed, positions, attributes);
     if let Some(s) = &split {
-        s.map_back(&mut out);
+        out.map_back(s);
     }
     Ok(out)
 }
@@ -336,239 +312,4 @@ pub fn simplify_triangles(
         return Err(Error::IndexCount(indices.len()));
     }
     simplify_polygons(positions, &Faces::from_triangles(indices), options)
-}
-
-fn check_input(positions: &[[f32; 3]], faces: &Faces, options: &Options) -> Result<(), Error> {
-    let n = positions.len();
-    if faces.offsets.first() != Some(&0)
-        || faces.offsets.last().map(|&o| o as usize) != Some(faces.indices.len())
-        || faces.offsets.windows(2).any(|w| w[1] < w[0])
-    {
-        return Err(Error::MalformedFaces);
-    }
-    for f in 0..faces.len() {
-        let face = faces.face(f);
-        if face.len() < 3 {
-            return Err(Error::FaceTooSmall { face: f });
-        }
-        if let Some(&v) = face.iter().find(|&&v| v as usize >= n) {
-            return Err(Error::IndexOutOfRange {
-                face: f,
-                index: v,
-                vertices: n,
-            });
-        }
-    }
-    for f in faces.iter() {
-        for &v in f {
-            if !positions[v as usize].iter().all(|c| c.is_finite()) {
-                return Err(Error::NonFinitePosition { vertex: v as usize });
-            }
-        }
-    }
-    let o = options;
-    let bad = |name: &'static str, value: f64| Err(Error::BadOption { name, value });
-    if let Some(r) = o.target.ratio {
-        if !(0.0..=1.0).contains(&r) {
-            return bad("ratio", r);
-        }
-    }
-    if let Some(e) = o.target.error {
-        if !(e >= 0.0 && e.is_finite()) {
-            return bad("error", e);
-        }
-    }
-    if !(o.virtual_edge_radius >= 0.0 && o.virtual_edge_radius.is_finite()) {
-        return bad("virtual_edge_radius", o.virtual_edge_radius);
-    }
-    if !(o.metric.regularization >= 0.0 && o.metric.regularization.is_finite()) {
-        return bad("regularization", o.metric.regularization);
-    }
-    let non_negative = [
-        ("boundary_area_weight", o.metric.boundary_area_weight),
-        ("border_weight", o.metric.border_weight),
-        ("gluing_weight", o.metric.gluing_weight),
-        ("pinch_distance", o.metric.pinch_distance),
-        ("tangent_weight", o.metric.tangent_weight),
-        ("quad.epsilon", o.quad.epsilon),
-        ("quad.relative_epsilon", o.quad.relative_epsilon),
-        ("quad.tangent_weight", o.quad.tangent_weight),
-        ("quad.symmetry", o.quad.symmetry),
-        ("quad.joints", o.quad.joints),
-        ("quad.attribute_weight", o.quad.attribute_weight),
-        ("partition.handoff", o.partition.handoff),
-    ];
-    for (name, value) in non_negative {
-        if !(value >= 0.0 && value.is_finite()) {
-            return bad(name, value);
-        }
-    }
-    if !(o.quad.symmetry_distance > 0.0 && o.quad.symmetry_distance.is_finite()) {
-        return bad("quad.symmetry_distance", o.quad.symmetry_distance);
-    }
-    if !o.see_through_faces.is_empty() && o.see_through_faces.len() != faces.len() {
-        return Err(Error::SeeThroughCount {
-            flags: o.see_through_faces.len(),
-            faces: faces.len(),
-        });
-    }
-    if !o.face_instances.is_empty() && o.face_instances.len() != faces.len() {
-        return Err(Error::InstanceCount {
-            counts: o.face_instances.len(),
-            faces: faces.len(),
-        });
-    }
-    if !o.vertex_weights.is_empty() {
-        if o.vertex_weights.len() != n {
-            return Err(Error::WeightCount {
-                weights: o.vertex_weights.len(),
-                vertices: n,
-            });
-        }
-        if let Some((v, &w)) = o
-            .vertex_weights
-            .iter()
-            .enumerate()
-            .find(|(_, w)| !(w.is_finite() && **w >= 0.0))
-        {
-            return Err(Error::BadWeight {
-                vertex: v,
-                weight: w,
-            });
-        }
-    }
-    Ok(())
-}
-
-/// The input, welded, normalized to a unit-diagonal box centered at the
-/// origin, and built into a complex.
-pub(crate) struct Prepared {
-    pub complex: Complex,
-    pub cleaned: usize,
-    /// Twins dropped as hidden (see `twins.rs`).
-    pub hidden_twins: usize,
-    /// Triangles a ratio is of: the cleaned surface with every twin.
-    pub ratio_base: usize,
-    /// Input vertex → welded vertex.
-    pub weld: Vec<u32>,
-    pub center: DVec3,
-    pub scale: f64,
-    pub input_triangles: usize,
-    /// Per welded vertex importance (empty: all 1).
-    pub weights: Vec<f64>,
-    /// The first input vertex of each welded vertex, whose position bits
-    /// an untouched vertex keeps (the input's positions are the caller's:
-    /// not copied).
-    pub rep: Vec<u32>,
-    /// Welded vertices far from the bulk of the others (see
-    /// [`wildlod_mesh::bounds`]; empty: none): they neither move nor
-    /// vanish, and the faces they touch weigh nothing in the quadrics.
-    pub outliers: Vec<bool>,
-    /// The input vertex of each outlier, ascending.
-    pub outlier_inputs: Vec<u32>,
-    /// The geometric error budget within which appearance steers (see
-    /// `CostModel::appearance_budget`); infinite by default.
-    pub appearance_budget: f64,
-}
-
-pub(crate) fn prepare(
-    positions: &[[f32; 3]],
-    faces: &Faces,
-    options: &Options,
-    with_attributes: bool,
-    see_through: &dyn Fn(u32) -> bool,
-    instances: Vec<u32>,
-) -> Prepared {
-    let (weld, nw) = weld_positions(positions);
-    let mut rep = vec![u32::MAX; nw];
-    for (v, &w) in weld.iter().enumerate() {
-        if rep[w as usize] == u32::MAX {
-            rep[w as usize] = v as u32;
-        }
-    }
-    // Normalize by the bounds of the bulk of the vertices faces use: a
-    // vertex far from all the others (a height of -1e30 an exporter wrote)
-    // would otherwise set the unit, and every real error would vanish
-    // beside it. Such outliers stay where they are (see `Prepared::outliers`).
-    let mut used = vec![false; nw];
-    for &v in &faces.indices {
-        used[weld[v as usize] as usize] = true;
-    }
-    let used_ids: Vec<u32> = (0..nw as u32).filter(|&w| used[w as usize]).collect();
-    let bounds = robust_bounds(
-        used_ids
-            .iter()
-            .map(|&w| positions[rep[w as usize] as usize].map(f64::from)),
-        &OutlierRule::default(),
-    );
-    let mut outliers = vec![false; if bounds.outliers.is_empty() { 0 } else { nw }];
-    for &k in &bounds.outliers {
-        outliers[used_ids[k] as usize] = true;
-    }
-    let (lo, hi) = (DVec3::from(bounds.min), DVec3::from(bounds.max));
-    let (center, diag) = if bounds.is_empty() {
-        (DVec3::ZERO, 1.0)
-    } else {
-        (0.5 * (lo + hi), (hi - lo).length())
-    };
-    let scale = if diag > 0.0 { diag } else { 1.0 };
-    let pos: Vec<DVec3> = rep
-        .iter()
-        .map(|&v| (DVec3::from(positions[v as usize].map(f64::from)) - center) / scale)
-        .collect();
-    let indices: Vec<u32> = faces.indices.iter().map(|&v| weld[v as usize]).collect();
-    // The partitioned path works on faces alone until its last pass: the
-    // star lists would be built for nothing.
-    // Attribute wedges live on the global complex: no partitioned phase.
-    // Drawn triangles: each face as many times as it is drawn.
-    let input_triangles = if instances.is_empty() {
-        faces.triangulated_count()
-    } else {
-        faces
-            .iter()
-            .zip(&instances)
-            .map(|(f, &k)| f.len().saturating_sub(2) * k as usize)
-            .sum()
-    };
-    let (mut complex, cleaned) = Complex::faces_only(pos, &faces.offsets, &indices);
-    complex.set_instances(instances);
-    // The ratio is of the surface before hidden twins go: they cost
-    // nothing to drop, and the budget then buys visible detail.
-    let ratio_base = complex.triangles;
-    let hidden_twins = if options.drop_hidden_twins {
-        crate::twins::drop_hidden_twins(&mut complex, see_through)
-    } else {
-        0
-    };
-    if with_attributes || !crate::run::may_partition(faces, options) {
-        complex.build_adjacency();
-    }
-    let mut weights = Vec::new();
-    if !options.vertex_weights.is_empty() {
-        // A welded vertex is as important as its most important copy.
-        weights = vec![0.0f64; nw];
-        for (v, &w) in weld.iter().enumerate() {
-            let x = &mut weights[w as usize];
-            *x = x.max(options.vertex_weights[v] as f64);
-        }
-    }
-    Prepared {
-        appearance_budget: f64::INFINITY,
-        outlier_inputs: bounds
-            .outliers
-            .iter()
-            .map(|&k| rep[used_ids[k] as usize])
-            .collect(),
-        outliers,
-        rep,
-        complex,
-        cleaned: cleaned.degenerate + cleaned.duplicate,
-        hidden_twins,
-        ratio_base,
-        weld,
-        center,
-        scale,
-        input_triangles,
-        weights,
-    }
 }

@@ -155,10 +155,8 @@ fn heavy_vertices_survive_longer() {
         .iter()
         .map(|p| if p[0] > 0.0 { 100.0 } else { 1.0 })
         .collect();
-    let options = Options {
-        vertex_weights: weights,
-        ..ratio(0.2)
-    };
+    let mut options = ratio(0.2);
+    options.data.vertex_weights = weights;
     let (out, _) = simplify_mesh(&mesh, &options).unwrap();
     let heavy = out.positions.iter().filter(|p| p[0] > 0.0).count();
     let light = out.positions.len() - heavy;
@@ -268,10 +266,8 @@ fn attributes_and_parts_follow_their_corners() {
 #[test]
 fn history_records_every_collapse_consistently() {
     let mesh = bumpy_sphere(6);
-    let options = Options {
-        record_history: true,
-        ..ratio(0.1)
-    };
+    let mut options = ratio(0.1);
+    options.record.history = true;
     let s = simplify_polygons(&mesh.positions, &mesh.faces, &options).unwrap();
     let h = s.history.unwrap();
     assert_eq!(h.len(), s.report.collapses);

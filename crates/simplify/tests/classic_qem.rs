@@ -55,9 +55,9 @@ fn default_metric_equals_classic_qem_on_closed_manifolds() {
             };
             let mut wild = Options {
                 target,
-                refit_sweeps: 0,
                 ..Options::default()
             };
+            wild.metric.refit_sweeps = 0;
             wild.metric.pinch_cost = pinch;
             wild.metric.face_weight_floor = pinch / 2.0;
             let mut classic = Options {
@@ -191,7 +191,7 @@ fn engine_matches_brute_force_garland_heckbert_on_a_closed_mesh() {
         // The reference weighs planes by area, as Garland and Heckbert do,
         // and places vertices only by collapses.
         options.metric.face_weight_floor = 0.0;
-        options.refit_sweeps = 0;
+        options.metric.refit_sweeps = 0;
         let (ours, report) = simplify_mesh(&mesh, &options).unwrap();
         assert_eq!(report.output_triangles, target);
         let reference = reference_qem(&mesh, target, options.metric.regularization);

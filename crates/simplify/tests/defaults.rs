@@ -243,7 +243,7 @@ fn a_flat_tiling_stays_in_its_plane_and_inside_its_border() {
     for quad_mode in [QuadMode::default(), QuadMode::Never] {
         for ratio in [0.1, 0.01] {
             let mut o = at_ratio(ratio);
-            o.quad_mode = quad_mode;
+            o.quad.mode = quad_mode;
             let (out, _) = simplify_scene(&scene, &o).unwrap();
             let mesh = &out.meshes[0];
             let off_plane = mesh

@@ -246,9 +246,10 @@ fn geometry(m: &Mesh) -> Vec<Vec<[u32; 3]>> {
 fn doubled_faces_simplify_like_the_single_copy() {
     // With every twin riding along (the chair's boxes are closed: by
     // default their twins go, see the hidden-twin tests below).
-    let ratio = |r| Options {
-        drop_hidden_twins: false,
-        ..ratio(r)
+    let ratio = |r| {
+        let mut o = ratio(r);
+        o.guards.drop_hidden_twins = false;
+        o
     };
     let single = chair();
     let t = single.triangle_count();
@@ -442,28 +443,22 @@ fn twins_stay_on_open_sheets_and_on_see_through_faces() {
     // A closed surface seen through (a blended material): the inside shows.
     let single = bumpy_sphere(4);
     let double = doubled(&single, true);
-    let options = Options {
-        see_through_faces: vec![true; double.faces.len()],
-        ..ratio(1.0)
-    };
+    let mut options = ratio(1.0);
+    options.data.see_through_faces = vec![true; double.faces.len()];
     let (out, report) = simplify_mesh(&double, &options).unwrap();
     assert_eq!(report.hidden_twins, 0);
     assert_eq!(out.faces.len(), double.faces.len());
     // One flag per input face, or an error naming both counts.
-    let short = Options {
-        see_through_faces: vec![true; 3],
-        ..ratio(1.0)
-    };
+    let mut short = ratio(1.0);
+    short.data.see_through_faces = vec![true; 3];
     let err = simplify_mesh(&double, &short).unwrap_err();
     assert!(
         matches!(err, wildlod_simplify::Error::SeeThroughCount { flags: 3, faces } if faces == double.faces.len()),
         "{err}"
     );
     // And with the option off.
-    let options = Options {
-        drop_hidden_twins: false,
-        ..ratio(1.0)
-    };
+    let mut options = ratio(1.0);
+    options.guards.drop_hidden_twins = false;
     let (out, _) = simplify_mesh(&double, &options).unwrap();
     assert_eq!(out.faces.len(), double.faces.len());
 }
@@ -705,10 +700,8 @@ fn faces_with_twins_reach_a_face_budget_within_one_face_and_say_so_when_below() 
     let double = doubled(&single, true);
     let mut slack_seen = 0;
     for t in 8..80 {
-        let options = Options {
-            see_through_faces: vec![true; double.faces.len()],
-            ..faces_target(t)
-        };
+        let mut options = faces_target(t);
+        options.data.see_through_faces = vec![true; double.faces.len()];
         let (out, report) = simplify_mesh(&double, &options).unwrap();
         let n = out.triangle_count();
         assert_eq!(report.hidden_twins, 0);

@@ -16,8 +16,7 @@ fn to(triangles: usize, mode: QuadMode, quad: QuadSettings) -> Options {
             triangles: Some(triangles),
             ..Target::default()
         },
-        quad_mode: mode,
-        quad,
+        quad: QuadSettings { mode, ..quad },
         ..Options::default()
     }
 }
@@ -126,10 +125,8 @@ fn triangle_meshes_are_untouched_by_auto_quad_mode() {
         },
         ..Options::default()
     };
-    let never = Options {
-        quad_mode: QuadMode::Never,
-        ..auto.clone()
-    };
+    let mut never = auto.clone();
+    never.quad.mode = QuadMode::Never;
     assert_eq!(
         simplify_mesh(&mesh, &auto).unwrap().0,
         simplify_mesh(&mesh, &never).unwrap().0
@@ -165,8 +162,8 @@ fn joint_weights_keep_edges_where_influences_change() {
                 ratio: Some(0.2),
                 ..Target::default()
             },
-            quad_mode: QuadMode::Always,
             quad: QuadSettings {
+                mode: QuadMode::Always,
                 tangent_weight: 1.0 / 3.0,
                 joints: lambda,
                 ..QuadSettings::default()
@@ -290,7 +287,7 @@ fn ties_do_not_sweep_chords_across_a_finely_tessellated_part() {
             // (`guards::pinch_prices`), not the ordering's: left out.
             o.metric.pinch_cost = 0.0;
             // The orderings' price, before the refit moves any vertex.
-            o.refit_sweeps = 0;
+            o.metric.refit_sweeps = 0;
             let (out, rep) = simplify_mesh(&mesh, &o).unwrap();
             assert_eq!(rep.output_triangles, target);
             let c =

@@ -21,7 +21,7 @@ fn distances(reference: &Mesh, candidate: &Mesh) -> (f64, f64) {
 }
 
 fn with_sweeps(mut o: Options, sweeps: u32) -> Options {
-    o.refit_sweeps = sweeps;
+    o.metric.refit_sweeps = sweeps;
     o
 }
 
@@ -72,10 +72,8 @@ fn recording_the_history_changes_nothing() {
     // through it: the output is the one an unrecorded run makes.
     let mesh = bumpy_sphere(12);
     let (plain, _) = simplify_mesh(&mesh, &ratio(0.2)).unwrap();
-    let recorded = Options {
-        record_history: true,
-        ..ratio(0.2)
-    };
+    let mut recorded = ratio(0.2);
+    recorded.record.history = true;
     let (b, _) = simplify_mesh(&mesh, &recorded).unwrap();
     assert_eq!(plain.positions, b.positions);
     assert_eq!(plain.faces, b.faces);
@@ -86,8 +84,8 @@ fn recording_the_history_changes_nothing() {
 
 #[test]
 fn classic_qem_does_not_refit() {
-    assert_eq!(Options::classic_qem().refit_sweeps, 0);
-    assert!(Options::default().refit_sweeps > 0);
+    assert_eq!(Options::classic_qem().metric.refit_sweeps, 0);
+    assert!(Options::default().metric.refit_sweeps > 0);
 }
 
 /// A box of `n × n` grids per side whose sides carry raised panels: flat

@@ -320,20 +320,16 @@ fn instance_counts_must_name_every_face() {
     // A caller's per-face counts that do not match the faces are refused
     // by name, not read past the end or ignored.
     let sphere = bumpy_sphere(4);
-    let options = Options {
-        face_instances: vec![2; 3],
-        ..Options::default()
-    };
+    let mut options = Options::default();
+    options.data.face_instances = vec![2; 3];
     let err = simplify_mesh(&sphere, &options).unwrap_err();
     assert!(
         matches!(err, wildlod_simplify::Error::InstanceCount { counts: 3, faces } if faces == sphere.faces.len()),
         "{err}"
     );
     // One count per face is accepted and counts in the report.
-    let options = Options {
-        face_instances: vec![2; sphere.faces.len()],
-        ..Options::default()
-    };
+    let mut options = Options::default();
+    options.data.face_instances = vec![2; sphere.faces.len()];
     let (_, report) = simplify_mesh(&sphere, &options).unwrap();
     assert_eq!(report.input_triangles, 2 * sphere.triangle_count());
 }

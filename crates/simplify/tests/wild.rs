@@ -28,10 +28,8 @@ fn touching_boxes_merge_through_virtual_edge() {
     // input vertices from both boxes (a box may vanish instead).
     let split = both.positions.len() / 2; // box A's vertices come first
     for r in [0.05, 0.01, 0.005] {
-        let apart = Options {
-            virtual_edge_radius: 0.0,
-            ..ratio(r)
-        };
+        let mut apart = ratio(r);
+        apart.guards.virtual_edge_radius = 0.0;
         let s = wildlod_simplify::simplify_polygons(&both.positions, &both.faces, &apart).unwrap();
         let mut owner = vec![None; s.positions.len()];
         for (v, &o) in s.vertex_map.iter().enumerate() {
@@ -156,10 +154,8 @@ fn two_lone_quads_at_one_vertex_each_keep_a_face_at_half() {
         wildlod_simplify::QuadMode::default(),
         wildlod_simplify::QuadMode::Never,
     ] {
-        let options = Options {
-            quad_mode,
-            ..ratio(0.5)
-        };
+        let mut options = ratio(0.5);
+        options.quad.mode = quad_mode;
         let (out, rep) = simplify_mesh(&mesh, &options).unwrap();
         assert_eq!(out.triangle_count(), 2, "{quad_mode:?}: {rep:?}");
         // Each quad keeps a face: some output face has its centroid on

@@ -35,21 +35,8 @@ use std::path::{Path, PathBuf};
 /// connected component of today's graph, and every such component must be
 /// here. When you dissolve one, delete its entry (the test fails until you
 /// do); never add one to make the test pass — make the imports go one way.
-///
-/// - `cli`: the argument definitions and the asset arguments use each
-///   other, and so do the `bake` and `simplify` commands (issue 35, being
-///   split on another branch);
-/// - `simplify`: the cost terms and the guards use each other, and the
-///   pipeline's core runs back and forth between the entry point, the run,
-///   the posed-error check and the large-polygon split (issue 35's one-way
-///   layout prepare → edges → terms → loop → refit → assemble, being built
-///   on another branch).
-const KNOWN: &[(&str, &[&str])] = &[
-    ("cli", &["args", "args_assets"]),
-    ("cli", &["commands::bake", "commands::simplify"]),
-    ("simplify", &["cost", "guards"]),
-    ("simplify", &["large_polygons", "posed", "run", "simplify"]),
-];
+/// Empty since issue 35: no crate has a circle.
+const KNOWN: &[(&str, &[&str])] = &[];
 
 /// A module path inside its crate (`["gltf", "read"]`; the root is empty).
 type ModPath = Vec<String>;
@@ -727,6 +714,65 @@ fn module_circles_are_exactly_the_known_ones() {
             file!()
         ));
     }
+    assert!(report.is_empty(), "{report}");
+}
+
+/// The simplifier's steps in the order they run (issue 35): each imports
+/// only the steps before it and the contracts, so a reader follows the
+/// crate top to bottom as meshoptimizer's one-file simplifier is read.
+/// The entry points (arrays, meshes, scenes) come last and may use every
+/// step; the contracts (what a caller gives and gets back) use none.
+const SIMPLIFY_STEPS: &[&[&str]] = &[
+    &["error", "input", "options", "report"],
+    &["prepare"],
+    &["edges"],
+    &["terms"],
+    &["collapse"],
+    &["refit"],
+    &["assemble"],
+    &["simplify", "mesh", "scene"],
+];
+
+#[test]
+fn simplify_steps_import_only_the_steps_before_them() {
+    let crates = workspace_crates();
+    let (_, origin, files) = crates
+        .iter()
+        .find(|(n, _, _)| n == "simplify")
+        .expect("the simplify crate's sources");
+    let g = graph(files, origin);
+    let rank = |m: &str| -> Option<usize> {
+        let top = m.split("::").next().unwrap_or("");
+        SIMPLIFY_STEPS.iter().position(|s| s.contains(&top))
+    };
+    let mut report = String::new();
+    let mut checked = 0;
+    for (from, to) in &g.edges {
+        let Some(rf) = rank(from) else {
+            // Only the crate root (lib.rs) may stand outside the steps.
+            if !from.is_empty() {
+                report.push_str(&format!(
+                    "\nmodule `{from}` is in no step of SIMPLIFY_STEPS"
+                ));
+            }
+            continue;
+        };
+        for (to, site) in to {
+            checked += 1;
+            match rank(to) {
+                Some(rt) if rt <= rf => {}
+                _ => report.push_str(&format!(
+                    "\n`{from}` imports `{to}`, a later step ({}:{})",
+                    site.file.display(),
+                    site.line
+                )),
+            }
+        }
+    }
+    assert!(
+        checked > 50,
+        "only {checked} imports seen: the parser lost the crate"
+    );
     assert!(report.is_empty(), "{report}");
 }
 

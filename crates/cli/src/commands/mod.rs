@@ -1,6 +1,5 @@
 //! One module per command.
 
-mod bake;
 mod batch;
 mod compare;
 mod demo;

@@ -7,13 +7,15 @@ use anyhow::{bail, Context};
 use wildlod_io::{Document, ErrorKind, WriteOptions};
 use wildlod_mesh::Scene;
 use wildlod_pipeline::{
-    file_stem, merge_twins_for_output, simplify_scene, targets_for, treat_textures, BakeSettings,
-    FileTargets, MeshRun, NormalSetting, RunJson, SeamSetting, TextureChoice, TextureMode, Tuning,
+    file_stem, merge_twins_for_output, rebake_scene, simplify_scene, targets_for, treat_textures,
+    BakeSettings, FileTargets, MeshRun, NormalSetting, RunJson, SeamSetting, TextureChoice,
+    TextureMode, Tuning,
 };
 use wildlod_simplify::{Options, Report, SceneReport, StopReason, Target};
 
 use super::with_flag_names;
-use crate::args::{NormalArg, SeamArg, SimplifyArgs, TextureArg, TuningArgs};
+use crate::args::SimplifyArgs;
+use crate::flags::{NormalArg, SeamArg, TextureArg, TextureArgs, TuningArgs};
 use crate::progress::Progress;
 use crate::stdout::emit;
 
@@ -83,7 +85,7 @@ impl Config {
 
 /// `--textures` and the re-baking settings of `lod` and `batch`, checked.
 pub(crate) fn texture_settings(
-    t: &crate::args_assets::TextureArgs,
+    t: &TextureArgs,
 ) -> anyhow::Result<wildlod_pipeline::TextureSettings> {
     let mode = texture_mode(t.textures);
     Ok(wildlod_pipeline::TextureSettings {
@@ -329,7 +331,7 @@ fn texture_line(c: &TextureChoice) -> String {
 fn rebake(doc: &Document, cfg: &Config, stem: &str) -> anyhow::Result<Done> {
     let mut out = doc.clone();
     let targets = mesh_targets(&doc.scene, cfg);
-    let (runs, lines) = super::bake::bake_scene(&mut out, cfg, &targets, stem)?;
+    let (runs, lines) = bake_scene(&mut out, cfg, &targets, stem)?;
     Ok(Done {
         doc: out,
         runs,
@@ -552,4 +554,26 @@ pub fn summary(name: &str, r: &Report, seconds: f64) -> String {
 /// wants; one triangle per mesh is the smallest valid result.
 pub(super) fn mesh_targets(scene: &Scene, cfg: &Config) -> Vec<Target> {
     targets_for(scene, cfg.ratio, cfg.faces, cfg.error)
+}
+
+/// Re-bakes every mesh of the document in place (the pipeline's
+/// [`wildlod_pipeline::rebake_scene`]), printing its warnings; returns
+/// every simplified mesh's run and its summary line, saying what was baked.
+fn bake_scene(
+    doc: &mut Document,
+    cfg: &Config,
+    targets: &[Target],
+    stem: &str,
+) -> anyhow::Result<(Vec<MeshRun>, Vec<String>)> {
+    let (baked, warnings) = rebake_scene(doc, &cfg.input, &cfg.options, &cfg.bake, targets, stem)?;
+    if !cfg.quiet {
+        for w in warnings {
+            eprintln!("warning: {w}");
+        }
+    }
+    let lines = baked
+        .iter()
+        .map(|b| summary(&b.run.name, &b.run.report, b.run.seconds) + &b.atlases)
+        .collect();
+    Ok((baked.into_iter().map(|b| b.run).collect(), lines))
 }

@@ -1,0 +1,698 @@
+//! Guards: tests a collapse must pass before it is made. Each is optional
+//! (see [`crate::options::Guards`]); none assumes a manifold.
+
+use glam::DVec3;
+
+use crate::prepare::complex::Complex;
+use crate::prepare::geometry::polygon_normal;
+
+/// The first surviving face of their star (in `star`'s order) that
+/// collapsing `i`–`j` to `x` turns by more than the angle whose cosine is
+/// `min_cos`, if any: the collapse loop keeps it as the reason for the
+/// refusal. Faces without area before or after are not judged (their
+/// normal means nothing).
+pub(crate) fn flipped_face(
+    c: &Complex,
+    star: &[u32],
+    i: u32,
+    j: u32,
+    x: DVec3,
+    min_cos: f64,
+) -> Option<u32> {
+    let mut old_p: smallvec::SmallVec<[DVec3; 8]> = smallvec::SmallVec::new();
+    let mut new_p: smallvec::SmallVec<[DVec3; 8]> = smallvec::SmallVec::new();
+    for &f in star {
+        let face = c.face(f);
+        let (old, new) = if let [a, b, d] = *face {
+            // A triangle holding both endpoints vanishes: nothing to judge.
+            let has = |v: u32| a == v || b == v || d == v;
+            if has(i) && has(j) {
+                continue;
+            }
+            let p = |v: u32| c.pos[v as usize];
+            let m = |v: u32| {
+                if v == i || v == j {
+                    x
+                } else {
+                    c.pos[v as usize]
+                }
+            };
+            (
+                (p(b) - p(a)).cross(p(d) - p(a)),
+                (m(b) - m(a)).cross(m(d) - m(a)),
+            )
+        } else {
+            old_p.clear();
+            new_p.clear();
+            for &v in face {
+                let p = c.pos[v as usize];
+                old_p.push(p);
+                new_p.push(if v == i || v == j { x } else { p });
+            }
+            (polygon_normal(&old_p), polygon_normal(&new_p))
+        };
+        let (lo, ln) = (old.length_squared(), new.length_squared());
+        // Areas below ~1e-15 of the unit-diagonal mesh are numerical dust.
+        if lo <= 1e-30 || ln <= 1e-30 {
+            continue;
+        }
+        if old.dot(new) < min_cos * (lo * ln).sqrt() {
+            return Some(f);
+        }
+    }
+    None
+}
+
+/// Whether a face vanishes when `i` and `j` merge: a triangle on the edge.
+#[inline]
+pub(crate) fn vanishes(face: &[u32], i: u32, j: u32) -> bool {
+    face.len() == 3 && face.contains(&i) && face.contains(&j)
+}
+
+/// Whether collapsing `i`–`j` to `x` leaves a surviving face of `star`
+/// that had area with none (its corners on one line, to 1e-12 of its
+/// area). [`flipped_face`] does not judge faces without area, so a face
+/// flattened to a line could later turn over unseen; the flat-border rule
+/// (see `CostModel::evaluate`) refuses such collapses.
+pub(crate) fn flattens_a_face(c: &Complex, star: &[u32], i: u32, j: u32, x: DVec3) -> bool {
+    let mut old_p: smallvec::SmallVec<[DVec3; 8]> = smallvec::SmallVec::new();
+    let mut new_p: smallvec::SmallVec<[DVec3; 8]> = smallvec::SmallVec::new();
+    for &f in star {
+        let face = c.face(f);
+        if vanishes(face, i, j) {
+            continue;
+        }
+        old_p.clear();
+        new_p.clear();
+        for &v in face {
+            let p = c.pos[v as usize];
+            old_p.push(p);
+            new_p.push(if v == i || v == j { x } else { p });
+        }
+        let (lo, ln) = (
+            polygon_normal(&old_p).length_squared(),
+            polygon_normal(&new_p).length_squared(),
+        );
+        if lo > 1e-30 && ln <= 1e-24 * lo {
+            return true;
+        }
+    }
+    false
+}
+
+/// The link condition for polygon complexes (Dey et al. 1999; W App. B),
+/// with the boundary rule: true when collapsing `i`–`j` keeps the topology.
+///
+/// - every common neighbor `k` of `i` and `j` closes a triangle (i, j, k);
+/// - no side shared by the faces of `i` and of `j` except through faces
+///   holding both (for triangles: the tetrahedron case);
+/// - if both are on the boundary, `i`–`j` is a boundary edge;
+/// - the edge is used by at most two faces, and the collapse does not delete
+///   an isolated triangle (a whole component).
+pub(crate) fn keeps_topology(c: &Complex, i: u32, j: u32) -> bool {
+    let faces_on_edge = c.edge_face_count(i, j);
+    if faces_on_edge > 2 {
+        return false;
+    }
+    // Common neighbors through edges.
+    let ni: Vec<u32> = c.vert_edges[i as usize]
+        .iter()
+        .map(|&e| c.other(e, i))
+        .collect();
+    for &e in &c.vert_edges[j as usize] {
+        let k = c.other(e, j);
+        if k == i || !ni.contains(&k) {
+            continue;
+        }
+        let closes = c.vert_faces[i as usize].iter().any(|&f| {
+            let face = c.face(f);
+            face.len() == 3 && face.contains(&j) && face.contains(&k)
+        });
+        if !closes {
+            return false;
+        }
+    }
+    // Sides of faces of i (not holding j) and of j (not holding i).
+    if shares_a_far_side(c, i, j) {
+        return false;
+    }
+    let (bi, bj) = (c.on_boundary(i), c.on_boundary(j));
+    if bi && bj && c.edge_face_count(i, j) != 1 {
+        return false;
+    }
+    // An isolated triangle on the edge would vanish with its component.
+    for &f in &c.vert_faces[i as usize] {
+        let face = c.face(f);
+        if face.len() == 3 && face.contains(&j) {
+            let isolated = (0..3).all(|k| c.edge_face_count(face[k], face[(k + 1) % 3]) == 1);
+            if isolated {
+                return false;
+            }
+        }
+    }
+    true
+}
+
+/// The sides of `v`'s faces that do not hold `other` and do not touch `v`
+/// (for a triangle fan, the rim of `v`'s star), as sorted vertex pairs.
+fn far_sides(c: &Complex, v: u32, other: u32) -> Vec<(u32, u32)> {
+    let mut out = Vec::new();
+    for &f in &c.vert_faces[v as usize] {
+        let face = c.face(f);
+        if face.contains(&other) {
+            continue;
+        }
+        let n = face.len();
+        for k in 0..n {
+            let (a, b) = (face[k], face[(k + 1) % n]);
+            if a != v && b != v {
+                out.push((a.min(b), a.max(b)));
+            }
+        }
+    }
+    out.sort_unstable();
+    out
+}
+
+/// The second rule of the link condition: a side far from both `i` and
+/// `j` belongs to faces of each, so the collapse folds two faces onto one
+/// another (the tetrahedron, a tube's closed end).
+fn shares_a_far_side(c: &Complex, i: u32, j: u32) -> bool {
+    let si = far_sides(c, i, j);
+    far_sides(c, j, i)
+        .iter()
+        .any(|s| si.binary_search(s).is_ok())
+}
+
+/// How clearly a face must turn towards a ring's center (cosine of the
+/// angle between its normal and the direction to the center) for the ring
+/// to count as wrapping air. Flat strips and twin-faced sheets sit near 0
+/// either way; they count as material.
+const FACES_AIR: f64 = 0.2;
+
+/// Whether the surface at face `f` wraps material around `center` rather
+/// than air: false only when the face clearly turns towards the center,
+/// as a hole's wall does; a solid strand's faces turn away from it, and a
+/// flat strip's (or a twin-faced sheet's) neither way.
+fn faces_away(c: &Complex, f: u32, center: DVec3) -> bool {
+    let p: smallvec::SmallVec<[DVec3; 8]> = c.face(f).iter().map(|&v| c.pos[v as usize]).collect();
+    let centroid = p.iter().copied().sum::<DVec3>() / p.len().max(1) as f64;
+    let n = polygon_normal(&p);
+    let d = centroid - center;
+    let scale = n.length() * d.length();
+    scale.is_nan() || scale <= 0.0 || n.dot(d) > -FACES_AIR * scale
+}
+
+/// Whether collapsing the face side `i`–`j` flattens material, by the
+/// first two rules of the link condition (see [`keeps_topology`])
+/// restricted to face sides, so that virtual edges, which merge parts,
+/// never count: some vertex `k` is a face-side neighbour of both without a
+/// triangle (i, j, k) (a thin tube's ring, a strip's width), or a side far
+/// from both belongs to faces of each (a tube's closed end folding flat);
+/// and the surface there faces away from the ring or cap, so it wraps
+/// material (a solid strand) rather than air (a hole through a plate,
+/// whose closing is W's ordinary simplification). Repeated, such collapses
+/// flatten a thin part into edges no face uses, which the output cannot
+/// show. False when `i`–`j` is no face's side.
+pub(crate) fn pinches(c: &Complex, i: u32, j: u32) -> bool {
+    // Checked once per collapse the loop pops, so from one pass over each
+    // star: each face's neighbours of the star's center (`prev`, `next`),
+    // which for a triangle are also its far side.
+    let corners = |v: u32| {
+        let mut out: smallvec::SmallVec<[(u32, u32, u32, usize); 12]> = smallvec::SmallVec::new();
+        for &f in &c.vert_faces[v as usize] {
+            let face = c.face(f);
+            let n = face.len();
+            if let Some(k) = face.iter().position(|&w| w == v) {
+                out.push((f, face[(k + n - 1) % n], face[(k + 1) % n], n));
+            }
+        }
+        out
+    };
+    let si = corners(i);
+    if !si.iter().any(|&(_, p, q, _)| p == j || q == j) {
+        return false;
+    }
+    let sj = corners(j);
+    let (pi, pj) = (c.pos[i as usize], c.pos[j as usize]);
+    let neighbour_of_i = |w: u32| si.iter().any(|&(_, p, q, _)| p == w || q == w);
+    // First rule: a common neighbour `w` with no triangle (i, j, w).
+    for &(_, p, q, _) in &sj {
+        for w in [p, q] {
+            if w == i || !neighbour_of_i(w) {
+                continue;
+            }
+            let closed = si
+                .iter()
+                .any(|&(_, a, b, n)| n == 3 && ((a == j && b == w) || (a == w && b == j)));
+            if closed {
+                continue;
+            }
+            let ring = (pi + pj + c.pos[w as usize]) / 3.0;
+            let on_edge = si.iter().find(|&&(_, a, b, _)| a == j || b == j);
+            if on_edge.is_some_and(|&(g, ..)| faces_away(c, g, ring)) {
+                return true;
+            }
+        }
+    }
+    // Second rule: a far side of a face of each (triangles: the side
+    // opposite the center; other polygons: every side not touching it).
+    // Sides are reported to `visit` in order, without a list per face:
+    // this check runs at every pop of the queue.
+    let far = |v: u32,
+               other: u32,
+               &(f, p, q, n): &(u32, u32, u32, usize),
+               visit: &mut dyn FnMut(u32, u32) -> bool|
+     -> bool {
+        let face = c.face(f);
+        if face.contains(&other) {
+            return false;
+        }
+        if n == 3 {
+            return visit(p.min(q), p.max(q));
+        }
+        for k in 0..n {
+            let (a, b) = (face[k], face[(k + 1) % n]);
+            if a != v && b != v && visit(a.min(b), a.max(b)) {
+                return true;
+            }
+        }
+        false
+    };
+    // `j`'s far sides once, not once per face of `i`.
+    let mut far_j: smallvec::SmallVec<[(u32, u32); 16]> = smallvec::SmallVec::new();
+    for cj in &sj {
+        far(j, i, cj, &mut |a, b| {
+            far_j.push((a, b));
+            false
+        });
+    }
+    for ci in &si {
+        let found = far(i, j, ci, &mut |a, b| {
+            if !far_j.contains(&(a, b)) {
+                return false;
+            }
+            let cap = (pi + pj + c.pos[a as usize] + c.pos[b as usize]) / 4.0;
+            faces_away(c, ci.0, cap)
+        });
+        if found {
+            return true;
+        }
+    }
+    false
+}
+
+/// The fewest triangles a closed part can keep its topology with (a
+/// tetrahedron).
+const CLOSED_MINIMUM: f64 = 4.0;
+
+/// What a pinch costs (see `Metric::pinch_cost`), from the parts of the
+/// complex, `area` per vertex, and the run's `budget` of triangles.
+///
+/// A part too small for the budget (its share of it, by area, is below
+/// what the smallest closed surface needs) pays what its vanishing costs
+/// measured like an ordinary collapse at the target. Its pinches are W's
+/// ordinary topology changes, not the loss of a thin feature: at the
+/// target it could not stay a closed surface anyway. But whether it should
+/// go is a matter of distance, not area: a side mirror has a thousandth of
+/// a truck's area and sticks out by a twentieth of its size. A collapse at
+/// the target moving the surface by `e` costs about `4 · (A / target) · e²`
+/// (both endpoints carry two target faces' area); a part of diagonal `d`
+/// vanishing moves its surface by about `d / 2`, so it pays
+/// `(A / target) · d²`: it goes when it is smaller than the error the rest
+/// of the mesh reaches.
+///
+/// Every other part pays the same for a `distance` (`Metric::pinch_distance`),
+/// `(A / target) · distance²`: its thin parts go once the rest would move
+/// by about half of it. Only when `distance` is given (the run has a
+/// triangle target; an error limit alone has no target face) and above 0;
+/// otherwise they pay `pinch`.
+///
+/// Every price is at most `pinch`.
+pub(crate) fn pinch_prices(
+    c: &Complex,
+    area: &[f64],
+    budget: usize,
+    pinch: f64,
+    distance: Option<f64>,
+) -> PinchPrices {
+    let full = PinchPrices {
+        base: pinch,
+        per_vertex: Vec::new(),
+    };
+    let (label, parts) = c.part_labels();
+    let mut part_area = vec![0.0f64; parts];
+    let mut lo = vec![DVec3::splat(f64::INFINITY); parts];
+    let mut hi = vec![DVec3::splat(f64::NEG_INFINITY); parts];
+    for (v, &l) in label.iter().enumerate() {
+        let l = l as usize;
+        part_area[l] += area.get(v).copied().unwrap_or(0.0);
+        lo[l] = lo[l].min(c.pos[v]);
+        hi[l] = hi[l].max(c.pos[v]);
+    }
+    let total: f64 = part_area.iter().sum();
+    if total.is_nan() || total <= 0.0 {
+        return full;
+    }
+    let face_area = total / budget.max(1) as f64;
+    let base = match distance {
+        Some(d) if d > 0.0 => (face_area * d * d).min(pinch),
+        _ => pinch,
+    };
+    let price: Vec<f64> = (0..parts)
+        .map(|l| {
+            if !too_small_for_budget(part_area[l], total, budget) {
+                return base;
+            }
+            let d2 = (hi[l] - lo[l]).length_squared();
+            (face_area * d2).min(pinch)
+        })
+        .collect();
+    // One number when every vertex pays the same: a price per vertex is 4
+    // bytes a vertex of a large run would carry for nothing.
+    let per_vertex = if price.iter().all(|&p| p == base) {
+        Vec::new()
+    } else {
+        label.iter().map(|&l| price[l as usize] as f32).collect()
+    };
+    PinchPrices { base, per_vertex }
+}
+
+/// What a pinch costs in a run (see [`pinch_prices`]).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub(crate) struct PinchPrices {
+    /// The price of every vertex not in `per_vertex`.
+    pub base: f64,
+    /// The price at each vertex; empty when every vertex pays `base`.
+    pub per_vertex: Vec<f32>,
+}
+
+impl PinchPrices {
+    /// The price of a pinch at vertex `v`.
+    #[inline]
+    pub fn at(&self, v: u32) -> f64 {
+        self.per_vertex
+            .get(v as usize)
+            .map_or(self.base, |&p| f64::from(p))
+    }
+}
+
+/// Whether a part of `area`, out of `total`, gets less than the smallest
+/// closed surface (a tetrahedron) of a `budget`-triangle target when the
+/// budget is shared by area.
+pub(crate) fn too_small_for_budget(area: f64, total: f64, budget: usize) -> bool {
+    budget.max(1) as f64 * area / total < CLOSED_MINIMUM
+}
+
+/// Exactly how many triangles collapsing `i`–`j` removes, without making
+/// it: faces that lose corners or vanish, and duplicates that appear.
+pub(crate) fn removed_triangles(c: &Complex, star: &[u32], i: u32, j: u32) -> usize {
+    let mut removed = 0;
+    let mut keys: Vec<(Vec<u32>, u32, usize)> = Vec::with_capacity(star.len());
+    for &f in star {
+        let face = c.face(f);
+        let old = face.len();
+        let merged: Vec<u32> = face.iter().map(|&v| if v == j { i } else { v }).collect();
+        let kept = surviving_cycle(&merged);
+        let copies = c.copies(f);
+        if kept.len() < 3 {
+            removed += (old - 2) * copies;
+            continue;
+        }
+        removed += (old - kept.len()) * copies;
+        if kept.contains(&i) {
+            let k = (0..kept.len()).min_by_key(|&k| kept[k]).unwrap_or(0);
+            keys.push((
+                (0..kept.len())
+                    .map(|t| kept[(k + t) % kept.len()])
+                    .collect(),
+                f,
+                copies,
+            ));
+        }
+    }
+    keys.sort_unstable();
+    // Of two equal faces the collapse removes the later, with its twins.
+    for w in 1..keys.len() {
+        if keys[w].0 == keys[w - 1].0 {
+            removed += (keys[w].0.len() - 2) * keys[w].2;
+        }
+    }
+    removed
+}
+
+/// The cycle a face keeps after merging vertices: consecutive repeats
+/// dropped, then the longest loop between repeats (as
+/// `Complex::normalize_face` does).
+fn surviving_cycle(v: &[u32]) -> Vec<u32> {
+    let mut runs: Vec<u32> = Vec::with_capacity(v.len());
+    for &x in v {
+        if runs.last() != Some(&x) {
+            runs.push(x);
+        }
+    }
+    while runs.len() > 1 && runs[0] == runs[runs.len() - 1] {
+        runs.pop();
+    }
+    'split: loop {
+        for a in 0..runs.len() {
+            for b in a + 1..runs.len() {
+                if runs[a] == runs[b] {
+                    let inner = runs[a..b].to_vec();
+                    let mut outer = runs[b..].to_vec();
+                    outer.extend_from_slice(&runs[..a]);
+                    runs = if inner.len() >= outer.len() {
+                        inner
+                    } else {
+                        outer
+                    };
+                    continue 'split;
+                }
+            }
+        }
+        break;
+    }
+    runs
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn tetra() -> Complex {
+        let pos = vec![DVec3::ZERO, DVec3::X, DVec3::Y, DVec3::Z];
+        Complex::new(
+            pos,
+            &[0, 3, 6, 9, 12],
+            &[0, 2, 1, 0, 1, 3, 0, 3, 2, 1, 2, 3],
+        )
+        .0
+    }
+
+    #[test]
+    fn tetrahedron_edges_fail_the_link_condition() {
+        let c = tetra();
+        for e in 0..c.edges.len() {
+            let [i, j] = c.edges[e].ends;
+            assert!(!keeps_topology(&c, i, j), "edge {i}-{j}");
+        }
+    }
+
+    /// Two tetrahedra, the second half as large and far away, with
+    /// per-vertex areas giving the first 99 times the second's area.
+    fn two_tetrahedra() -> (Complex, [f64; 8]) {
+        let t = tetra();
+        let mut pos = t.pos.clone();
+        pos.extend(t.pos.iter().map(|p| *p * 0.5 + DVec3::splat(5.0)));
+        let idx: Vec<u32> = [0, 2, 1, 0, 1, 3, 0, 3, 2, 1, 2, 3]
+            .iter()
+            .chain([4, 6, 5, 4, 5, 7, 4, 7, 6, 5, 6, 7].iter())
+            .copied()
+            .collect();
+        let off: Vec<u32> = (0..=8).map(|k| 3 * k).collect();
+        let c = Complex::new(pos, &off, &idx).0;
+        (c, [24.75, 24.75, 24.75, 24.75, 0.25, 0.25, 0.25, 0.25])
+    }
+
+    #[test]
+    fn parts_too_small_for_a_closed_shape_pay_for_their_size() {
+        // Two tetrahedra, one with 99 times the other's area (per-vertex
+        // areas given directly), the small one half as large. At 100
+        // triangles the small one's share is 1 triangle, below a
+        // tetrahedron's 4: it pays a target face's area (100 / 100 = 1)
+        // times its squared diagonal (3 / 4), the large one the full
+        // price. At 1000 triangles the small one's 10 is enough to keep:
+        // everyone pays the full price (no list).
+        let (c, area) = two_tetrahedra();
+        let prices = pinch_prices(&c, &area, 100, 10.0, None);
+        assert_eq!(prices.base, 10.0);
+        assert_eq!(
+            prices.per_vertex,
+            [10.0, 10.0, 10.0, 10.0, 0.75, 0.75, 0.75, 0.75]
+        );
+        assert_eq!((prices.at(0), prices.at(5)), (10.0, 0.75));
+        // Never above the full price.
+        let capped = pinch_prices(&c, &area, 100, 0.5, None);
+        assert!(capped.per_vertex.is_empty(), "{capped:?}");
+        assert_eq!(capped.base, 0.5);
+        let enough = pinch_prices(&c, &area, 1000, 10.0, None);
+        assert!(enough.per_vertex.is_empty());
+        assert_eq!(enough.base, 10.0);
+    }
+
+    #[test]
+    fn a_pinch_distance_prices_large_parts_like_a_collapse_at_the_target() {
+        // The two tetrahedra above. With a pinch distance of 0.1 the large
+        // one pays a target face's area (100 / 100 = 1) times 0.1²; the
+        // small one still pays for its own size (0.75), which is larger.
+        let (c, area) = two_tetrahedra();
+        let prices = pinch_prices(&c, &area, 100, 10.0, Some(0.1));
+        assert!((prices.base - 0.01).abs() < 1e-12, "{}", prices.base);
+        assert!((prices.at(0) - 0.01).abs() < 1e-9);
+        assert!((prices.at(7) - 0.75).abs() < 1e-9);
+        // At 1000 triangles a target face is 0.1: everyone pays 0.1 · 0.1²,
+        // as one number.
+        let all = pinch_prices(&c, &area, 1000, 10.0, Some(0.1));
+        assert!(all.per_vertex.is_empty());
+        assert!((all.base - 0.001).abs() < 1e-12, "{}", all.base);
+        // Never above the full price; 0 or no target is the full price.
+        assert_eq!(pinch_prices(&c, &area, 100, 0.005, Some(0.1)).base, 0.005);
+        assert_eq!(pinch_prices(&c, &area, 100, 10.0, Some(0.0)).base, 10.0);
+    }
+
+    #[test]
+    fn a_triangular_tube_pinches_and_a_closed_surface_does_not() {
+        // An open tube of triangular cross-section: rings (0,1,2) and
+        // (3,4,5), each side a quad split in two. Collapsing a ring edge
+        // pinches (the third ring vertex is a neighbour of both with no
+        // triangle); an edge along the tube does not.
+        let pos = vec![
+            DVec3::new(1.0, 0.0, 0.0),
+            DVec3::new(-0.5, 0.87, 0.0),
+            DVec3::new(-0.5, -0.87, 0.0),
+            DVec3::new(1.0, 0.0, 1.0),
+            DVec3::new(-0.5, 0.87, 1.0),
+            DVec3::new(-0.5, -0.87, 1.0),
+        ];
+        let mut idx = Vec::new();
+        for a in 0..3u32 {
+            let b = (a + 1) % 3;
+            idx.extend([a, b, b + 3, a, b + 3, a + 3]);
+        }
+        let offsets: Vec<u32> = (0..=6).map(|k| 3 * k).collect();
+        let c = Complex::new(pos, &offsets, &idx).0;
+        assert!(pinches(&c, 0, 1));
+        assert!(!pinches(&c, 0, 3));
+        // Turned inside out it is a hole's wall: closing it wraps air,
+        // not material, and is no pinch.
+        let flipped: Vec<u32> = idx.chunks(3).flat_map(|t| [t[0], t[2], t[1]]).collect();
+        let hole = Complex::new(c.pos.clone(), &offsets, &flipped).0;
+        assert!(!pinches(&hole, 0, 1));
+        // Not a face side: nothing to pinch.
+        assert!(!pinches(&c, 0, 4));
+        // A closed end folds: the tetrahedron's edges all fold it flat;
+        // the octahedron's edges neither pinch nor fold.
+        let t = tetra();
+        assert!(pinches(&t, 0, 1));
+        let o = octahedron();
+        for e in 0..o.edges.len() {
+            let [i, j] = o.edges[e].ends;
+            assert!(!pinches(&o, i, j), "{i}-{j}");
+        }
+    }
+
+    fn octahedron() -> Complex {
+        let pos = vec![
+            DVec3::X,
+            -DVec3::X,
+            DVec3::Y,
+            -DVec3::Y,
+            DVec3::Z,
+            -DVec3::Z,
+        ];
+        let tris = [
+            [0, 2, 4],
+            [2, 1, 4],
+            [1, 3, 4],
+            [3, 0, 4],
+            [2, 0, 5],
+            [1, 2, 5],
+            [3, 1, 5],
+            [0, 3, 5],
+        ];
+        let idx: Vec<u32> = tris.iter().flatten().copied().collect();
+        let off: Vec<u32> = (0..=8).map(|k| 3 * k).collect();
+        Complex::new(pos, &off, &idx).0
+    }
+
+    #[test]
+    fn octahedron_edges_pass_the_link_condition() {
+        let c = octahedron();
+        for e in 0..c.edges.len() {
+            let [i, j] = c.edges[e].ends;
+            assert!(keeps_topology(&c, i, j));
+        }
+    }
+
+    #[test]
+    fn pinching_two_border_vertices_across_the_interior_is_refused() {
+        // A strip of two triangles 0-1-2, 1-3-2: all vertices on the border;
+        // the inner edge 1-2 is not a border edge.
+        let pos = vec![DVec3::ZERO, DVec3::X, DVec3::Y, DVec3::new(1.0, 1.0, 0.0)];
+        let (c, _) = Complex::new(pos, &[0, 3, 6], &[0, 1, 2, 1, 3, 2]);
+        assert!(!keeps_topology(&c, 1, 2));
+        assert!(keeps_topology(&c, 0, 1));
+    }
+
+    #[test]
+    fn flip_test_catches_a_vertex_pushed_through_its_fan() {
+        // Fan around vertex 0 at the origin, all faces facing +z.
+        let pos = vec![DVec3::ZERO, DVec3::X, DVec3::Y, -DVec3::X, -DVec3::Y];
+        let (c, _) = Complex::new(
+            pos,
+            &[0, 3, 6, 9, 12],
+            &[0, 1, 2, 0, 2, 3, 0, 3, 4, 0, 4, 1],
+        );
+        let star: Vec<u32> = c.vert_faces[0].to_vec();
+        // Collapsing 0 onto 1 at 1: faces 0-2-3 and 0-3-4 stay convex-ish.
+        assert_eq!(flipped_face(&c, &star, 0, 1, DVec3::X, 0.0), None);
+        // Moving 0 past vertex 3 on the far side flips face (0, 2, 3):
+        // (-3,0), (0,1), (-1,0) winds clockwise.
+        // (The collapse removes faces 0 and 3, which hold edge 0-1.)
+        assert_eq!(
+            flipped_face(&c, &star, 0, 1, DVec3::new(-3.0, 0.0, 0.0), 0.0),
+            Some(1)
+        );
+    }
+
+    #[test]
+    fn a_face_pressed_onto_a_line_counts_as_flattened() {
+        // The fan of the flip test. Collapsing 0–1 onto -x gives face
+        // (0, 2, 3) two equal corners (no area); onto +x every surviving
+        // face keeps its area.
+        let pos = vec![DVec3::ZERO, DVec3::X, DVec3::Y, -DVec3::X, -DVec3::Y];
+        let (c, _) = Complex::new(
+            pos,
+            &[0, 3, 6, 9, 12],
+            &[0, 1, 2, 0, 2, 3, 0, 3, 4, 0, 4, 1],
+        );
+        let star: Vec<u32> = c.vert_faces[0].to_vec();
+        assert!(!flattens_a_face(&c, &star, 0, 1, DVec3::X));
+        assert!(flattens_a_face(&c, &star, 0, 1, -DVec3::X));
+        // Onto the line through 2 and 3, between them: face (0, 2, 3) has
+        // its three corners on one line.
+        assert!(flattens_a_face(&c, &star, 0, 1, DVec3::new(-0.5, 0.5, 0.0)));
+    }
+
+    #[test]
+    fn removed_triangle_prediction_counts_dead_faces_and_duplicates() {
+        let c = tetra();
+        let mut star = Vec::new();
+        c.star_faces(0, 1, &mut star);
+        // Two faces on the edge die; the other two become (0,3,2)/(0,2,3):
+        // opposite orientations, kept as twins.
+        assert_eq!(removed_triangles(&c, &star, 0, 1), 2);
+        assert_eq!(surviving_cycle(&[0, 1, 2, 0, 4]), vec![0, 1, 2]);
+        assert_eq!(surviving_cycle(&[5, 5, 6, 7, 5]), vec![5, 6, 7]);
+    }
+}

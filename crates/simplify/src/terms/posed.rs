@@ -1,0 +1,304 @@
+//! The surface as it is drawn: face planes of a skinned mesh in the poses
+//! its animations take, pulled back to the rest pose (issue 31, decision 8).
+//!
+//! A skinned mesh is never seen at rest. Plane quadrics taken at rest make
+//! a straight arm's elbow flat and cheap: its rings go first, and bent at
+//! 90° the arm kinks. Here every vertex also carries the planes of its
+//! faces in each sampled pose, expressed in rest coordinates: in pose `k`
+//! the vertex moves by its linear-blend transform `x ↦ Mₖx + tₖ` (Σ of its
+//! joints' skinning matrices, weighted), and a plane quadric `Q` of the
+//! posed surface becomes `Q(Mₖx + tₖ)`, a quadric in `x`. Collapsing two
+//! vertices then costs what it costs in every pose, measured by each
+//! endpoint's own transform (the merged vertex's weights blend theirs).
+//!
+//! The rest pose and the poses count alike: each vertex's face planes are
+//! replaced by their mean over the rest pose and every sampled pose, the
+//! other terms (borders, creases, regularization) staying as they are, so
+//! a mesh whose poses equal its rest gets its rest quadrics back.
+
+use glam::{DMat3, DMat4, DVec3};
+use rayon::prelude::*;
+
+use crate::options::Options;
+use crate::prepare::complex::Complex;
+#[cfg(test)]
+use crate::prepare::geometry::face_plane;
+use crate::prepare::Prepared;
+use crate::terms::quadric::Quadric;
+use crate::terms::stored::StoredQuadric;
+
+/// `q(m·x + t)` as a quadric in `x`: with `q(y) = yᵀAy + 2bᵀy + c`,
+/// `A' = mᵀAm`, `b' = mᵀ(At + b)`, `c' = tᵀAt + 2bᵀt + c`. The weight is
+/// kept.
+pub(crate) fn pulled_back(q: &Quadric, m: DMat3, t: DVec3) -> Quadric {
+    let [xx, xy, xz, yy, yz, zz] = q.a;
+    let a = DMat3::from_cols(
+        DVec3::new(xx, xy, xz),
+        DVec3::new(xy, yy, yz),
+        DVec3::new(xz, yz, zz),
+    );
+    let ma = m.transpose() * a * m;
+    let at = a * t;
+    let b = m.transpose() * (at + q.b);
+    let c = t.dot(at) + 2.0 * q.b.dot(t) + q.c;
+    Quadric {
+        a: [
+            ma.x_axis.x,
+            ma.y_axis.x,
+            ma.z_axis.x,
+            ma.y_axis.y,
+            ma.z_axis.y,
+            ma.z_axis.z,
+        ],
+        b,
+        c,
+        weight: q.weight,
+    }
+}
+
+/// Every vertex's share of its faces' planes with the complex's vertices
+/// at `pos` (area / arity of each face, as the rest quadrics weigh them),
+/// pulled back by each vertex's transform (`None`: it does not move).
+fn planes_at(
+    c: &Complex,
+    pos: &[DVec3],
+    moves: &[Option<(DMat3, DVec3)>],
+    faces_of: &(dyn Fn(usize) -> Vec<u32> + Sync),
+) -> Vec<Quadric> {
+    let planes: Vec<Option<(DVec3, f64, DVec3)>> = (0..c.faces.len() as u32)
+        .into_par_iter()
+        .map(|f| {
+            if c.faces[f as usize].len == 0 {
+                return None;
+            }
+            // The face with its corners where this pose puts them.
+            let corners: Vec<DVec3> = c.face(f).iter().map(|&v| pos[v as usize]).collect();
+            face_plane_of(&corners)
+        })
+        .collect();
+    (0..c.pos.len())
+        .into_par_iter()
+        .map(|v| {
+            let mut q = Quadric::ZERO;
+            for f in faces_of(v) {
+                if let Some((n, area, centroid)) = planes[f as usize] {
+                    let k = c.face(f).len() as f64;
+                    q += Quadric::plane(n, centroid, area / k);
+                }
+            }
+            let q = Quadric { weight: 0.0, ..q };
+            match moves[v] {
+                Some((m, t)) => pulled_back(&q, m, t),
+                None => q,
+            }
+        })
+        .collect()
+}
+
+/// Unit normal, area and centroid of a polygon given by its corners.
+fn face_plane_of(corners: &[DVec3]) -> Option<(DVec3, f64, DVec3)> {
+    let (n2, centroid) = crate::prepare::geometry::newell(corners.iter().copied());
+    let len = n2.length();
+    (len.is_finite() && len > 0.0).then(|| (n2 / len, 0.5 * len, centroid))
+}
+
+/// What to add to each vertex's rest quadric so that its face planes are
+/// their mean over the rest pose and `poses` (see the module
+/// documentation): `mean − rest`, per vertex. `poses[k][j]` is joint `j`'s
+/// skinning matrix in pose `k` (world of the joint times its inverse bind
+/// matrix, column-major, input units); `joints[v]` the (joint, weight)
+/// influences of complex vertex `v` (empty: it does not move); `center` and
+/// `scale` the normalization of the complex's positions. Empty when there
+/// is no pose.
+pub(crate) fn pose_terms(
+    c: &Complex,
+    poses: &[Vec<[f32; 16]>],
+    joints: &[&[(u32, f32)]],
+    center: DVec3,
+    scale: f64,
+) -> Vec<Quadric> {
+    if poses.is_empty() || c.pos.is_empty() {
+        return Vec::new();
+    }
+    let (start, list) = if c.has_adjacency() {
+        (Vec::new(), Vec::new())
+    } else {
+        c.vertex_face_index()
+    };
+    let faces_of = |v: usize| -> Vec<u32> {
+        if c.has_adjacency() {
+            c.vert_faces[v].to_vec()
+        } else {
+            list[start[v] as usize..start[v + 1] as usize].to_vec()
+        }
+    };
+    let still = vec![None; c.pos.len()];
+    let rest = planes_at(c, &c.pos, &still, &faces_of);
+    let mut sum = rest.clone();
+    for pose in poses {
+        // Each joint's skinning matrix on normalized positions: the
+        // linear part is the same; the translation absorbs the center.
+        let matrices: Vec<(DMat3, DVec3)> = pose
+            .iter()
+            .map(|m| {
+                let m = DMat4::from_cols_array(&m.map(f64::from));
+                let lin = DMat3::from_mat4(m);
+                let t = m.w_axis.truncate();
+                (lin, (lin * center + t - center) / scale)
+            })
+            .collect();
+        let moves: Vec<Option<(DMat3, DVec3)>> = (0..c.pos.len())
+            .into_par_iter()
+            .map(|v| {
+                let influences = joints.get(v).copied().unwrap_or(&[]);
+                let total: f64 = influences.iter().map(|&(_, w)| w as f64).sum();
+                if total.is_nan() || total <= 0.0 {
+                    return None;
+                }
+                let mut m = DMat3::ZERO;
+                let mut t = DVec3::ZERO;
+                for &(j, w) in influences {
+                    let Some((mj, tj)) = matrices.get(j as usize) else {
+                        continue;
+                    };
+                    let w = w as f64 / total;
+                    m += *mj * w;
+                    t += *tj * w;
+                }
+                Some((m, t))
+            })
+            .collect();
+        let pos: Vec<DVec3> = c
+            .pos
+            .iter()
+            .zip(&moves)
+            .map(|(&x, mv)| mv.map_or(x, |(m, t)| m * x + t))
+            .collect();
+        let posed = planes_at(c, &pos, &moves, &faces_of);
+        sum.par_iter_mut().zip(posed).for_each(|(s, p)| *s += p);
+    }
+    let n = (poses.len() + 1) as f64;
+    sum.into_iter()
+        .zip(rest)
+        .map(|(s, r)| s.scaled(1.0 / n).minus(&r))
+        .collect()
+}
+
+/// Adds the pose terms ([`pose_terms`]) of [`crate::InputData::skin_poses`] to a
+/// run's vertex quadrics, each vertex moving with the influences of its
+/// first input vertex ([`crate::InputData::vertex_joints`]).
+pub(crate) fn add_pose_terms(quadrics: &mut [StoredQuadric], p: &Prepared, options: &Options) {
+    if options.data.skin_poses.is_empty() || options.data.vertex_joints.is_empty() {
+        return;
+    }
+    let none: &[(u32, f32)] = &[];
+    let joints: Vec<&[(u32, f32)]> = p
+        .rep
+        .iter()
+        .map(|&v| {
+            options
+                .data
+                .vertex_joints
+                .get(v as usize)
+                .map_or(none, Vec::as_slice)
+        })
+        .collect();
+    let terms = pose_terms(
+        &p.complex,
+        &options.data.skin_poses,
+        &joints,
+        p.center,
+        p.scale,
+    );
+    for ((q, t), &at) in quadrics.iter_mut().zip(terms).zip(&p.complex.pos) {
+        *q = StoredQuadric::new(&(q.quadric(at) + t), at);
+    }
+}
+
+/// The face plane used by the rest quadrics, for tests that compare.
+#[cfg(test)]
+fn rest_plane(c: &Complex, f: u32) -> Option<(DVec3, f64, DVec3)> {
+    face_plane(c, f)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_pulled_back_quadric_measures_the_moved_point() {
+        // The plane z = 1 (weight 2) and a map that turns by 90° about x
+        // and shifts by (0, 0, 3): x ↦ (x, -z, y) + (0, 0, 3).
+        let q = Quadric::plane(DVec3::Z, DVec3::new(0.0, 0.0, 1.0), 2.0);
+        let m = DMat3::from_cols(DVec3::X, DVec3::Z, -DVec3::Y);
+        let t = DVec3::new(0.0, 0.0, 3.0);
+        let back = pulled_back(&q, m, t);
+        for x in [
+            DVec3::ZERO,
+            DVec3::new(1.0, -2.0, 0.5),
+            DVec3::new(-3.0, 4.0, 7.0),
+        ] {
+            let y = m * x + t;
+            // The moved point's distance to z = 1 is |y.z - 1| = |x.y + 2|.
+            let expected = 2.0 * (x.y + 2.0).powi(2);
+            assert!((back.eval(x) - expected).abs() < 1e-9, "{x}");
+            assert!((q.eval(y) - expected).abs() < 1e-9);
+        }
+    }
+
+    #[test]
+    fn poses_equal_to_the_rest_add_nothing() {
+        let mesh = wildlod_mesh::shapes::triangulate(&wildlod_mesh::shapes::torus(8, 6, 1.0, 0.3));
+        let (c, _) = Complex::new(
+            mesh.positions
+                .iter()
+                .map(|p| DVec3::from(p.map(f64::from)))
+                .collect(),
+            &mesh.faces.offsets,
+            &mesh.faces.indices,
+        );
+        let identity = vec![[
+            1.0f32, 0., 0., 0., 0., 1., 0., 0., 0., 0., 1., 0., 0., 0., 0., 1.,
+        ]];
+        let one: Vec<(u32, f32)> = vec![(0, 1.0)];
+        let joints: Vec<&[(u32, f32)]> = vec![&one; c.pos.len()];
+        let terms = pose_terms(&c, &[identity.clone(), identity], &joints, DVec3::ZERO, 1.0);
+        assert_eq!(terms.len(), c.pos.len());
+        for t in terms {
+            assert!(t.a.iter().all(|x| x.abs() < 1e-15), "{t:?}");
+            assert!(t.c.abs() < 1e-15 && t.b.length() < 1e-15);
+        }
+        assert!(rest_plane(&c, 0).is_some());
+    }
+
+    #[test]
+    fn a_bent_pose_makes_the_collapse_across_the_bend_cost() {
+        // A flat strip along x, its right half turned by 90° about the
+        // y axis at x = 1 in the pose: collapsing the middle column's
+        // vertex (1, 0) onto (2, 0) is free at rest and costs once posed.
+        let positions: Vec<DVec3> = (0..3)
+            .flat_map(|i| (0..2).map(move |j| DVec3::new(i as f64, j as f64, 0.0)))
+            .collect();
+        // Vertex 2i + j at (i, j): quads as two triangles each.
+        let indices = [0u32, 2, 3, 0, 3, 1, 2, 4, 5, 2, 5, 3];
+        let offsets: Vec<u32> = (0..=4).map(|f| 3 * f).collect();
+        let (c, _) = Complex::new(positions, &offsets, &indices);
+        // Joint 0 still, joint 1 turns by 90° about the y axis through x = 1.
+        let rot = DMat4::from_translation(DVec3::new(1.0, 0.0, 0.0))
+            * DMat4::from_rotation_y(std::f64::consts::FRAC_PI_2)
+            * DMat4::from_translation(DVec3::new(-1.0, 0.0, 0.0));
+        let to_f32 = |m: DMat4| m.to_cols_array().map(|x| x as f32);
+        let pose = vec![to_f32(DMat4::IDENTITY), to_f32(rot)];
+        let left: Vec<(u32, f32)> = vec![(0, 1.0)];
+        let mid: Vec<(u32, f32)> = vec![(0, 0.5), (1, 0.5)];
+        let right: Vec<(u32, f32)> = vec![(1, 1.0)];
+        let joints: Vec<&[(u32, f32)]> = vec![&left, &left, &mid, &mid, &right, &right];
+        let terms = pose_terms(&c, &[pose], &joints, DVec3::ZERO, 1.0);
+        // The right column at rest is where vertex 2 would go: at rest the
+        // strip is flat, so only the pose term can make it cost.
+        let target = DVec3::new(2.0, 0.0, 0.0);
+        assert!(terms[2].eval(target) > 1e-3, "{:?}", terms[2]);
+        // Staying put costs nothing in any pose.
+        assert!(terms[2].eval(DVec3::new(1.0, 0.0, 0.0)).abs() < 1e-12);
+    }
+}
