@@ -48,13 +48,13 @@ pub struct SurfacePoint {
 ///
 /// ```
 /// use wildlod_bake::SuccessiveMap;
-/// use wildlod_simplify::{simplify_polygons, Options, Target};
+/// use wildlod_simplify::{simplify_polygons, Options, Record, Target};
 ///
 /// // A 4×4 grid of unit squares in z = 0, reduced to two triangles.
 /// let grid = wildlod_mesh::shapes::triangulate(&wildlod_mesh::shapes::quad_grid(4, 4));
 /// let options = Options {
 ///     target: Target { triangles: Some(2), ..Target::default() },
-///     record_history: true,
+///     record: Record { history: true, ..Record::default() },
 ///     ..Options::default()
 /// };
 /// let lod = simplify_polygons(&grid.positions, &grid.faces, &options)?;

@@ -761,3 +761,67 @@ fn a_rebake_that_cannot_be_made_is_named_and_auto_keeps_the_uvs() {
         "{t}"
     );
 }
+
+/// The texture Chamfer excess (over the sampling floor) of `candidate`
+/// against `reference`, both read from files.
+fn file_excess(reference: &Path, candidate: &Path) -> f64 {
+    let (r, c) = (
+        wildlod_io::read(reference).unwrap(),
+        wildlod_io::read(candidate).unwrap(),
+    );
+    texture_excess(&r, &c).expect("both sides textured")
+}
+
+/// A re-bake puts the whole file under one budget, as keeping the UVs
+/// does (issue 33): a sky dome around small parts keeps the triangles the
+/// file's budget gives it instead of each mesh's own share, so its
+/// re-baked LOD shows the texture at least as well as the keep-UV LOD of
+/// the same budget.
+#[test]
+fn a_rebake_shares_one_budget_over_the_file_as_keeping_the_uvs_does() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("domed.glb");
+    wildlod_io::write(
+        &Document::from_scene(wildlod_testkit::scenes::domed_scene(40)),
+        &input,
+        &WriteOptions::default(),
+    )
+    .unwrap();
+    let run = |mode: &str| {
+        let out = dir.path().join(format!("{mode}.glb"));
+        let mut args = vec![
+            "simplify",
+            s(&input),
+            "-o",
+            s(&out),
+            "--ratio",
+            "0.1",
+            "--textures",
+            mode,
+        ];
+        if mode == "bake" {
+            args.extend(["--texture-size", "512"]);
+        }
+        let o = wildlod(&args);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let lod = wildlod_io::read(&out).unwrap();
+        let dome = lod.scene.meshes[0].triangle_count();
+        let total: usize = lod.scene.meshes.iter().map(|m| m.triangle_count()).sum();
+        (file_excess(&input, &out), dome, total)
+    };
+    let (keep, keep_dome, keep_total) = run("keep");
+    let (bake, bake_dome, bake_total) = run("bake");
+    // The same budget, spent the same way: the dome's share is the file's.
+    assert!(
+        bake_total.abs_diff(keep_total) <= keep_total / 50 + 2,
+        "{bake_total} vs {keep_total} triangles"
+    );
+    assert!(
+        bake_dome.abs_diff(keep_dome) <= keep_dome / 20 + 2,
+        "dome {bake_dome} vs {keep_dome} triangles"
+    );
+    assert!(
+        bake <= keep,
+        "texture excess re-baked {bake:.4} vs kept {keep:.4}"
+    );
+}

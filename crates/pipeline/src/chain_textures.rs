@@ -13,8 +13,9 @@ use std::path::Path;
 use std::time::Instant;
 
 use wildlod_io::Document;
-use wildlod_simplify::{Options, Target};
+use wildlod_simplify::Options;
 
+use crate::targets::drawn_targets;
 use crate::textures::{choose, has_base_color_texture, texture_excess, worth_rebaking};
 use crate::{
     load_images, rebake_scene, Error, Level, LevelMaterials, TextureChoice, TextureMode,
@@ -68,15 +69,7 @@ pub fn rebake_levels(
             }
         }
         // The same drawn triangles per mesh as the keep-UV level.
-        let targets: Vec<Target> = level
-            .meshes
-            .iter()
-            .zip(&instances)
-            .map(|(m, &k)| Target {
-                triangles: Some(m.triangle_count() * k),
-                ..Target::default()
-            })
-            .collect();
+        let targets = drawn_targets(&level.meshes, &instances);
         let t0 = Instant::now();
         let mut baked = doc.clone();
         let label = format!("{stem}_lod{}", level.level);

@@ -1,16 +1,17 @@
 //! Whole files: read → simplify (or a chain) → write, with the report.
 
+use std::cell::OnceCell;
 use std::path::Path;
 use std::time::Instant;
 
 use wildlod_io::{Document, WriteOptions};
-use wildlod_simplify::Options;
+use wildlod_simplify::{Options, Target};
 
 use crate::{
-    build_chain, chain_json, file_stem, merge_twins_for_output, rebake_levels, rebake_scene,
-    simplify_scene, simplify_whole_scene, targets_for, treat_textures, write_chain, ChainJson,
-    Error, Levels, MergedTwins, MeshProgress, MeshRun, NoProgress, RunJson, TextureChoice,
-    TextureSettings, Tuning,
+    build_chain, chain_json, drawn_targets, file_stem, merge_twins_for_output, rebake_levels,
+    rebake_scene, simplify_scene, simplify_whole_scene, targets_for, treat_textures, write_chain,
+    ChainJson, Error, Levels, MergedTwins, MeshProgress, MeshRun, NoProgress, RunJson,
+    TextureChoice, TextureSettings, Tuning,
 };
 
 /// The limits of simplifying a whole file; the first reached stops.
@@ -85,9 +86,11 @@ impl SimplifiedDocument {
 /// ([`simplify_whole_scene`]), or with `per_mesh` every mesh to its share
 /// ([`targets_for`]); reversed twins of a glTF output become one
 /// double-sided face (see [`crate::merge_twins_double_sided`]; a ratio is
-/// then of what the input drew), and textures are kept, re-baked (always
-/// per mesh: baking maps texels through one mesh's history) or chosen per
-/// `textures` (see [`treat_textures`]).
+/// then of what the input drew), and textures are kept, re-baked or chosen
+/// per `textures` (see [`treat_textures`]). A re-bake maps texels through
+/// one mesh's history, so it simplifies mesh by mesh, but under the file's
+/// one budget: each mesh to the triangles the whole-file run gives it
+/// ([`drawn_targets`]; a mesh that run removes goes).
 #[allow(clippy::too_many_arguments)]
 pub fn simplify_document<P: MeshProgress>(
     mut doc: Document,
@@ -103,6 +106,11 @@ pub fn simplify_document<P: MeshProgress>(
     let (twins, t) = merge_twins_for_output(&mut doc.scene, output, targets);
     let mesh_targets = targets_for(&doc.scene, t.ratio, t.faces, t.error);
     let mut warnings = Vec::new();
+    // Under one budget for the file (the default), a re-bake reaches mesh
+    // by mesh what the run over the whole file spent where: the keep-UV
+    // candidate's counts when it was made, else its own run's.
+    let instances = doc.scene.instance_counts();
+    let whole_file: OnceCell<Vec<Target>> = OnceCell::new();
     let keep = || -> Result<(Document, Vec<MeshRun>), Error> {
         let mut out = doc.clone();
         let runs = if per_mesh {
@@ -115,18 +123,29 @@ pub fn simplify_document<P: MeshProgress>(
                 progress,
             )?
         } else {
-            vec![simplify_whole_scene(&mut out.scene, input, options, &t, &stem, progress)?.0]
+            let run = simplify_whole_scene(&mut out.scene, input, options, &t, &stem, progress)?.0;
+            let _ = whole_file.set(drawn_targets(&out.scene.meshes, &instances));
+            vec![run]
         };
         Ok((out, runs))
     };
     let rebake = || -> Result<(Document, Vec<MeshRun>), Error> {
+        let rebake_targets = if per_mesh {
+            mesh_targets.clone()
+        } else if let Some(t) = whole_file.get() {
+            t.clone()
+        } else {
+            let mut scene = doc.scene.clone();
+            simplify_whole_scene(&mut scene, input, options, &t, &stem, progress)?;
+            drawn_targets(&scene.meshes, &instances)
+        };
         let mut out = doc.clone();
         let (runs, more) = rebake_scene(
             &mut out,
             input,
             options,
             &textures.bake,
-            &mesh_targets,
+            &rebake_targets,
             &stem,
         )?;
         warnings.extend(more);

@@ -67,7 +67,9 @@ pub use scene::{
     clear_unused_joint_slots, file_stem, mesh_name, simplify_scene, simplify_whole_scene,
     whole_report, MeshRun,
 };
-pub use targets::{scene_diagonal, share_budget, targets_for, world_diagonal, MIN_TRIANGLES};
+pub use targets::{
+    drawn_targets, scene_diagonal, share_budget, targets_for, world_diagonal, MIN_TRIANGLES,
+};
 pub use textures::{
     choose as choose_textures, has_base_color_texture, texture_excess, treat_textures,
     worth_rebaking, TextureChoice, TextureMode, TextureSettings, VISIBLE_TEXTURE_EXCESS,

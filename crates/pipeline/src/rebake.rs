@@ -14,8 +14,8 @@ use std::time::Instant;
 
 use wildlod_bake::{bake_mesh, BakeError, BakeInput, BakeOptions, Baked, Channel};
 use wildlod_io::{decode_image_rgba8, encode_image, Document, ImageEncoding};
-use wildlod_mesh::{ImageSource, Material, Rgba8Image, Sampler, Texture, TextureRef, Wrap};
-use wildlod_simplify::{InputData, Options, Target};
+use wildlod_mesh::{ImageSource, Material, Mesh, Rgba8Image, Sampler, Texture, TextureRef, Wrap};
+use wildlod_simplify::{InputData, Options, Report, StopReason, Target};
 
 use crate::{clear_unused_joint_slots, mesh_name, Error, MeshRun};
 
@@ -83,7 +83,8 @@ pub struct RebakedRun {
 }
 
 /// Re-bakes every mesh of `doc` (read from `input`) in place, each to its
-/// target in `targets` (drawn triangles, as without baking), with the
+/// target in `targets` (drawn triangles, as without baking; a target of
+/// exactly 0 triangles and no other limit removes the mesh), with the
 /// simplifier `options`. Returns every simplified mesh's run and the
 /// warnings (a texture that cannot be decoded bakes from its material's
 /// factor, and says so).
@@ -147,13 +148,36 @@ pub fn rebake_scene(
             meshes.push(mesh);
             continue;
         }
-        let t0 = Instant::now();
         // Targets and reports count drawn triangles, as without baking: a
         // mesh shown by k nodes counts each face k times.
         let k = instances.get(m).copied().unwrap_or(1);
+        let target = targets.get(m).cloned().unwrap_or_default();
+        if vanishes(&target) {
+            // The file's budget removed it (see `drawn_targets`): written
+            // as no mesh, counted as its triangles gone.
+            runs.push(RebakedRun {
+                run: MeshRun {
+                    mesh: m,
+                    name,
+                    report: Report {
+                        input_triangles: mesh.triangle_count() * k,
+                        stop: Some(StopReason::TargetReached),
+                        ..Report::default()
+                    },
+                    seconds: 0.0,
+                },
+                atlases: "; removed under the file's budget".into(),
+            });
+            meshes.push(Mesh {
+                name: mesh.name.clone(),
+                ..Mesh::default()
+            });
+            continue;
+        }
+        let t0 = Instant::now();
         let bake_options = BakeOptions {
             simplify: Options {
-                target: targets.get(m).cloned().unwrap_or_default(),
+                target,
                 data: InputData {
                     face_instances: if k > 1 {
                         vec![u32::try_from(k).unwrap_or(u32::MAX); mesh.faces.len()]
@@ -268,6 +292,12 @@ pub fn rebake_scene(
     doc.scene.materials = materials;
     doc.scene.textures = textures;
     Ok((runs, warnings))
+}
+
+/// Whether `target` asks for nothing of a mesh: no triangle, with no
+/// ratio or error limit that could keep some.
+fn vanishes(target: &Target) -> bool {
+    target.triangles == Some(0) && target.ratio.is_none() && target.error.is_none()
 }
 
 /// Index of input material `i` among the output materials, copying it

@@ -1,6 +1,6 @@
 //! The target of every mesh of a file, from the file-wide limits.
 
-use wildlod_mesh::Scene;
+use wildlod_mesh::{Mesh, Scene};
 use wildlod_simplify::Target;
 
 /// The target of every stored mesh: the same ratio for all; a triangle
@@ -43,6 +43,23 @@ pub fn targets_for(
                     e
                 }
             }),
+        })
+        .collect()
+}
+
+/// Every stored mesh's target as the drawn triangles it has in `meshes`,
+/// the same file's meshes simplified under one budget (`instances`: the
+/// nodes showing each): how a re-bake reaches, mesh by mesh, what a run
+/// over the whole file spent where (W's budget is one for the scene, §1).
+/// A mesh the file's run removed gets 0 triangles: it goes in the re-bake
+/// too (see `rebake_scene`).
+pub fn drawn_targets(meshes: &[Mesh], instances: &[usize]) -> Vec<Target> {
+    meshes
+        .iter()
+        .enumerate()
+        .map(|(m, mesh)| Target {
+            triangles: Some(mesh.triangle_count() * instances.get(m).copied().unwrap_or(1)),
+            ..Target::default()
         })
         .collect()
 }

@@ -1902,3 +1902,137 @@ mod tests {
         assert_eq!(n.indices, vec![0, 0, 0, 1, 1, 1]);
     }
 }
+
+/// A latitude-longitude patch of a sphere of `radius` at `center`, from
+/// latitude `lat0` to `lat1` (radians, 0 at the equator), `around` ×
+/// `up` quads as triangles, UVs mapping the patch onto `[u0, u1] × [0, 1]`
+/// of the texture, wound outward, or inward with `inward`.
+#[allow(clippy::too_many_arguments)]
+fn sphere_patch(
+    center: DVec3,
+    radius: f64,
+    (lat0, lat1): (f64, f64),
+    around: usize,
+    up: usize,
+    (u0, u1): (f64, f64),
+    inward: bool,
+    material: u32,
+) -> Mesh {
+    let mut positions = Vec::new();
+    let mut uv = Vec::new();
+    let mut faces = Faces::new();
+    let mut uv_idx = Vec::new();
+    for j in 0..=up {
+        let lat = lerp(lat0, lat1, j as f64 / up as f64);
+        for i in 0..=around {
+            let lon = TAU * i as f64 / around as f64;
+            let d = DVec3::new(lat.cos() * lon.cos(), lat.sin(), lat.cos() * lon.sin());
+            positions.push((center + radius * d).as_vec3().to_array());
+            uv.extend_from_slice(&[
+                lerp(u0, u1, i as f64 / around as f64) as f32,
+                (j as f64 / up as f64) as f32,
+            ]);
+        }
+    }
+    let id = |i: usize, j: usize| (j * (around + 1) + i) as u32;
+    for j in 0..up {
+        for i in 0..around {
+            let (a, b, c, d) = (id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1));
+            for t in [[a, c, b], [a, d, c]] {
+                let t = if inward { [t[0], t[2], t[1]] } else { t };
+                faces.push(&t);
+                uv_idx.extend_from_slice(&t);
+            }
+        }
+    }
+    // Seam and pole vertices are welded by position; the UVs keep their
+    // own values per corner.
+    let mut m = Mesh::from_polygons(positions, faces);
+    m.attributes.push(Attribute {
+        semantic: Semantic::TexCoord(0),
+        components: 2,
+        values: uv,
+        indices: uv_idx,
+        format: ComponentFormat::F32,
+    });
+    m.parts[0].material = Some(material);
+    m
+}
+
+/// A sky dome over small parts: an inward-facing textured hemisphere of
+/// radius 10 (3,072 triangles) enclosing `parts` small textured spheres
+/// (radius 0.3 to 0.6, 144 triangles each), every one its own mesh and
+/// node, all sampling one 256 × 128 texture of smooth gradients (the dome
+/// its left half, the spheres its right half).
+///
+/// Stresses: one budget over a whole file. Budgets per mesh cut the dome,
+/// most of what is seen, as hard as each small part; a budget over the
+/// file spends triangles where the surface needs them.
+pub fn domed_scene(parts: usize) -> Scene {
+    let mut meshes = vec![sphere_patch(
+        DVec3::ZERO,
+        10.0,
+        (0.0, FRAC_PI_2 * 0.98),
+        48,
+        32,
+        (0.0, 0.5),
+        true,
+        0,
+    )];
+    meshes[0].name = "dome".into();
+    let mut rng = SplitMix64(0xd0e5);
+    for k in 0..parts {
+        let (x, z) = (rng.next_f64() * 12.0 - 6.0, rng.next_f64() * 12.0 - 6.0);
+        let r = 0.3 + 0.3 * rng.next_f64();
+        let mut m = sphere_patch(
+            DVec3::new(x, r, z),
+            r,
+            (-FRAC_PI_2, FRAC_PI_2),
+            12,
+            6,
+            (0.5, 1.0),
+            false,
+            1,
+        );
+        m.name = format!("part{k}");
+        meshes.push(m);
+    }
+    // Smooth gradients, so that the texture Chamfer distance's sampling
+    // floor stays well below what a LOD changes.
+    let texture = png_texture("sky_and_parts", 256, 128, |x, y| {
+        if x < 128 {
+            // Sky: a hue that turns around the dome, lighter upwards.
+            [(x * 2) as u8, (60 + y) as u8, (250 - y) as u8]
+        } else {
+            let u = x - 128;
+            [(250 - u) as u8, (y * 2) as u8, (40 + u) as u8]
+        }
+    });
+    let mut scene = Scene {
+        meshes,
+        materials: vec![textured("sky"), textured("paint")],
+        textures: vec![texture],
+        ..Scene::default()
+    };
+    for m in 0..scene.meshes.len() {
+        scene.nodes.push(Node {
+            name: scene.meshes[m].name.clone(),
+            mesh: Some(m as u32),
+            ..Node::default()
+        });
+        scene.roots.push(m as u32);
+    }
+    scene
+}
+
+/// A white material sampling texture 0 through UV set 0.
+fn textured(name: &str) -> Material {
+    Material {
+        base_color: [1.0; 4],
+        base_color_texture: Some(TextureRef {
+            texture: 0,
+            tex_coord: 0,
+        }),
+        ..material(name, [1.0, 1.0, 1.0])
+    }
+}

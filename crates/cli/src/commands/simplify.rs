@@ -1,5 +1,6 @@
 //! `wildlod simplify`: read → simplify every mesh → write.
 
+use std::cell::OnceCell;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -7,9 +8,9 @@ use anyhow::{bail, Context};
 use wildlod_io::{Document, ErrorKind, WriteOptions};
 use wildlod_mesh::Scene;
 use wildlod_pipeline::{
-    file_stem, merge_twins_for_output, rebake_scene, simplify_scene, targets_for, treat_textures,
-    BakeSettings, FileTargets, MeshRun, NormalSetting, RunJson, SeamSetting, TextureChoice,
-    TextureMode, Tuning,
+    drawn_targets, file_stem, merge_twins_for_output, rebake_scene, simplify_scene, targets_for,
+    treat_textures, BakeSettings, FileTargets, MeshRun, NormalSetting, RunJson, SeamSetting,
+    TextureChoice, TextureMode, Tuning,
 };
 use wildlod_simplify::{Options, Report, SceneReport, StopReason, Target};
 
@@ -255,13 +256,34 @@ pub fn run(cfg: &Config) -> anyhow::Result<()> {
     };
     let cfg = &adjusted;
     let show = !cfg.quiet && !cfg.json;
+    // A re-bake under the file's one budget reaches mesh by mesh what the
+    // keep-UV run over the whole file spent where (see `rebake`).
+    let instances = doc.scene.instance_counts();
+    let whole_file: OnceCell<Vec<Target>> = OnceCell::new();
     let (done, choice) = treat_textures(
         &doc,
         &cfg.input,
         &cfg.output,
         cfg.textures,
-        || keep_uvs(&doc, cfg, &stem, show),
-        || rebake(&doc, cfg, &stem),
+        || {
+            let done = keep_uvs(&doc, cfg, &stem, show)?;
+            if !cfg.per_mesh {
+                let _ = whole_file.set(drawn_targets(&done.doc.scene.meshes, &instances));
+            }
+            Ok(done)
+        },
+        || {
+            let targets = match whole_file.get() {
+                Some(t) => t.clone(),
+                None if cfg.per_mesh => mesh_targets(&doc.scene, cfg),
+                None => {
+                    let mut whole = doc.clone();
+                    simplify_whole_scene(&mut whole, cfg, &stem, false)?;
+                    drawn_targets(&whole.scene.meshes, &instances)
+                }
+            };
+            rebake(&doc, cfg, &targets, &stem)
+        },
         |d: &Done| &d.doc,
     )?;
     if show {
@@ -326,12 +348,13 @@ fn texture_line(c: &TextureChoice) -> String {
     }
 }
 
-/// Every textured mesh re-baked (always per mesh: baking maps every texel
-/// through one mesh's collapse history).
-fn rebake(doc: &Document, cfg: &Config, stem: &str) -> anyhow::Result<Done> {
+/// Every textured mesh re-baked, each to its target in `targets`: mesh by
+/// mesh, since baking maps every texel through one mesh's collapse
+/// history, but under the file's one budget unless `--per-mesh` (the
+/// counts the whole-file run gives each mesh; one it removes goes).
+fn rebake(doc: &Document, cfg: &Config, targets: &[Target], stem: &str) -> anyhow::Result<Done> {
     let mut out = doc.clone();
-    let targets = mesh_targets(&doc.scene, cfg);
-    let (runs, lines) = bake_scene(&mut out, cfg, &targets, stem)?;
+    let (runs, lines) = bake_scene(&mut out, cfg, targets, stem)?;
     Ok(Done {
         doc: out,
         runs,
