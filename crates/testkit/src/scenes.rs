@@ -1776,133 +1776,6 @@ pub fn double_sided_sheet() -> Scene {
     scene(b.mesh("double_sided_sheet"), vec![mat], vec![texture])
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn quarter_arcs_are_exact_at_their_ends_and_symmetric() {
-        assert_eq!(quarter(0, 24), (1.0, 0.0));
-        assert_eq!(quarter(24, 24), (0.0, 1.0));
-        for i in 0..=24 {
-            let (c, s) = quarter(i, 24);
-            let (c2, s2) = quarter(24 - i, 24);
-            assert_eq!(
-                (c.to_bits(), s.to_bits()),
-                (s2.to_bits(), c2.to_bits()),
-                "i = {i}"
-            );
-            let a = FRAC_PI_2 * i as f64 / 24.0;
-            assert!((c - a.cos()).abs() < 1e-15 && (s - a.sin()).abs() < 1e-15);
-        }
-    }
-
-    #[test]
-    fn plane_normal_of_an_axis_aligned_quad_is_the_exact_axis() {
-        // Coordinates whose differences round: the snap must remove the noise.
-        let q = [
-            DVec3::new(0.1, 0.7, 3.3),
-            DVec3::new(0.1 + 0.2, 0.7, 3.3),
-            DVec3::new(0.1 + 0.2, 0.7 + 0.3, 3.3),
-            DVec3::new(0.1, 0.7 + 0.3, 3.3),
-        ];
-        assert_eq!(plane_normal(&q), DVec3::Z);
-        let mut r = q;
-        r.reverse();
-        assert_eq!(plane_normal(&r), DVec3::NEG_Z);
-    }
-
-    #[test]
-    fn box_uv_maps_in_world_units_with_v_down() {
-        // A +z face: u = x, v = 1 − y; a −x face: u = z.
-        assert_eq!(box_uv(DVec3::new(2.0, 3.0, 5.0), DVec3::Z), [2.0, -2.0]);
-        assert_eq!(box_uv(DVec3::new(2.0, 3.0, 5.0), DVec3::NEG_X), [5.0, -2.0]);
-        assert_eq!(box_uv(DVec3::new(2.0, 0.0, 5.0), DVec3::Y), [2.0, 6.0]);
-    }
-
-    #[test]
-    fn grid_cells_tile_the_face_around_openings() {
-        // A 2 × 1 face, one opening [0.5, 0.25]–[1.5, 0.75], lines every 0.5.
-        let g = Grid::new([2.0, 1.0], 0.5, &[[0.5, 0.25, 1.5, 0.75]]);
-        assert_eq!(g.s, vec![0.0, 0.5, 1.0, 1.5, 2.0]);
-        assert_eq!(g.t, vec![0.0, 0.25, 0.5, 0.75, 1.0]);
-        let openings = (0..g.rows())
-            .flat_map(|j| (0..g.cols()).map(move |i| (i, j)))
-            .filter(|&(i, j)| g.is_opening(i, j))
-            .count();
-        assert_eq!(openings, 4);
-        // Wall cells cover 2 − 0.5 = 1.5; reveals: 4 sides of 2 cells each.
-        let mut b = Builder::new(false, false);
-        b.part("w", 0);
-        let f = Frame {
-            origin: DVec3::ZERO,
-            along: DVec3::X,
-            up: DVec3::Y,
-        };
-        g.cells(&mut b, &f, 0.0, false, f.out());
-        let walls = b.faces.len();
-        assert_eq!(walls, 16 - 4);
-        g.reveals(&mut b, &f, 0.1);
-        assert_eq!(b.faces.len() - walls, 8);
-        let m = b.mesh("w");
-        let area: f64 = (0..walls)
-            .map(|k| {
-                let f = m.faces.face(k);
-                let p = |c: usize| DVec3::from(m.positions[f[c] as usize].map(f64::from));
-                plane_normal(&[p(0), p(1), p(2), p(3)]).z
-                    * 0.5
-                    * (p(2) - p(0)).cross(p(3) - p(1)).length()
-            })
-            .sum();
-        assert!((area - 1.5).abs() < 1e-6, "{area}");
-    }
-
-    #[test]
-    fn zip_loops_fills_a_square_ring_without_overlap() {
-        // Outer square of side 4, inner square of side 2 (rotated 45°, so
-        // the angles interleave): the ring's area is 16 − 2.
-        let outer = [(-2.0, -2.0), (2.0, -2.0), (2.0, 2.0), (-2.0, 2.0)];
-        let inner = [(1.0, 0.0), (0.0, 1.0), (-1.0, 0.0), (0.0, -1.0)];
-        let to3 = |l: &[(f64, f64)]| {
-            l.iter()
-                .map(|&(x, z)| DVec3::new(x, 0.0, z))
-                .collect::<Vec<_>>()
-        };
-        let tris = zip_loops(&to3(&outer), &to3(&inner));
-        assert_eq!(tris.len(), 8);
-        let signed: Vec<f64> = tris
-            .iter()
-            .map(|t| 0.5 * (t[1] - t[0]).cross(t[2] - t[0]).y)
-            .collect();
-        // All wound the same way, and they sum to the ring's area.
-        assert!(signed.iter().all(|&a| a < 0.0) || signed.iter().all(|&a| a > 0.0));
-        let total: f64 = signed.iter().map(|a| a.abs()).sum();
-        assert!((total - 14.0).abs() < 1e-12, "{total}");
-    }
-
-    #[test]
-    fn builder_shares_equal_positions_and_values_and_splits_normal_groups() {
-        let mut b = Builder::new(false, false);
-        b.part("p", 0);
-        let c = |x: f64, n: DVec3| Corner {
-            p: DVec3::new(x, 0.0, if x == 2.0 { 1.0 } else { 0.0 }),
-            uv: Some([x, -0.0]),
-            n: Some(n),
-        };
-        b.face(&[c(0.0, DVec3::Z), c(1.0, DVec3::Z), c(2.0, DVec3::Z)]);
-        b.group += 1;
-        b.face(&[c(0.0, DVec3::Z), c(2.0, DVec3::Z), c(1.0, DVec3::Z)]);
-        let m = b.mesh("m");
-        assert_eq!(m.positions.len(), 3);
-        let uv = m.attribute(&Semantic::TexCoord(0)).expect("uv");
-        assert_eq!(uv.value_count(), 3);
-        assert_eq!(uv.values[1], 0.0, "−0 stored as 0");
-        let n = m.attribute(&Semantic::Normal).expect("normals");
-        assert_eq!(n.value_count(), 2, "one normal per group");
-        assert_eq!(n.indices, vec![0, 0, 0, 1, 1, 1]);
-    }
-}
-
 /// A latitude-longitude patch of a sphere of `radius` at `center`, from
 /// latitude `lat0` to `lat1` (radians, 0 at the equator), `around` ×
 /// `up` quads as triangles, UVs mapping the patch onto `[u0, u1] × [0, 1]`
@@ -2034,5 +1907,132 @@ fn textured(name: &str) -> Material {
             tex_coord: 0,
         }),
         ..material(name, [1.0, 1.0, 1.0])
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn quarter_arcs_are_exact_at_their_ends_and_symmetric() {
+        assert_eq!(quarter(0, 24), (1.0, 0.0));
+        assert_eq!(quarter(24, 24), (0.0, 1.0));
+        for i in 0..=24 {
+            let (c, s) = quarter(i, 24);
+            let (c2, s2) = quarter(24 - i, 24);
+            assert_eq!(
+                (c.to_bits(), s.to_bits()),
+                (s2.to_bits(), c2.to_bits()),
+                "i = {i}"
+            );
+            let a = FRAC_PI_2 * i as f64 / 24.0;
+            assert!((c - a.cos()).abs() < 1e-15 && (s - a.sin()).abs() < 1e-15);
+        }
+    }
+
+    #[test]
+    fn plane_normal_of_an_axis_aligned_quad_is_the_exact_axis() {
+        // Coordinates whose differences round: the snap must remove the noise.
+        let q = [
+            DVec3::new(0.1, 0.7, 3.3),
+            DVec3::new(0.1 + 0.2, 0.7, 3.3),
+            DVec3::new(0.1 + 0.2, 0.7 + 0.3, 3.3),
+            DVec3::new(0.1, 0.7 + 0.3, 3.3),
+        ];
+        assert_eq!(plane_normal(&q), DVec3::Z);
+        let mut r = q;
+        r.reverse();
+        assert_eq!(plane_normal(&r), DVec3::NEG_Z);
+    }
+
+    #[test]
+    fn box_uv_maps_in_world_units_with_v_down() {
+        // A +z face: u = x, v = 1 − y; a −x face: u = z.
+        assert_eq!(box_uv(DVec3::new(2.0, 3.0, 5.0), DVec3::Z), [2.0, -2.0]);
+        assert_eq!(box_uv(DVec3::new(2.0, 3.0, 5.0), DVec3::NEG_X), [5.0, -2.0]);
+        assert_eq!(box_uv(DVec3::new(2.0, 0.0, 5.0), DVec3::Y), [2.0, 6.0]);
+    }
+
+    #[test]
+    fn grid_cells_tile_the_face_around_openings() {
+        // A 2 × 1 face, one opening [0.5, 0.25]–[1.5, 0.75], lines every 0.5.
+        let g = Grid::new([2.0, 1.0], 0.5, &[[0.5, 0.25, 1.5, 0.75]]);
+        assert_eq!(g.s, vec![0.0, 0.5, 1.0, 1.5, 2.0]);
+        assert_eq!(g.t, vec![0.0, 0.25, 0.5, 0.75, 1.0]);
+        let openings = (0..g.rows())
+            .flat_map(|j| (0..g.cols()).map(move |i| (i, j)))
+            .filter(|&(i, j)| g.is_opening(i, j))
+            .count();
+        assert_eq!(openings, 4);
+        // Wall cells cover 2 − 0.5 = 1.5; reveals: 4 sides of 2 cells each.
+        let mut b = Builder::new(false, false);
+        b.part("w", 0);
+        let f = Frame {
+            origin: DVec3::ZERO,
+            along: DVec3::X,
+            up: DVec3::Y,
+        };
+        g.cells(&mut b, &f, 0.0, false, f.out());
+        let walls = b.faces.len();
+        assert_eq!(walls, 16 - 4);
+        g.reveals(&mut b, &f, 0.1);
+        assert_eq!(b.faces.len() - walls, 8);
+        let m = b.mesh("w");
+        let area: f64 = (0..walls)
+            .map(|k| {
+                let f = m.faces.face(k);
+                let p = |c: usize| DVec3::from(m.positions[f[c] as usize].map(f64::from));
+                plane_normal(&[p(0), p(1), p(2), p(3)]).z
+                    * 0.5
+                    * (p(2) - p(0)).cross(p(3) - p(1)).length()
+            })
+            .sum();
+        assert!((area - 1.5).abs() < 1e-6, "{area}");
+    }
+
+    #[test]
+    fn zip_loops_fills_a_square_ring_without_overlap() {
+        // Outer square of side 4, inner square of side 2 (rotated 45°, so
+        // the angles interleave): the ring's area is 16 − 2.
+        let outer = [(-2.0, -2.0), (2.0, -2.0), (2.0, 2.0), (-2.0, 2.0)];
+        let inner = [(1.0, 0.0), (0.0, 1.0), (-1.0, 0.0), (0.0, -1.0)];
+        let to3 = |l: &[(f64, f64)]| {
+            l.iter()
+                .map(|&(x, z)| DVec3::new(x, 0.0, z))
+                .collect::<Vec<_>>()
+        };
+        let tris = zip_loops(&to3(&outer), &to3(&inner));
+        assert_eq!(tris.len(), 8);
+        let signed: Vec<f64> = tris
+            .iter()
+            .map(|t| 0.5 * (t[1] - t[0]).cross(t[2] - t[0]).y)
+            .collect();
+        // All wound the same way, and they sum to the ring's area.
+        assert!(signed.iter().all(|&a| a < 0.0) || signed.iter().all(|&a| a > 0.0));
+        let total: f64 = signed.iter().map(|a| a.abs()).sum();
+        assert!((total - 14.0).abs() < 1e-12, "{total}");
+    }
+
+    #[test]
+    fn builder_shares_equal_positions_and_values_and_splits_normal_groups() {
+        let mut b = Builder::new(false, false);
+        b.part("p", 0);
+        let c = |x: f64, n: DVec3| Corner {
+            p: DVec3::new(x, 0.0, if x == 2.0 { 1.0 } else { 0.0 }),
+            uv: Some([x, -0.0]),
+            n: Some(n),
+        };
+        b.face(&[c(0.0, DVec3::Z), c(1.0, DVec3::Z), c(2.0, DVec3::Z)]);
+        b.group += 1;
+        b.face(&[c(0.0, DVec3::Z), c(2.0, DVec3::Z), c(1.0, DVec3::Z)]);
+        let m = b.mesh("m");
+        assert_eq!(m.positions.len(), 3);
+        let uv = m.attribute(&Semantic::TexCoord(0)).expect("uv");
+        assert_eq!(uv.value_count(), 3);
+        assert_eq!(uv.values[1], 0.0, "−0 stored as 0");
+        let n = m.attribute(&Semantic::Normal).expect("normals");
+        assert_eq!(n.value_count(), 2, "one normal per group");
+        assert_eq!(n.indices, vec![0, 0, 0, 1, 1, 1]);
     }
 }
