@@ -825,3 +825,111 @@ fn a_rebake_shares_one_budget_over_the_file_as_keeping_the_uvs_does() {
         "texture excess re-baked {bake:.4} vs kept {keep:.4}"
     );
 }
+
+/// Peak resident memory (bytes) of `wildlod` run with `args`, from the
+/// kernel's accounting of that child alone (`wait4`), with its output.
+// `wait4` is the one call that reports one child's peak memory.
+#[allow(unsafe_code)]
+#[cfg(all(target_os = "linux", target_env = "gnu"))]
+fn peak_memory(args: &[&str]) -> (std::process::ExitStatus, u64, String) {
+    use std::os::unix::process::ExitStatusExt;
+    let child = std::process::Command::new(env!("CARGO_BIN_EXE_wildlod"))
+        .args(args)
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .expect("run wildlod");
+    let pid = child.id() as libc::pid_t;
+    let mut stderr = child.stderr.expect("piped stderr");
+    let reader = std::thread::spawn(move || {
+        let mut s = String::new();
+        std::io::Read::read_to_string(&mut stderr, &mut s).ok();
+        s
+    });
+    let mut status: libc::c_int = 0;
+    // SAFETY: `rusage` is plain data the kernel fills; `pid` is our child,
+    // not yet waited for (its `Child` handle was consumed above and never
+    // waits), so `wait4` reaps exactly it.
+    let mut usage: libc::rusage = unsafe { std::mem::zeroed() };
+    let r = unsafe { libc::wait4(pid, &mut status, 0, &mut usage) };
+    assert_eq!(r, pid, "wait4 failed");
+    let err = reader.join().unwrap_or_default();
+    // Linux reports the maximum resident set in kilobytes.
+    (
+        std::process::ExitStatus::from_raw(status),
+        usage.ru_maxrss as u64 * 1024,
+        err,
+    )
+}
+
+/// Re-baking a terrain with three vertices at -1e30 (an exporter's sentinel
+/// heights) finishes within bounded memory (issue 33): the robust
+/// normalization keeps the collapse history at its usual size, and an atlas
+/// that cannot hold the outliers' charts leaves them out. Without that the
+/// history grew until the machine ran out of memory. Bound: 1 KB per input
+/// triangle plus 200 MB for the process and its images, the issue's 1 GB
+/// for the million-triangle terrain.
+#[cfg(all(target_os = "linux", target_env = "gnu"))]
+#[test]
+fn an_outlier_terrain_rebakes_in_bounded_memory() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut scene = wildlod_testkit::scenes::outlier_terrain(300, 3);
+    let m = &mut scene.meshes[0];
+    // Planar UVs over a texture, as a terrain's ground texture is mapped.
+    let uv: Vec<f32> = m
+        .positions
+        .iter()
+        .flat_map(|p| [p[0] / 100.0, p[2] / 100.0])
+        .collect();
+    m.attributes.push(Attribute {
+        semantic: Semantic::TexCoord(0),
+        components: 2,
+        values: uv,
+        indices: m.faces.indices.clone(),
+        format: ComponentFormat::F32,
+    });
+    let triangles = m.triangle_count();
+    let png = dir.path().join("ground.png");
+    image::RgbImage::from_fn(512, 512, |x, y| {
+        image::Rgb([(x / 2) as u8, (y / 2) as u8, ((x ^ y) % 256) as u8])
+    })
+    .save(&png)
+    .unwrap();
+    scene.textures.push(Texture {
+        name: "ground".into(),
+        source: ImageSource::Path(png),
+        sampler: Default::default(),
+    });
+    scene.materials[0].base_color_texture = Some(TextureRef {
+        texture: 0,
+        tex_coord: 0,
+    });
+    let input = dir.path().join("terrain.glb");
+    wildlod_io::write(
+        &Document::from_scene(scene),
+        &input,
+        &WriteOptions::default(),
+    )
+    .unwrap();
+    let out = dir.path().join("lod.glb");
+    let (status, peak, err) = peak_memory(&[
+        "simplify",
+        s(&input),
+        "-o",
+        s(&out),
+        "--ratio",
+        "0.1",
+        "--bake",
+    ]);
+    assert!(status.success(), "{err}");
+    let bound = 1000 * triangles as u64 + (200 << 20);
+    assert!(
+        peak <= bound,
+        "peak {} MB for {triangles} triangles (bound {} MB)",
+        peak >> 20,
+        bound >> 20
+    );
+    let lod = wildlod_io::read(&out).unwrap();
+    let kept = lod.scene.meshes[0].triangle_count();
+    assert!(kept.abs_diff(triangles / 10) <= 1, "{kept} of {triangles}");
+}
