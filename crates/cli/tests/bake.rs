@@ -828,8 +828,9 @@ fn a_rebake_shares_one_budget_over_the_file_as_keeping_the_uvs_does() {
 
 /// Peak resident memory (bytes) of `wildlod` run with `args`, from the
 /// kernel's accounting of that child alone (`wait4`), with its output.
-// `wait4` is the one call that reports one child's peak memory.
-#[allow(unsafe_code)]
+// `wait4` is the one call that reports one child's peak memory; it also
+// reaps the child, which clippy cannot see.
+#[allow(unsafe_code, clippy::zombie_processes)]
 #[cfg(all(target_os = "linux", target_env = "gnu"))]
 fn peak_memory(args: &[&str]) -> (std::process::ExitStatus, u64, String) {
     use std::os::unix::process::ExitStatusExt;
