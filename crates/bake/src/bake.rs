@@ -19,7 +19,9 @@ use wildlod_simplify::{
 };
 
 use crate::atlas::{atlas_stats, build_atlas, AtlasOptions, AtlasStats};
-use crate::channels::{corner_normals, encode, Channel, Frame, InputChannels};
+use crate::channels::{
+    corner_normals, encode, texel_footprint, Channel, Footprint, Frame, InputChannels,
+};
 use crate::gutter::{apply_fill, nearest_owned};
 use crate::mapping::SuccessiveMap;
 use crate::raster::{rasterize, NO_TRIANGLE};
@@ -527,6 +529,8 @@ pub fn bake_mesh(input: &BakeInput, options: &BakeOptions) -> Result<Baked, Bake
         let t0 = Instant::now();
         let size = atlas.size;
         let coverage = rasterize(&atlas.corner_uvs, size, BILINEAR_MARGIN);
+        // Each texel averages the input texels its footprint covers.
+        let footprints = texel_footprints(&s.positions, &triangles, members, atlas);
         let chans = &group_channels[g];
         let orm =
             chans.contains(&Channel::MetallicRoughness) && chans.contains(&Channel::Occlusion);
@@ -553,7 +557,8 @@ pub fn bake_mesh(input: &BakeInput, options: &BakeOptions) -> Result<Baked, Bake
                     }
                 }
                 let face = s.face_origin[tri_face[t] as usize];
-                let v = channels_in.evaluate(&map.map(face, p));
+                let v =
+                    channels_in.evaluate(&map.map(face, p), footprints[owner as usize].as_ref());
                 let frame = out_tangents.as_ref().and_then(|tan| {
                     let (mut n, mut tv, mut sign) = (glam::Vec3::ZERO, glam::Vec3::ZERO, 0.0);
                     for (k, &wk) in b.iter().enumerate() {
@@ -676,6 +681,25 @@ pub fn bake_mesh(input: &BakeInput, options: &BakeOptions) -> Result<Baked, Bake
             atlases,
         },
     })
+}
+
+/// The surface footprint of a texel of each of a group's triangles
+/// (`members`, laid out in `atlas`).
+fn texel_footprints(
+    positions: &[[f32; 3]],
+    triangles: &[[u32; 3]],
+    members: &[u32],
+    atlas: &crate::atlas::Atlas,
+) -> Vec<Option<Footprint>> {
+    members
+        .iter()
+        .enumerate()
+        .map(|(i, &t)| {
+            let p = triangles[t as usize].map(|v| positions[v as usize]);
+            let q = [0, 1, 2].map(|k| atlas.corner_uvs[3 * i + k]);
+            texel_footprint(p, q)
+        })
+        .collect()
 }
 
 /// The output material of a group: the group's first material with no
