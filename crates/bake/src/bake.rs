@@ -18,7 +18,7 @@ use wildlod_simplify::{
     simplify_with_attributes, AttributeInput, FittedSkin, Options, Report, SkinStream,
 };
 
-use crate::atlas::{atlas_stats, build_atlas, AtlasOptions, AtlasStats};
+use crate::atlas::{atlas_stats, build_atlas_weighted, AtlasOptions, AtlasStats};
 use crate::channels::{
     corner_normals, encode, texel_footprint, Channel, Footprint, Frame, InputChannels,
 };
@@ -392,6 +392,7 @@ pub fn bake_mesh(input: &BakeInput, options: &BakeOptions) -> Result<Baked, Bake
 
     // The linear scale of the level's texel density against the input's.
     let scale = level_scale(input, &s.report, options);
+    let face_density = crate::density::input_face_densities(input);
     // Atlas UVs per triangle corner, group by group.
     let mut corner_uv = vec![[0.0f32; 2]; 3 * triangles.len()];
     let mut materials = Vec::new();
@@ -415,6 +416,18 @@ pub fn bake_mesh(input: &BakeInput, options: &BakeOptions) -> Result<Baked, Bake
             .filter(|&t| !triangles[t as usize].iter().any(|&v| far[v as usize]))
             .collect();
         let group_tris: Vec<[u32; 3]> = members.iter().map(|&t| triangles[t as usize]).collect();
+        // Charts get texels where the input has them (`density.rs`).
+        let origins: Vec<u32> = members
+            .iter()
+            .map(|&t| s.face_origin[tri_face[t as usize] as usize])
+            .collect();
+        let densities = crate::density::triangle_densities(
+            &map,
+            &face_density,
+            &s.positions,
+            &group_tris,
+            &origins,
+        );
         let mut size = options
             .texture_size
             .unwrap_or_else(|| density_size(input, &s.positions, &group_tris, scale, options));
@@ -423,10 +436,11 @@ pub fn bake_mesh(input: &BakeInput, options: &BakeOptions) -> Result<Baked, Bake
         // chart has a place worth its padding; an asked-for size (or the
         // largest) is used as long as every chart has a place.
         let atlas = loop {
-            let atlas = build_atlas(
+            let atlas = build_atlas_weighted(
                 &s.positions,
                 &group_tris,
                 &[],
+                &densities,
                 &AtlasOptions {
                     size,
                     padding: options.padding,
