@@ -241,21 +241,32 @@ const MAX_TAPS: usize = 8;
 /// encoded back, as GPUs build sRGB mips), from full-precision sums of the
 /// level above so that rounding does not pile up.
 pub(crate) fn mip_levels(image: &Rgba8Image, srgb: bool, lut: &[f32; 256]) -> Vec<Rgba8Image> {
-    let (mut w, mut h) = (image.width as usize, image.height as usize);
-    let mut cur: Vec<[f32; 4]> = image
-        .pixels
-        .iter()
-        .map(|p| {
-            let c = |v: u8| {
-                if srgb {
-                    lut[v as usize]
-                } else {
-                    v as f32 / 255.0
-                }
-            };
-            [c(p[0]), c(p[1]), c(p[2]), p[3] as f32 / 255.0]
-        })
+    let decode = |p: [u8; 4]| {
+        let c = |v: u8| {
+            if srgb {
+                lut[v as usize]
+            } else {
+                v as f32 / 255.0
+            }
+        };
+        [c(p[0]), c(p[1]), c(p[2]), p[3] as f32 / 255.0]
+    };
+    // Linear → stored byte: for sRGB, the number of byte midpoints below
+    // the value (exact rounding of the curve, without a `powf` per texel).
+    let midpoints: Vec<f32> = (0..255)
+        .map(|i| srgb_to_linear((i as f32 + 0.5) / 255.0))
         .collect();
+    let encode = |v: f32| -> u8 {
+        if srgb {
+            midpoints.partition_point(|&m| m < v) as u8
+        } else {
+            quantize(v)
+        }
+    };
+    let (mut w, mut h) = (image.width as usize, image.height as usize);
+    // Level 1 reads the image itself; later levels the unrounded values of
+    // the level above (a quarter of the image's size, not a copy of it).
+    let mut cur: Vec<[f32; 4]> = Vec::new();
     let mut out = Vec::new();
     while w > 1 || h > 1 {
         let (nw, nh) = (w.div_ceil(2).max(1), h.div_ceil(2).max(1));
@@ -266,7 +277,11 @@ pub(crate) fn mip_levels(image: &Rgba8Image, srgb: bool, lut: &[f32; 256]) -> Ve
                 let mut n = 0.0;
                 for yy in 2 * y..(2 * y + 2).min(h) {
                     for xx in 2 * x..(2 * x + 2).min(w) {
-                        let p = cur[yy * w + xx];
+                        let p = if out.is_empty() {
+                            decode(image.pixels[yy * w + xx])
+                        } else {
+                            cur[yy * w + xx]
+                        };
                         for k in 0..4 {
                             sum[k] += p[k];
                         }
@@ -278,10 +293,7 @@ pub(crate) fn mip_levels(image: &Rgba8Image, srgb: bool, lut: &[f32; 256]) -> Ve
         }
         let pixels = next
             .iter()
-            .map(|p| {
-                let c = |v: f32| quantize(if srgb { linear_to_srgb(v) } else { v });
-                [c(p[0]), c(p[1]), c(p[2]), quantize(p[3])]
-            })
+            .map(|p| [encode(p[0]), encode(p[1]), encode(p[2]), quantize(p[3])])
             .collect();
         out.push(Rgba8Image {
             width: nw as u32,

@@ -20,7 +20,7 @@ use crate::mapping::SuccessiveMap;
 /// Samples over a group's whole surface, at least: a chart's mean density
 /// needs a few samples per input UV island it covers, not one per output
 /// triangle.
-const SAMPLE_BUDGET: f64 = 4096.0;
+const SAMPLE_BUDGET: f64 = 1024.0;
 
 /// Most samples on one output triangle (an 8 × 8 grid).
 const MAX_GRID: usize = 8;
@@ -89,7 +89,7 @@ pub(crate) fn triangle_densities(
     };
     let areas: Vec<f64> = triangles.iter().map(area).collect();
     let total: f64 = areas.iter().filter(|a| a.is_finite()).sum();
-    let budget = SAMPLE_BUDGET.max(2.0 * triangles.len() as f64);
+    let budget = SAMPLE_BUDGET.max(triangles.len() as f64);
     triangles
         .par_iter()
         .zip(origins.par_iter())
