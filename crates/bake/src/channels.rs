@@ -496,7 +496,9 @@ impl<'a> InputChannels<'a> {
         let (e1, e2) = (p[1] - p[0], p[2] - p[0]);
         let (a, b, c) = (e1.dot(e1), e1.dot(e2), e2.dot(e2));
         let det = a * c - b * b;
-        if !(det > 1e-12 * (a * c).max(f32::MIN_POSITIVE)) || !det.is_finite() {
+        // Degenerate (or NaN) input triangles have no UV derivative.
+        let flat = det.is_nan() || det <= 1e-12 * (a * c).max(f32::MIN_POSITIVE);
+        if flat || !det.is_finite() {
             return None;
         }
         let out = footprint.map(|d| {

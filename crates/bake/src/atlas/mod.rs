@@ -5,6 +5,7 @@
 //! rectangle and packed with gutters into one square atlas (`pack.rs`).
 //! `stats.rs` measures what a layout costs: stretch and atlas use.
 
+mod bitmap;
 mod charts;
 mod pack;
 mod stats;
