@@ -349,6 +349,42 @@ mod tests {
     }
 
     #[test]
+    fn triangle_charts_pack_by_shape_past_half_the_atlas() {
+        // 32 right triangles with unit legs: as rectangles each leaves
+        // half of its box empty, so the charts could cover at most half
+        // the atlas; packed by shape, pairs share their boxes.
+        let charts: Vec<Chart> = (0..32)
+            .map(|i| Chart {
+                triangles: vec![i],
+                coords: vec![[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]],
+            })
+            .collect();
+        let o = AtlasOptions {
+            size: 512,
+            padding: 2,
+            ..AtlasOptions::default()
+        };
+        let a = pack_charts(&charts, 32, &o);
+        assert!(a.placed && a.fits);
+        let covered = 32.0 * 0.5 * a.texels_per_unit.powi(2) / (512.0 * 512.0);
+        assert!(covered > 0.6, "charts cover {covered:.3} of the atlas");
+        // And no two charts' triangles come within the padding: texel
+        // centers of one never lie inside another's padded triangle.
+        let tri = |c: usize| [0, 1, 2].map(|k| a.corner_uvs[3 * c + k]);
+        for c in 0..32 {
+            for d in 0..32 {
+                if c == d {
+                    continue;
+                }
+                for p in tri(d) {
+                    let (dist, _) = crate::raster::closest_on_triangle_2d(p, tri(c));
+                    assert!(dist >= 2.0 - 1e-3, "charts {c} and {d}: {dist}");
+                }
+            }
+        }
+    }
+
+    #[test]
     fn tilted_rectangle_turns_to_its_own_sides() {
         // A 4 × 1 rectangle turned by 30°: its smallest bounding
         // rectangle is itself, 4 × 1 (or 1 × 4).
