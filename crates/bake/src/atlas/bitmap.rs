@@ -44,13 +44,24 @@ pub(super) fn place_point(q: [f64; 2], size: [f64; 2], scale: f64, turns: u8) ->
     [p[0] * scale, p[1] * scale]
 }
 
-fn spans(coords: &[[f64; 2]], size: [f64; 2], scale: f64, turns: u8) -> Spans {
+/// The chart's spans; none, and a width no atlas holds, when it reaches
+/// past `limit` texels (a sliver at a trial scale: its rows are not
+/// allocated).
+fn spans(coords: &[[f64; 2]], size: [f64; 2], scale: f64, turns: u8, limit: f64) -> Spans {
     let pts: Vec<[f64; 2]> = coords
         .iter()
         .map(|&q| place_point(q, size, scale, turns))
         .map(|p| [p[0].max(0.0), p[1].max(0.0)])
         .collect();
     let top = pts.iter().map(|p| p[1]).fold(0.0, f64::max);
+    let right = pts.iter().map(|p| p[0]).fold(0.0, f64::max);
+    if !(top <= limit && right <= limit) {
+        return Spans {
+            rows: Vec::new(),
+            width: i64::MAX,
+            order: Vec::new(),
+        };
+    }
     let n_rows = (top.ceil() as usize).max(1);
     let mut rows = vec![(i64::MAX, i64::MIN); n_rows];
     for t in pts.chunks_exact(3) {
@@ -276,11 +287,14 @@ pub(super) fn pack_shapes(
     }
     let shapes: Vec<[Spans; 4]> = charts
         .iter()
-        .map(|&(c, w, h)| [0, 1, 2, 3].map(|turns| spans(c, [w, h], scale, turns)))
+        .map(|&(c, w, h)| [0, 1, 2, 3].map(|turns| spans(c, [w, h], scale, turns, f64::from(size))))
         .collect();
     let texels = |s: &Spans| -> i64 { s.rows.iter().map(|&(a, b)| (b - a + 1).max(0)).sum() };
     let mut order: Vec<usize> = (0..charts.len()).collect();
-    order.sort_by_key(|&i| (std::cmp::Reverse(texels(&shapes[i][0])), i));
+    order.sort_by_key(|&i| {
+        let most = shapes[i].iter().map(texels).max().unwrap_or(0);
+        (std::cmp::Reverse(most), i)
+    });
     let mut spots = vec![
         Spot {
             origin: [0, 0],
@@ -330,16 +344,19 @@ mod tests {
 
     #[test]
     fn spans_cover_every_texel_a_triangle_touches() {
-        let s = spans(&triangle(4.0), [4.0; 2], 1.0, 0);
+        let s = spans(&triangle(4.0), [4.0; 2], 1.0, 0, 64.0);
         // Row r (y in [r, r + 1]) reaches x = 4 − r: texels 0..=3 − r.
         assert_eq!(s.rows, vec![(0, 3), (0, 2), (0, 1), (0, 0)]);
         assert_eq!(s.width, 4);
         // Turned by 90°: (x, y) → (4 − y, x); row r now spans 3 − r..=3.
-        let t = spans(&triangle(4.0), [4.0; 2], 1.0, 1);
+        let t = spans(&triangle(4.0), [4.0; 2], 1.0, 1, 64.0);
         assert_eq!(t.rows, vec![(0, 3), (1, 3), (2, 3), (3, 3)]);
         // By 180°: the right angle at the bottom right.
-        let u = spans(&triangle(4.0), [4.0; 2], 1.0, 2);
+        let u = spans(&triangle(4.0), [4.0; 2], 1.0, 2, 64.0);
         assert_eq!(u.rows, vec![(3, 3), (2, 3), (1, 3), (0, 3)]);
+        // Past the limit: nothing allocated, and it fits nowhere.
+        let far = spans(&triangle(4.0), [4.0; 2], 1e12, 0, 64.0);
+        assert!(far.rows.is_empty() && far.width > 64);
     }
 
     #[test]
@@ -353,7 +370,7 @@ mod tests {
         // Every texel either chart touches, in the atlas.
         let mut owner = vec![None; 32 * 32];
         for (c, spot) in spots.iter().enumerate() {
-            let s = spans(&t, [20.0; 2], 1.0, spot.turns);
+            let s = spans(&t, [20.0; 2], 1.0, spot.turns, 64.0);
             for (r, &(a, b)) in s.rows.iter().enumerate() {
                 for x in a..=b {
                     let (x, y) = (spot.origin[0] as i64 + x, spot.origin[1] as i64 + r as i64);
