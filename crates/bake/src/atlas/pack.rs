@@ -2,7 +2,7 @@
 //!
 //! First as rectangles (below), then, where the search is affordable, as
 //! shapes at the largest scale that fits (`bitmap.rs`): xatlas-level atlas
-//! use (the truck's body at 10%: 55% → 79%).
+//! use (the truck's body at 10%: 55% → 75%).
 //!
 //! Each chart is turned so that its bounding rectangle is smallest (the
 //! best rectangle has a side on the convex hull, so trying the hull's edge
