@@ -102,8 +102,12 @@ pub(crate) fn pack_charts(charts: &[Chart], triangle_count: usize, o: &AtlasOpti
     // Then the charts' shapes, which hold the same charts at a larger
     // scale where the rectangles leave room (`bitmap.rs`).
     let mut spots = None;
-    if best_found && !placed.is_empty() && placed.len() * o.size as usize <= MAX_SHAPE_WORK {
-        if let Some((s, found)) = pack_shapes_largest(&placed, scale, pad, o.size) {
+    // On a grid of `cell`² texels where the texel grid would cost too much.
+    let cell = [1u32, 2, 4, 8]
+        .into_iter()
+        .find(|&c| placed.len() * (o.size / c) as usize <= MAX_SHAPE_WORK);
+    if let (true, Some(cell)) = (best_found && !placed.is_empty(), cell) {
+        if let Some((s, found)) = pack_shapes_largest(&placed, scale, pad, o.size, cell) {
             scale = s;
             spots = Some(found);
         }
@@ -158,11 +162,41 @@ pub(crate) fn pack_charts(charts: &[Chart], triangle_count: usize, o: &AtlasOpti
     }
 }
 
-/// Most charts × atlas side packed by shape: the search costs up to a scan
-/// of the atlas's rows per chart, orientation and trial scale (127 charts
-/// in a 2048² atlas: 0.6 s); beyond, the rectangles' packing stays (a
-/// noisy scan's thousands of charts are mostly a texel or two anyway).
-const MAX_SHAPE_WORK: usize = 300_000;
+/// Most charts × grid side packed by shape: the search costs up to a scan
+/// of the grid's rows per chart, orientation and trial scale (the sofa's
+/// 127 charts in 2048², on a grid of 2² texels: 0.15 s, against 0.6 s and
+/// 2 points more atlas use on the texel grid). Larger atlases are packed
+/// on a grid of 2², 4² or 8² texels (charts that large lose little to the
+/// coarser grid);
+/// beyond, the rectangles' packing stays (a noisy scan's thousands of
+/// charts are mostly a texel or two anyway).
+const MAX_SHAPE_WORK: usize = 150_000;
+
+/// [`pack_shapes`] on a grid of `cell` × `cell` texels: every grid cell a
+/// chart touches is its own, the padding rounded up to whole cells.
+fn pack_cells(
+    shapes: &[(&[[f64; 2]], f64, f64)],
+    scale: f64,
+    pad: u32,
+    size: u32,
+    cell: u32,
+) -> Option<Vec<Spot>> {
+    let spots = pack_shapes(
+        shapes,
+        scale / f64::from(cell),
+        pad.div_ceil(cell),
+        size / cell,
+    )?;
+    Some(
+        spots
+            .into_iter()
+            .map(|s| Spot {
+                origin: s.origin.map(|v| v * cell),
+                turns: s.turns,
+            })
+            .collect(),
+    )
+}
 
 /// The largest scale, from `start` (where the rectangles fit) up, at which
 /// the charts' shapes fit (to within 1%), and their spots; `None` when
@@ -172,12 +206,13 @@ fn pack_shapes_largest(
     start: f64,
     pad: u32,
     size: u32,
+    cell: u32,
 ) -> Option<(f64, Vec<Spot>)> {
     let shapes: Vec<(&[[f64; 2]], f64, f64)> = placed
         .iter()
         .map(|p| (&p.coords[..], p.width, p.height))
         .collect();
-    let mut found = pack_shapes(&shapes, start, pad, size)?;
+    let mut found = pack_cells(&shapes, start, pad, size, cell)?;
     // Upper bound: the charts' own area fills the atlas inside its border.
     let area: f64 = placed
         .iter()
@@ -199,7 +234,7 @@ fn pack_shapes_largest(
     );
     while hi > lo * 1.01 {
         let mid = (lo * hi).sqrt();
-        match pack_shapes(&shapes, mid, pad, size) {
+        match pack_cells(&shapes, mid, pad, size, cell) {
             Some(s) => {
                 lo = mid;
                 found = s;
@@ -350,35 +385,47 @@ mod tests {
 
     #[test]
     fn triangle_charts_pack_by_shape_past_half_the_atlas() {
-        // 32 right triangles with unit legs: as rectangles each leaves
-        // half of its box empty, so the charts could cover at most half
-        // the atlas; packed by shape, pairs share their boxes.
-        let charts: Vec<Chart> = (0..32)
-            .map(|i| Chart {
-                triangles: vec![i],
-                coords: vec![[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]],
-            })
-            .collect();
-        let o = AtlasOptions {
-            size: 512,
-            padding: 2,
-            ..AtlasOptions::default()
-        };
-        let a = pack_charts(&charts, 32, &o);
-        assert!(a.placed && a.fits);
-        let covered = 32.0 * 0.5 * a.texels_per_unit.powi(2) / (512.0 * 512.0);
-        assert!(covered > 0.6, "charts cover {covered:.3} of the atlas");
-        // And no two charts' triangles come within the padding: texel
-        // centers of one never lie inside another's padded triangle.
-        let tri = |c: usize| [0, 1, 2].map(|k| a.corner_uvs[3 * c + k]);
-        for c in 0..32 {
-            for d in 0..32 {
-                if c == d {
-                    continue;
+        // Right triangles with unit legs: as rectangles each leaves half of
+        // its box empty, so the charts could cover at most half the atlas;
+        // packed by shape, pairs share their boxes. 400 charts in 2048²
+        // are packed on a grid of 4² texels.
+        for (n, size) in [(32u32, 512u32), (400, 2048)] {
+            let charts: Vec<Chart> = (0..n)
+                .map(|i| Chart {
+                    triangles: vec![i],
+                    coords: vec![[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]],
+                })
+                .collect();
+            let o = AtlasOptions {
+                size,
+                padding: 2,
+                ..AtlasOptions::default()
+            };
+            let a = pack_charts(&charts, n as usize, &o);
+            assert!(a.placed && a.fits);
+            let covered = f64::from(n) * 0.5 * a.texels_per_unit.powi(2) / f64::from(size).powi(2);
+            assert!(covered > 0.6, "{n} charts cover {covered:.3} of the atlas");
+            // No two charts' triangles come within the padding (the
+            // closest points of two triangles include a corner of one),
+            // nor any within the padding of the border.
+            let tri = |c: usize| [0, 1, 2].map(|k| a.corner_uvs[3 * c + k]);
+            for c in 0..n as usize {
+                for p in tri(c) {
+                    let lo = 2.0 - 1e-3;
+                    assert!(p[0] >= lo && p[1] >= lo, "{p:?}");
+                    assert!(
+                        p[0] <= size as f32 - lo && p[1] <= size as f32 - lo,
+                        "{p:?}"
+                    );
                 }
-                for p in tri(d) {
-                    let (dist, _) = crate::raster::closest_on_triangle_2d(p, tri(c));
-                    assert!(dist >= 2.0 - 1e-3, "charts {c} and {d}: {dist}");
+                for d in 0..n as usize {
+                    if c == d {
+                        continue;
+                    }
+                    for p in tri(d) {
+                        let (dist, _) = crate::raster::closest_on_triangle_2d(p, tri(c));
+                        assert!(dist >= 2.0 - 1e-3, "charts {c} and {d}: {dist}");
+                    }
                 }
             }
         }
