@@ -25,6 +25,24 @@ const SAMPLE_BUDGET: f64 = 1024.0;
 /// Most samples on one output triangle (an 8 × 8 grid).
 const MAX_GRID: usize = 8;
 
+/// Input densities within this ratio of each other count as uniform: the
+/// charts' scales would differ by at most its square root (6%), not worth
+/// a mapped sample per output triangle (a scan's or a terrain's
+/// 100,000).
+const UNIFORM_RATIO: f64 = 1.12;
+
+/// Whether every textured input face has about the same density
+/// ([`UNIFORM_RATIO`]).
+fn uniform(face_density: &[Option<f64>]) -> bool {
+    let (lo, hi) = face_density
+        .iter()
+        .flatten()
+        .fold((f64::INFINITY, 0.0f64), |(lo, hi), &d| {
+            (lo.min(d), hi.max(d))
+        });
+    hi <= lo * UNIFORM_RATIO
+}
+
 /// Input texels per unit of 3D area of every input face (`None`: no
 /// texture, or a degenerate face): the sum over its fan triangles of the UV
 /// area times the base colour image's size (any texture's when the
@@ -75,7 +93,8 @@ pub(crate) fn input_face_densities(input: &BakeInput) -> Vec<Option<f64>> {
 /// sample lands on a textured face): `triangles` over `positions`, each on
 /// the output face whose input face id is `origins[t]`, sampled on a grid
 /// of equal sub-triangles (more on larger triangles) and mapped back with
-/// `map`; `face_density` from [`input_face_densities`].
+/// `map`; `face_density` from [`input_face_densities`]. Empty (every chart
+/// at the same density) when the input's density is uniform.
 pub(crate) fn triangle_densities(
     map: &SuccessiveMap,
     face_density: &[Option<f64>],
@@ -87,6 +106,9 @@ pub(crate) fn triangle_densities(
         let p = t.map(|v| glam::DVec3::from(positions[v as usize].map(f64::from)));
         0.5 * (p[1] - p[0]).cross(p[2] - p[0]).length()
     };
+    if uniform(face_density) {
+        return Vec::new();
+    }
     let areas: Vec<f64> = triangles.iter().map(area).collect();
     let total: f64 = areas.iter().filter(|a| a.is_finite()).sum();
     let budget = SAMPLE_BUDGET.max(triangles.len() as f64);
@@ -131,4 +153,18 @@ pub(crate) fn triangle_densities(
             }
         })
         .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn densities_within_the_ratio_are_uniform_and_untextured_faces_do_not_count() {
+        assert!(uniform(&[Some(100.0), None, Some(110.0)]));
+        assert!(!uniform(&[Some(100.0), None, Some(130.0)]));
+        // Nothing textured: nothing to weigh.
+        assert!(uniform(&[None, None]));
+        assert!(uniform(&[]));
+    }
 }
