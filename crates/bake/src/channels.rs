@@ -171,13 +171,15 @@ impl TextureSampler<'_> {
     /// The average of the texture over the footprint of an output texel:
     /// `axes` are the UV offsets of one output texel step along x and y.
     /// Where the footprint covers at most one input texel (or is unknown)
-    /// this is [`TextureSampler::sample`], bilinear at level 0. Beyond, as
-    /// a GPU's anisotropic trilinear filter does: up to [`MAX_TAPS`]
-    /// trilinear lookups spread along the footprint's long axis, each at
-    /// the mip level whose texels are as wide as the footprint's short
-    /// axis (or the long axis over the taps), so that a texel averages
-    /// every input texel it covers instead of aliasing them. `mips` holds
-    /// the box-filtered levels 1, 2, …, built on first use.
+    /// this is [`TextureSampler::sample`], bilinear at level 0. Beyond, the
+    /// footprint's parallelogram is supersampled with a grid of up to
+    /// [`BOX_TAPS`]² bilinear lookups at the finest mip level whose texels
+    /// are at least the grid's spacing (level 0 up to 4 input texels
+    /// across), so that a texel averages every input texel it covers
+    /// instead of aliasing them, with little blur beyond the footprint (a
+    /// GPU's trilinear lookup at the footprint's level blurs about twice
+    /// as wide, and measured slightly worse). `mips` holds the
+    /// box-filtered levels 1, 2, …, built on first use.
     pub(crate) fn sample_filtered(
         &self,
         uv: [f32; 2],
@@ -189,51 +191,38 @@ impl TextureSampler<'_> {
         let Some(axes) = axes else {
             return self.sample(uv, lut);
         };
-        // The axes in input texels.
-        let ax = axes.map(|a| [a[0] * w, a[1] * h]);
-        let len = ax.map(|a| (a[0] * a[0] + a[1] * a[1]).sqrt());
-        if !(len[0].is_finite() && len[1].is_finite()) || len[0].max(len[1]) <= 1.0 {
+        // The axes' lengths in input texels.
+        let len = axes.map(|a| ((a[0] * w).powi(2) + (a[1] * h).powi(2)).sqrt());
+        let major = len[0].max(len[1]);
+        if !(len[0].is_finite() && len[1].is_finite()) || major <= 1.0 {
             return self.sample(uv, lut);
         }
-        let (major, minor, along) = if len[0] >= len[1] {
-            (len[0], len[1], axes[0])
-        } else {
-            (len[1], len[0], axes[1])
-        };
-        let taps = ((major / minor.max(1e-6)).ceil() as usize).clamp(1, MAX_TAPS);
-        let lod = (major / taps as f32).max(1.0).log2();
         let levels = mips.get_or_init(|| mip_levels(self.image, self.srgb, lut));
-        let level = |l: usize| -> &Rgba8Image {
-            if l == 0 {
-                self.image
-            } else {
-                &levels[(l - 1).min(levels.len().saturating_sub(1))]
-            }
-        };
-        let l0 = (lod.floor() as usize).min(levels.len());
-        let l1 = (l0 + 1).min(levels.len());
-        let frac = (lod - l0 as f32).clamp(0.0, 1.0);
+        let l = ((major / BOX_TAPS as f32).log2().ceil().max(0.0) as usize).min(levels.len());
+        let image = if l == 0 { self.image } else { &levels[l - 1] };
+        let cell = (1u64 << l) as f32;
+        let n = len.map(|x| ((x / cell).ceil() as usize).clamp(1, BOX_TAPS));
         let mut out = [0.0f32; 4];
-        for i in 0..taps {
-            let t = (i as f32 + 0.5) / taps as f32 - 0.5;
-            let p = [uv[0] + along[0] * t, uv[1] + along[1] * t];
-            let a = self.bilinear(level(l0), p, lut);
-            let b = if frac > 0.0 && l1 != l0 {
-                self.bilinear(level(l1), p, lut)
-            } else {
-                a
-            };
-            for k in 0..4 {
-                out[k] += a[k] + (b[k] - a[k]) * frac;
+        for i in 0..n[0] {
+            let s = (i as f32 + 0.5) / n[0] as f32 - 0.5;
+            for j in 0..n[1] {
+                let t = (j as f32 + 0.5) / n[1] as f32 - 0.5;
+                let p = [
+                    uv[0] + axes[0][0] * s + axes[1][0] * t,
+                    uv[1] + axes[0][1] * s + axes[1][1] * t,
+                ];
+                let c = self.bilinear(image, p, lut);
+                for k in 0..4 {
+                    out[k] += c[k];
+                }
             }
         }
-        out.map(|v| v / taps as f32)
+        out.map(|v| v / (n[0] * n[1]) as f32)
     }
 }
 
-/// Most lookups along an anisotropic footprint (GPUs' usual 16× costs
-/// twice as much for little gain on a bake's mildly stretched charts).
-const MAX_TAPS: usize = 8;
+/// Most lookups per axis of a footprint: 16 per texel at most.
+const BOX_TAPS: usize = 4;
 
 /// Mip levels 1, 2, … down to 1 × 1 of `image`: each texel the mean of the
 /// 2 × 2 texels under it (the last row or column of an odd size averages
