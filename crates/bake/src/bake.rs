@@ -18,8 +18,10 @@ use wildlod_simplify::{
     simplify_with_attributes, AttributeInput, FittedSkin, Options, Report, SkinStream,
 };
 
-use crate::atlas::{atlas_stats, build_atlas, AtlasOptions, AtlasStats};
-use crate::channels::{corner_normals, encode, Channel, Frame, InputChannels};
+use crate::atlas::{atlas_stats, build_atlas_weighted, AtlasOptions, AtlasStats};
+use crate::channels::{
+    corner_normals, encode, texel_footprint, Channel, Footprint, Frame, InputChannels,
+};
 use crate::gutter::{apply_fill, nearest_owned};
 use crate::mapping::SuccessiveMap;
 use crate::raster::{rasterize, NO_TRIANGLE};
@@ -390,6 +392,7 @@ pub fn bake_mesh(input: &BakeInput, options: &BakeOptions) -> Result<Baked, Bake
 
     // The linear scale of the level's texel density against the input's.
     let scale = level_scale(input, &s.report, options);
+    let face_density = crate::density::input_face_densities(input);
     // Atlas UVs per triangle corner, group by group.
     let mut corner_uv = vec![[0.0f32; 2]; 3 * triangles.len()];
     let mut materials = Vec::new();
@@ -413,6 +416,18 @@ pub fn bake_mesh(input: &BakeInput, options: &BakeOptions) -> Result<Baked, Bake
             .filter(|&t| !triangles[t as usize].iter().any(|&v| far[v as usize]))
             .collect();
         let group_tris: Vec<[u32; 3]> = members.iter().map(|&t| triangles[t as usize]).collect();
+        // Charts get texels where the input has them (`density.rs`).
+        let origins: Vec<u32> = members
+            .iter()
+            .map(|&t| s.face_origin[tri_face[t as usize] as usize])
+            .collect();
+        let densities = crate::density::triangle_densities(
+            &map,
+            &face_density,
+            &s.positions,
+            &group_tris,
+            &origins,
+        );
         let mut size = options
             .texture_size
             .unwrap_or_else(|| density_size(input, &s.positions, &group_tris, scale, options));
@@ -421,10 +436,11 @@ pub fn bake_mesh(input: &BakeInput, options: &BakeOptions) -> Result<Baked, Bake
         // chart has a place worth its padding; an asked-for size (or the
         // largest) is used as long as every chart has a place.
         let atlas = loop {
-            let atlas = build_atlas(
+            let atlas = build_atlas_weighted(
                 &s.positions,
                 &group_tris,
                 &[],
+                &densities,
                 &AtlasOptions {
                     size,
                     padding: options.padding,
@@ -527,6 +543,8 @@ pub fn bake_mesh(input: &BakeInput, options: &BakeOptions) -> Result<Baked, Bake
         let t0 = Instant::now();
         let size = atlas.size;
         let coverage = rasterize(&atlas.corner_uvs, size, BILINEAR_MARGIN);
+        // Each texel averages the input texels its footprint covers.
+        let footprints = texel_footprints(&s.positions, &triangles, members, atlas);
         let chans = &group_channels[g];
         let orm =
             chans.contains(&Channel::MetallicRoughness) && chans.contains(&Channel::Occlusion);
@@ -553,7 +571,8 @@ pub fn bake_mesh(input: &BakeInput, options: &BakeOptions) -> Result<Baked, Bake
                     }
                 }
                 let face = s.face_origin[tri_face[t] as usize];
-                let v = channels_in.evaluate(&map.map(face, p));
+                let v =
+                    channels_in.evaluate(&map.map(face, p), footprints[owner as usize].as_ref());
                 let frame = out_tangents.as_ref().and_then(|tan| {
                     let (mut n, mut tv, mut sign) = (glam::Vec3::ZERO, glam::Vec3::ZERO, 0.0);
                     for (k, &wk) in b.iter().enumerate() {
@@ -676,6 +695,25 @@ pub fn bake_mesh(input: &BakeInput, options: &BakeOptions) -> Result<Baked, Bake
             atlases,
         },
     })
+}
+
+/// The surface footprint of a texel of each of a group's triangles
+/// (`members`, laid out in `atlas`).
+fn texel_footprints(
+    positions: &[[f32; 3]],
+    triangles: &[[u32; 3]],
+    members: &[u32],
+    atlas: &crate::atlas::Atlas,
+) -> Vec<Option<Footprint>> {
+    members
+        .iter()
+        .enumerate()
+        .map(|(i, &t)| {
+            let p = triangles[t as usize].map(|v| positions[v as usize]);
+            let q = [0, 1, 2].map(|k| atlas.corner_uvs[3 * i + k]);
+            texel_footprint(p, q)
+        })
+        .collect()
 }
 
 /// The output material of a group: the group's first material with no

@@ -15,6 +15,8 @@
 //! breaks: the same world-space normal has different tangent-space
 //! coordinates under a different parametrization.
 
+use std::sync::OnceLock;
+
 use glam::Vec3;
 use wildlod_mesh::{
     Attribute, Material, Mesh, Rgba8Image, Sampler, Semantic, Texture, TextureRef, Wrap, ABSENT,
@@ -127,7 +129,13 @@ impl TextureSampler<'_> {
     /// Bilinear lookup at `uv` (glTF: `v = 0` is the top row, texel
     /// centers at half-integers), linear values.
     pub(crate) fn sample(&self, uv: [f32; 2], lut: &[f32; 256]) -> [f32; 4] {
-        let (w, h) = (self.image.width as i64, self.image.height as i64);
+        self.bilinear(self.image, uv, lut)
+    }
+
+    /// Bilinear lookup in `image` (the texture or one of its mip levels,
+    /// stored in the texture's encoding).
+    fn bilinear(&self, image: &Rgba8Image, uv: [f32; 2], lut: &[f32; 256]) -> [f32; 4] {
+        let (w, h) = (image.width as i64, image.height as i64);
         if w == 0 || h == 0 || !(uv[0].is_finite() && uv[1].is_finite()) {
             return [1.0; 4];
         }
@@ -139,7 +147,7 @@ impl TextureSampler<'_> {
         let xs = [x0, x0 + 1].map(|i| wrap(i, w, self.sampler.wrap_u) as usize);
         let ys = [y0, y0 + 1].map(|i| wrap(i, h, self.sampler.wrap_v) as usize);
         let texel = |xi: usize, yi: usize| {
-            let p = self.image.pixels[yi * w as usize + xi];
+            let p = image.pixels[yi * w as usize + xi];
             let lin = |v: u8| {
                 if self.srgb {
                     lut[v as usize]
@@ -159,13 +167,140 @@ impl TextureSampler<'_> {
         }
         out
     }
+
+    /// The average of the texture over the footprint of an output texel:
+    /// `axes` are the UV offsets of one output texel step along x and y.
+    /// Where the footprint covers at most one input texel (or is unknown)
+    /// this is [`TextureSampler::sample`], bilinear at level 0. Beyond, the
+    /// footprint's parallelogram is supersampled with a grid of up to
+    /// [`BOX_TAPS`]² bilinear lookups at the finest mip level whose texels
+    /// are at least the grid's spacing (level 0 up to 4 input texels
+    /// across), so that a texel averages every input texel it covers
+    /// instead of aliasing them, with little blur beyond the footprint (a
+    /// GPU's trilinear lookup at the footprint's level blurs about twice
+    /// as wide, and measured slightly worse). `mips` holds the
+    /// box-filtered levels 1, 2, …, built on first use.
+    pub(crate) fn sample_filtered(
+        &self,
+        uv: [f32; 2],
+        axes: Option<[[f32; 2]; 2]>,
+        mips: &OnceLock<Vec<Rgba8Image>>,
+        lut: &[f32; 256],
+    ) -> [f32; 4] {
+        let (w, h) = (self.image.width as f32, self.image.height as f32);
+        let Some(axes) = axes else {
+            return self.sample(uv, lut);
+        };
+        // The axes' lengths in input texels.
+        let len = axes.map(|a| ((a[0] * w).powi(2) + (a[1] * h).powi(2)).sqrt());
+        let major = len[0].max(len[1]);
+        if !(len[0].is_finite() && len[1].is_finite()) || major <= 1.0 {
+            return self.sample(uv, lut);
+        }
+        let levels = mips.get_or_init(|| mip_levels(self.image, self.srgb, lut));
+        let l = ((major / BOX_TAPS as f32).log2().ceil().max(0.0) as usize).min(levels.len());
+        let image = if l == 0 { self.image } else { &levels[l - 1] };
+        let cell = (1u64 << l) as f32;
+        let n = len.map(|x| ((x / cell).ceil() as usize).clamp(1, BOX_TAPS));
+        let mut out = [0.0f32; 4];
+        for i in 0..n[0] {
+            let s = (i as f32 + 0.5) / n[0] as f32 - 0.5;
+            for j in 0..n[1] {
+                let t = (j as f32 + 0.5) / n[1] as f32 - 0.5;
+                let p = [
+                    uv[0] + axes[0][0] * s + axes[1][0] * t,
+                    uv[1] + axes[0][1] * s + axes[1][1] * t,
+                ];
+                let c = self.bilinear(image, p, lut);
+                for k in 0..4 {
+                    out[k] += c[k];
+                }
+            }
+        }
+        out.map(|v| v / (n[0] * n[1]) as f32)
+    }
+}
+
+/// Most lookups per axis of a footprint: 16 per texel at most.
+const BOX_TAPS: usize = 4;
+
+/// Mip levels 1, 2, … down to 1 × 1 of `image`: each texel the mean of the
+/// 2 × 2 texels under it (the last row or column of an odd size averages
+/// what there is), averaged in linear space (`srgb`: RGB decoded first and
+/// encoded back, as GPUs build sRGB mips), from full-precision sums of the
+/// level above so that rounding does not pile up.
+pub(crate) fn mip_levels(image: &Rgba8Image, srgb: bool, lut: &[f32; 256]) -> Vec<Rgba8Image> {
+    let decode = |p: [u8; 4]| {
+        let c = |v: u8| {
+            if srgb {
+                lut[v as usize]
+            } else {
+                v as f32 / 255.0
+            }
+        };
+        [c(p[0]), c(p[1]), c(p[2]), p[3] as f32 / 255.0]
+    };
+    // Linear → stored byte: for sRGB, the number of byte midpoints below
+    // the value (exact rounding of the curve, without a `powf` per texel).
+    let midpoints: Vec<f32> = (0..255)
+        .map(|i| srgb_to_linear((i as f32 + 0.5) / 255.0))
+        .collect();
+    let encode = |v: f32| -> u8 {
+        if srgb {
+            midpoints.partition_point(|&m| m < v) as u8
+        } else {
+            quantize(v)
+        }
+    };
+    let (mut w, mut h) = (image.width as usize, image.height as usize);
+    // Level 1 reads the image itself; later levels the unrounded values of
+    // the level above (a quarter of the image's size, not a copy of it).
+    let mut cur: Vec<[f32; 4]> = Vec::new();
+    let mut out = Vec::new();
+    while w > 1 || h > 1 {
+        let (nw, nh) = (w.div_ceil(2).max(1), h.div_ceil(2).max(1));
+        let mut next = vec![[0.0f32; 4]; nw * nh];
+        for y in 0..nh {
+            for x in 0..nw {
+                let mut sum = [0.0f32; 4];
+                let mut n = 0.0;
+                for yy in 2 * y..(2 * y + 2).min(h) {
+                    for xx in 2 * x..(2 * x + 2).min(w) {
+                        let p = if out.is_empty() {
+                            decode(image.pixels[yy * w + xx])
+                        } else {
+                            cur[yy * w + xx]
+                        };
+                        for k in 0..4 {
+                            sum[k] += p[k];
+                        }
+                        n += 1.0;
+                    }
+                }
+                next[y * nw + x] = sum.map(|v| v / n);
+            }
+        }
+        let pixels = next
+            .iter()
+            .map(|p| [encode(p[0]), encode(p[1]), encode(p[2]), quantize(p[3])])
+            .collect();
+        out.push(Rgba8Image {
+            width: nw as u32,
+            height: nh as u32,
+            pixels,
+        });
+        cur = next;
+        (w, h) = (nw, nh);
+    }
+    out
 }
 
 /// One input material, resolved for sampling.
 struct Resolved<'a> {
     material: Material,
-    /// Per channel: the texture and the UV stream it reads.
-    textures: [Option<(TextureSampler<'a>, &'a Attribute)>; 5],
+    /// Per channel: the texture, the UV stream it reads and its slot in
+    /// [`InputChannels::mips`].
+    textures: [Option<(TextureSampler<'a>, &'a Attribute, usize)>; 5],
 }
 
 /// Everything needed to evaluate the input's channels at a surface point.
@@ -181,6 +316,32 @@ pub(crate) struct InputChannels<'a> {
     /// normal map exists.
     tangents: Option<Vec<[f32; 4]>>,
     lut: [f32; 256],
+    /// Mip levels of every (image, encoding) a channel samples, built the
+    /// first time a texel's footprint needs them (most bakes shrink some
+    /// charts, few need every image's chain).
+    mips: Vec<OnceLock<Vec<Rgba8Image>>>,
+}
+
+/// An output texel's footprint on the surface: how far its surface point
+/// moves for one texel step along the atlas's x and along its y.
+pub(crate) type Footprint = [Vec3; 2];
+
+/// The [`Footprint`] of the texels of a triangle with corners at
+/// `positions` and at `uvs` in the atlas (texels); `None` for a triangle
+/// degenerate in either.
+pub(crate) fn texel_footprint(positions: [[f32; 3]; 3], uvs: [[f32; 2]; 3]) -> Option<Footprint> {
+    let p = positions.map(Vec3::from);
+    let (e1, e2) = (p[1] - p[0], p[2] - p[0]);
+    let (du1, dv1) = (uvs[1][0] - uvs[0][0], uvs[1][1] - uvs[0][1]);
+    let (du2, dv2) = (uvs[2][0] - uvs[0][0], uvs[2][1] - uvs[0][1]);
+    let det = du1 * dv2 - du2 * dv1;
+    if det == 0.0 || !det.is_finite() {
+        return None;
+    }
+    // P(u, v) = p0 + e1 s + e2 t with (s, t) = M⁻¹ (u − u0, v − v0).
+    let dx = (e1 * dv2 - e2 * dv1) / det;
+    let dy = (e2 * du1 - e1 * du2) / det;
+    (dx.is_finite() && dy.is_finite()).then_some([dx, dy])
 }
 
 /// Values of all channels at one point, linear (normals: world space).
@@ -205,8 +366,11 @@ impl<'a> InputChannels<'a> {
         tangents: Option<Vec<[f32; 4]>>,
     ) -> Self {
         let mut resolved = Vec::with_capacity(materials.len() + 1);
-        let resolve = |m: &Material| {
-            let mut t: [Option<(TextureSampler<'a>, &'a Attribute)>; 5] = [None; 5];
+        // One mip chain per (texture, sRGB or not), shared by every
+        // material and channel that samples it.
+        let mut slots: Vec<(u32, bool)> = Vec::new();
+        let mut resolve = |m: &Material| {
+            let mut t: [Option<(TextureSampler<'a>, &'a Attribute, usize)>; 5] = [None; 5];
             for ch in Channel::ALL {
                 let Some(r) = ch.texture(m) else { continue };
                 let image = images.get(r.texture as usize).and_then(Option::as_ref);
@@ -217,6 +381,13 @@ impl<'a> InputChannels<'a> {
                     .unwrap_or_default();
                 if let (Some(image), Some(uv)) = (image, uv) {
                     let srgb = matches!(ch, Channel::BaseColor | Channel::Emissive);
+                    let slot = match slots.iter().position(|&k| k == (r.texture, srgb)) {
+                        Some(i) => i,
+                        None => {
+                            slots.push((r.texture, srgb));
+                            slots.len() - 1
+                        }
+                    };
                     t[ch.index()] = Some((
                         TextureSampler {
                             image,
@@ -224,6 +395,7 @@ impl<'a> InputChannels<'a> {
                             srgb,
                         },
                         uv,
+                        slot,
                     ));
                 }
             }
@@ -263,6 +435,7 @@ impl<'a> InputChannels<'a> {
             normals: corner_normals(mesh),
             tangents,
             lut,
+            mips: (0..slots.len()).map(|_| OnceLock::new()).collect(),
         }
     }
 
@@ -292,14 +465,59 @@ impl<'a> InputChannels<'a> {
         Some(out)
     }
 
-    /// Every channel at `s`, linear.
-    pub(crate) fn evaluate(&self, s: &SurfacePoint) -> PointChannels {
+    /// The UV offsets, in UV stream `uv` of the input face under `s`, of
+    /// the surface offsets `footprint` (projected onto the face's plane):
+    /// the input texture's derivatives along an output texel's axes.
+    fn uv_axes(
+        &self,
+        uv: &Attribute,
+        s: &SurfacePoint,
+        footprint: &Footprint,
+    ) -> Option<[[f32; 2]; 2]> {
+        let p = s
+            .corners
+            .map(|c| Vec3::from(self.mesh.positions[self.mesh.faces.indices[c as usize] as usize]));
+        let mut q = [[0.0f32; 2]; 3];
+        for (k, &c) in s.corners.iter().enumerate() {
+            let v = uv.corner_value(c as usize)?;
+            q[k] = [v[0], *v.get(1)?];
+        }
+        let (e1, e2) = (p[1] - p[0], p[2] - p[0]);
+        let (a, b, c) = (e1.dot(e1), e1.dot(e2), e2.dot(e2));
+        let det = a * c - b * b;
+        // Degenerate (or NaN) input triangles have no UV derivative.
+        let flat = det.is_nan() || det <= 1e-12 * (a * c).max(f32::MIN_POSITIVE);
+        if flat || !det.is_finite() {
+            return None;
+        }
+        let out = footprint.map(|d| {
+            // d ≈ x e1 + y e2 in the face's plane (least squares).
+            let (r1, r2) = (d.dot(e1), d.dot(e2));
+            let x = (c * r1 - b * r2) / det;
+            let y = (a * r2 - b * r1) / det;
+            [
+                x * (q[1][0] - q[0][0]) + y * (q[2][0] - q[0][0]),
+                x * (q[1][1] - q[0][1]) + y * (q[2][1] - q[0][1]),
+            ]
+        });
+        out.iter().flatten().all(|v| v.is_finite()).then_some(out)
+    }
+
+    /// Every channel at `s`, linear, each texture averaged over the input
+    /// texels under `footprint` (the surface offsets of one output texel
+    /// step; `None`: a point sample, bilinear at level 0).
+    pub(crate) fn evaluate(
+        &self,
+        s: &SurfacePoint,
+        footprint: Option<&Footprint>,
+    ) -> PointChannels {
         let r = self.material_of(s.face);
         let m = &r.material;
         let sample = |ch: Channel| -> Option<[f32; 4]> {
-            let (tex, uv) = r.textures[ch.index()].as_ref()?;
+            let (tex, uv, slot) = r.textures[ch.index()].as_ref()?;
+            let axes = footprint.and_then(|f| self.uv_axes(uv, s, f));
             let uv = Self::interpolate::<2>(uv, s)?;
-            Some(tex.sample(uv, &self.lut))
+            Some(tex.sample_filtered(uv, axes, &self.mips[*slot], &self.lut))
         };
         let mut base = m.base_color;
         if let Some(t) = sample(Channel::BaseColor) {
@@ -516,6 +734,122 @@ mod tests {
         assert_eq!(s.sample([0.0, 0.5], &lut)[0], 0.5);
         s.sampler.wrap_u = Wrap::ClampToEdge;
         assert_eq!(s.sample([0.0, 0.5], &lut)[0], 0.0);
+    }
+
+    #[test]
+    fn a_footprint_of_many_texels_averages_them_and_one_of_a_texel_is_bilinear() {
+        // A 64² checker of single texels, black and white.
+        let pixels = (0..64 * 64)
+            .map(|i| {
+                let v = if (i % 64 + i / 64) % 2 == 0 { 0 } else { 255 };
+                [v, v, v, 255]
+            })
+            .collect();
+        let img = Rgba8Image {
+            width: 64,
+            height: 64,
+            pixels,
+        };
+        let mut lut = [0.0f32; 256];
+        for (i, v) in lut.iter_mut().enumerate() {
+            *v = srgb_to_linear(i as f32 / 255.0);
+        }
+        for srgb in [false, true] {
+            let s = TextureSampler {
+                image: &img,
+                sampler: Sampler::default(),
+                srgb,
+            };
+            let mips = OnceLock::new();
+            // An output texel 8 input texels wide, at points between and on
+            // texel centers: the mean of black and white, linear 0.5.
+            let eight = Some([[8.0 / 64.0, 0.0], [0.0, 8.0 / 64.0]]);
+            for uv in [
+                [0.5, 0.5],
+                [0.3, 0.71],
+                [0.123, 0.877],
+                [0.5 + 0.5 / 64.0, 0.5],
+            ] {
+                let c = s.sample_filtered(uv, eight, &mips, &lut);
+                for k in 0..3 {
+                    assert!(
+                        (c[k] - 0.5).abs() <= 2.0 / 255.0,
+                        "srgb {srgb} at {uv:?}: {c:?}"
+                    );
+                }
+            }
+            // Anisotropic: 8 texels along u, one along v, still grey.
+            let long = Some([[8.0 / 64.0, 0.0], [0.0, 1.0 / 64.0]]);
+            let c = s.sample_filtered([0.3, 0.71], long, &mips, &lut);
+            assert!((c[0] - 0.5).abs() <= 2.0 / 255.0, "anisotropic: {c:?}");
+            // At most a texel (or no footprint): exactly the bilinear value.
+            for f in [
+                None,
+                Some([[1.0 / 64.0, 0.0], [0.0, 1.0 / 64.0]]),
+                Some([[0.25 / 64.0, 0.1 / 64.0], [0.0, 0.5 / 64.0]]),
+            ] {
+                for uv in [
+                    [0.5 / 64.0, 0.5 / 64.0],
+                    [0.3, 0.71],
+                    [1.5 / 64.0, 0.5 / 64.0],
+                ] {
+                    assert_eq!(s.sample_filtered(uv, f, &mips, &lut), s.sample(uv, &lut));
+                }
+            }
+        }
+        // A texel center is the texel itself: black, then white.
+        let s = TextureSampler {
+            image: &img,
+            sampler: Sampler::default(),
+            srgb: false,
+        };
+        let one = Some([[1.0 / 64.0, 0.0], [0.0, 1.0 / 64.0]]);
+        let mips = OnceLock::new();
+        assert_eq!(
+            s.sample_filtered([0.5 / 64.0, 0.5 / 64.0], one, &mips, &lut)[0],
+            0.0
+        );
+        assert_eq!(
+            s.sample_filtered([1.5 / 64.0, 0.5 / 64.0], one, &mips, &lut)[0],
+            1.0
+        );
+    }
+
+    #[test]
+    fn mip_levels_average_in_linear_space_down_to_one_texel() {
+        // 3 × 1, sRGB: black, white, white. Level 1 is 2 × 1: mean of black
+        // and white (linear 0.5, sRGB 188), then the lone white; level 2 is
+        // 1 × 1: mean of those two levels' values.
+        let img = Rgba8Image {
+            width: 3,
+            height: 1,
+            pixels: vec![[0, 0, 0, 255], [255, 255, 255, 255], [255, 255, 255, 255]],
+        };
+        let mut lut = [0.0f32; 256];
+        for (i, v) in lut.iter_mut().enumerate() {
+            *v = srgb_to_linear(i as f32 / 255.0);
+        }
+        let l = mip_levels(&img, true, &lut);
+        assert_eq!(l.len(), 2);
+        assert_eq!((l[0].width, l[0].height, l[1].width), (2, 1, 1));
+        assert_eq!(l[0].pixels[0][0], quantize(linear_to_srgb(0.5)));
+        assert_eq!(l[0].pixels[1][0], 255);
+        assert_eq!(l[1].pixels[0][0], quantize(linear_to_srgb(0.75)));
+        // Linear data averages as stored.
+        let l = mip_levels(&img, false, &lut);
+        assert_eq!(l[0].pixels[0][0], 128);
+    }
+
+    #[test]
+    fn a_texel_footprint_is_the_surface_step_of_one_texel() {
+        // A right triangle 2 units wide laid out 8 texels wide, turned by
+        // 90° in the atlas: x in the atlas runs along the surface's y.
+        let p = [[0.0, 0.0, 0.0], [2.0, 0.0, 0.0], [0.0, 2.0, 0.0]];
+        let q = [[0.0, 0.0], [0.0, 8.0], [8.0, 0.0]];
+        let f = texel_footprint(p, q).expect("footprint");
+        assert!((f[0] - Vec3::new(0.0, 0.25, 0.0)).length() < 1e-6, "{f:?}");
+        assert!((f[1] - Vec3::new(0.25, 0.0, 0.0)).length() < 1e-6, "{f:?}");
+        assert!(texel_footprint(p, [[0.0, 0.0], [1.0, 1.0], [2.0, 2.0]]).is_none());
     }
 
     #[test]

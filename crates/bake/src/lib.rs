@@ -13,6 +13,9 @@
 //!   can bake their own channels.
 //! - [`build_atlas`] (`atlas/`): a new injective UV layout, charts packed
 //!   with gutters, and [`atlas_stats`] to measure one.
+//! - `density.rs`: the input's texel density over each output triangle,
+//!   through the mapping, so that charts get texels where the input has
+//!   its detail ([`build_atlas_weighted`]).
 //! - [`rasterize`] (`raster.rs`): which texels a bake computes (charts plus
 //!   the bilinear margin) and where each one is on the surface.
 //! - `channels.rs`: every PBR channel at an input point, normals re-expressed
@@ -28,12 +31,16 @@
 mod atlas;
 mod bake;
 mod channels;
+mod density;
 pub mod gutter;
 mod mapping;
 mod raster;
 mod texture_detail;
 
-pub use atlas::{atlas_stats, build_atlas, Atlas, AtlasOptions, AtlasStats};
+pub use atlas::{
+    atlas_stats, build_atlas, build_atlas_weighted, Atlas, AtlasOptions, AtlasStats,
+    MAX_DENSITY_RATIO,
+};
 pub use bake::{
     bake_mesh, AtlasReport, BakeError, BakeInput, BakeOptions, BakeReport, Baked, BakedImage,
 };

@@ -597,3 +597,252 @@ fn an_atlas_too_small_for_the_charts_is_an_error_and_a_chosen_size_grows() {
     let a = &grown.report.atlases[0];
     assert!(a.size >= 64 && a.stats.utilization > 0.0, "{a:?}");
 }
+
+/// Side of the logo box's texture.
+const LOGO_SIDE: u32 = 256;
+
+/// A long box (1 × 1 × 4.5, a closed welded mesh of 8 × 8 × 36 cells)
+/// whose end face z = 4.5 (5% of the surface) is a logo: its UV island is
+/// the image's top-left quarter, concentric rings 12 texels apart (drawn 4
+/// texels past the island's edge); the
+/// other five faces show a flat colour from small strips of the rest. The
+/// logo has 0.25 of the texture's texels, the other faces 0.33 together:
+/// the island's share of the used texels is 0.25 / 0.58.
+fn logo_box() -> (Mesh, Rgba8Image, f64) {
+    let s = LOGO_SIDE;
+    let flat = [90u8, 140, 200, 255];
+    let mut img = Rgba8Image::filled(s, s, flat);
+    // The rings run 4 texels past the island, as real atlases dilate
+    // their islands' content.
+    for y in 0..s / 2 + 4 {
+        for x in 0..s / 2 + 4 {
+            let r = ((x as f32 + 0.5 - 64.0).powi(2) + (y as f32 + 0.5 - 64.0).powi(2)).sqrt();
+            let v = 128.0 + 100.0 * (std::f32::consts::TAU * r / 12.0).sin();
+            img.pixels[(y * s + x) as usize] = [v as u8, (255.0 - v) as u8, 128, 255];
+        }
+    }
+    let n = [8i32, 8, 36];
+    // (fixed axis, at its far side, u axis, v axis, UV rectangle), u × v
+    // outward.
+    let long = |k: f32| [0.51 + 0.12 * k, 0.02, 0.59 + 0.12 * k, 0.98];
+    let faces: [(usize, bool, usize, usize, [f32; 4]); 6] = [
+        (2, true, 0, 1, [0.0, 0.0, 0.5, 0.5]),
+        (2, false, 1, 0, [0.05, 0.6, 0.2, 0.75]),
+        (0, true, 1, 2, long(0.0)),
+        (0, false, 2, 1, long(1.0)),
+        (1, true, 2, 0, long(2.0)),
+        (1, false, 0, 2, long(3.0)),
+    ];
+    let used: f64 = faces
+        .iter()
+        .map(|f| f64::from((f.4[2] - f.4[0]) * (f.4[3] - f.4[1])))
+        .sum();
+    let mut ids = std::collections::HashMap::new();
+    let mut positions = Vec::new();
+    let mut uvs = Vec::new();
+    let mut f = Faces::new();
+    for &(axis, far, ua, va, rect) in &faces {
+        let (nu, nv) = (n[ua], n[va]);
+        let mut id = |i: i32, j: i32, uvs: &mut Vec<f32>| {
+            let mut c = [0i32; 3];
+            c[axis] = if far { n[axis] } else { 0 };
+            c[ua] = i;
+            c[va] = j;
+            let next = positions.len() as u32;
+            let v = *ids.entry(c).or_insert_with(|| {
+                positions.push(c.map(|x| x as f32 / 8.0));
+                next
+            });
+            let (s, t) = (i as f32 / nu as f32, j as f32 / nv as f32);
+            uvs.extend_from_slice(&[
+                rect[0] + s * (rect[2] - rect[0]),
+                rect[1] + t * (rect[3] - rect[1]),
+            ]);
+            v
+        };
+        for j in 0..nv {
+            for i in 0..nu {
+                for tri in [
+                    [(i, j), (i + 1, j), (i + 1, j + 1)],
+                    [(i, j), (i + 1, j + 1), (i, j + 1)],
+                ] {
+                    let t = tri.map(|(a, b)| id(a, b, &mut uvs));
+                    f.push(&t);
+                }
+            }
+        }
+    }
+    let mut m = Mesh::from_polygons(positions, f);
+    m.attributes.push(Attribute {
+        semantic: Semantic::TexCoord(0),
+        components: 2,
+        values: uvs,
+        indices: (0..m.faces.corner_count() as u32).collect(),
+        format: ComponentFormat::F32,
+    });
+    m.parts[0].material = Some(0);
+    (m, img, 0.25 / used)
+}
+
+/// The logo's output triangles (on the end face z = 4.5) of a bake with a
+/// `size`² atlas: their texels per unit of area, and their share of the
+/// texels inside charts.
+fn logo_density_and_share(baked: &Baked, size: u32) -> (f64, f64, Vec<bool>) {
+    let m = &baked.mesh;
+    let uv = m.attribute(&Semantic::TexCoord(0)).expect("uvs");
+    let corner_uvs: Vec<[f32; 2]> = (0..m.faces.corner_count())
+        .map(|c| {
+            let v = uv.corner_value(c).expect("uv");
+            [v[0] * size as f32, v[1] * size as f32]
+        })
+        .collect();
+    let logo: Vec<bool> = (0..m.faces.len())
+        .map(|t| {
+            m.faces
+                .face(t)
+                .iter()
+                .all(|&v| (m.positions[v as usize][2] - 4.5).abs() < 1e-4)
+        })
+        .collect();
+    let (mut texels, mut area) = (0.0, 0.0);
+    for t in (0..m.faces.len()).filter(|&t| logo[t]) {
+        let p: Vec<Vec3> = m
+            .faces
+            .face(t)
+            .iter()
+            .map(|&v| Vec3::from(m.positions[v as usize]))
+            .collect();
+        let q = &corner_uvs[3 * t..3 * t + 3];
+        area += 0.5 * f64::from((p[1] - p[0]).cross(p[2] - p[0]).length());
+        texels += 0.5
+            * f64::from(
+                ((q[1][0] - q[0][0]) * (q[2][1] - q[0][1])
+                    - (q[1][1] - q[0][1]) * (q[2][0] - q[0][0]))
+                    .abs(),
+            );
+    }
+    let cov = rasterize(&corner_uvs, size, 0.0);
+    let inside: Vec<u32> = cov
+        .triangle
+        .iter()
+        .zip(&cov.distance)
+        .filter(|(&t, &d)| t != NO_TRIANGLE && d == 0.0)
+        .map(|(&t, _)| t)
+        .collect();
+    let on_logo = inside.iter().filter(|&&t| logo[t as usize]).count();
+    assert!(
+        area > 0.9,
+        "the logo face survives as output triangles: {area}"
+    );
+    (texels / area, on_logo as f64 / inside.len() as f64, logo)
+}
+
+#[test]
+fn a_small_high_detail_island_keeps_its_texel_density_and_share_of_the_atlas() {
+    let (mesh, img, input_share) = logo_box();
+    let materials = [Material {
+        base_color_texture: Some(TextureRef {
+            texture: 0,
+            tex_coord: 0,
+        }),
+        ..Material::default()
+    }];
+    let textures = [texture()];
+    let images = [Some(img.clone())];
+    let input = BakeInput {
+        mesh: &mesh,
+        materials: &materials,
+        textures: &textures,
+        images: &images,
+    };
+    let s = LOGO_SIDE;
+    // (a) An atlas as large as the input: the logo keeps its density.
+    let opts = BakeOptions {
+        bake_normals: false,
+        ..options(0.01, s)
+    };
+    let baked = bake_mesh(&input, &opts).expect("bakes");
+    assert!(baked.mesh.faces.len() <= 40, "{}", baked.mesh.faces.len());
+    let (density, _, logo) = logo_density_and_share(&baked, s);
+    // Input: a quarter of the image on a unit square.
+    let input_density = 0.25 * f64::from(s * s);
+    let linear = (density / input_density).sqrt();
+    assert!(
+        linear >= 0.8,
+        "logo at {linear:.3}× the input's linear density"
+    );
+    // Its texels are the input's, filtered at the matching scale: every
+    // output texel center inside a logo triangle, at surface point (x, y,
+    // 4.5), shows the input around UV (x/2, y/2), averaged over the
+    // output texel's footprint when it covers more than an input texel.
+    let base = image_of(&baked, Channel::BaseColor);
+    let m = &baked.mesh;
+    let uv = m.attribute(&Semantic::TexCoord(0)).expect("uvs");
+    let corner_uvs: Vec<[f32; 2]> = (0..m.faces.corner_count())
+        .map(|c| {
+            let v = uv.corner_value(c).expect("uv");
+            [v[0] * s as f32, v[1] * s as f32]
+        })
+        .collect();
+    let cov = rasterize(&corner_uvs, s, 0.0);
+    let footprint = (1.0 / linear) as f32;
+    let reference = |q: [f32; 2]| -> [f32; 4] {
+        if footprint <= 1.0 {
+            return bilinear(&img, q, true);
+        }
+        let k = 8;
+        let mut sum = [0.0f32; 4];
+        for j in 0..k {
+            for i in 0..k {
+                let d = |a: usize| ((a as f32 + 0.5) / k as f32 - 0.5) * footprint / s as f32;
+                let c = bilinear(&img, [q[0] + d(i), q[1] + d(j)], true);
+                for a in 0..4 {
+                    sum[a] += c[a] / (k * k) as f32;
+                }
+            }
+        }
+        sum
+    };
+    let mut checked = 0;
+    for (i, &t) in cov.triangle.iter().enumerate() {
+        if t == NO_TRIANGLE || cov.distance[i] > 0.0 || !logo[t as usize] {
+            continue;
+        }
+        let f = m.faces.face(t as usize);
+        let b = cov.bary[i];
+        let p = [0, 1].map(|a| {
+            (0..3)
+                .map(|k| b[k] * m.positions[f[k] as usize][a])
+                .sum::<f32>()
+        });
+        let want = reference([p[0] / 2.0, p[1] / 2.0]);
+        let got = base.pixels[i];
+        for a in 0..3 {
+            let w = (linear_to_srgb(want[a]) * 255.0).round();
+            assert!(
+                (f32::from(got[a]) - w).abs() <= 8.0,
+                "texel {i} at {p:?}: {got:?} against {w} (channel {a})"
+            );
+        }
+        checked += 1;
+    }
+    // The logo's 128² input texels come back as about as many.
+    assert!(checked as f64 >= 0.6 * 128.0 * 128.0, "{checked}");
+
+    // (b) Smaller atlases (the default a level picks, and a quarter of the
+    // input's side): the logo keeps its share of the texels.
+    for size in [None, Some(s / 2), Some(s / 4)] {
+        let opts = BakeOptions {
+            bake_normals: false,
+            texture_size: size,
+            ..options(0.01, s)
+        };
+        let baked = bake_mesh(&input, &opts).expect("bakes");
+        let side = baked.report.atlases[0].size;
+        let (_, share, _) = logo_density_and_share(&baked, side);
+        assert!(
+            share >= 0.8 * input_share,
+            "{side}² atlas: the logo has {share:.3} of the chart texels, {input_share:.3} of the input's"
+        );
+    }
+}

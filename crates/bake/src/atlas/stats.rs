@@ -15,8 +15,10 @@ pub struct AtlasStats {
     pub charts: usize,
     /// Fraction of atlas texels whose center lies inside a chart.
     pub utilization: f64,
-    /// Sander et al. 2001's L² stretch of the whole layout, normalized so
-    /// that 1 is an isometry up to the global scale (≥ 1).
+    /// Sander et al. 2001's L² stretch, normalized per chart so that 1 is
+    /// an isometry up to each chart's scale (charts get different texel
+    /// densities on purpose, [`crate::build_atlas_weighted`]), then
+    /// averaged (L², by area) over the charts (≥ 1).
     pub stretch_l2: f64,
     /// Area-weighted mean of the ratio of a triangle's larger to smaller
     /// singular value (1: no angle distortion).
@@ -25,7 +27,9 @@ pub struct AtlasStats {
 
 /// Measures `atlas`, a layout of `triangles` over `positions`.
 pub fn atlas_stats(positions: &[[f32; 3]], triangles: &[[u32; 3]], atlas: &Atlas) -> AtlasStats {
-    let (mut area3, mut area2, mut l2, mut angle) = (0.0, 0.0, 0.0, 0.0);
+    let (mut area3, mut angle) = (0.0, 0.0);
+    // Per chart: 3D area, UV area, Σ area × stretch².
+    let mut per_chart = vec![[0.0f64; 3]; atlas.chart_count.max(1)];
     for (t, tri) in triangles.iter().enumerate() {
         let p = tri.map(|v| DVec3::from(positions[v as usize].map(f64::from)));
         let q = [0, 1, 2].map(|k| atlas.corner_uvs[3 * t + k].map(f64::from));
@@ -49,8 +53,12 @@ pub fn atlas_stats(positions: &[[f32; 3]], triangles: &[[u32; 3]], atlas: &Atlas
         let big = (0.5 * (a + c + root)).sqrt();
         let small = (0.5 * (a + c - root)).max(0.0).sqrt();
         area3 += a3;
-        area2 += a2.abs();
-        l2 += a3 * 0.5 * (a + c);
+        let chart = atlas.triangle_chart.get(t).map_or(0, |&c| c as usize);
+        let last = per_chart.len() - 1;
+        let acc = &mut per_chart[chart.min(last)];
+        acc[0] += a3;
+        acc[1] += a2.abs();
+        acc[2] += a3 * 0.5 * (a + c);
         angle += a3 * if small > 0.0 { big / small } else { 1e6 };
     }
     let coverage = rasterize(&atlas.corner_uvs, atlas.size, 0.0);
@@ -63,7 +71,13 @@ pub fn atlas_stats(positions: &[[f32; 3]], triangles: &[[u32; 3]], atlas: &Atlas
             0.0
         },
         stretch_l2: if area3 > 0.0 {
-            (l2 / area3).sqrt() * (area2 / area3).sqrt()
+            // Σ over charts of area × (chart's normalized stretch)².
+            let sum: f64 = per_chart
+                .iter()
+                .filter(|c| c[0] > 0.0)
+                .map(|c| c[2] * c[1] / c[0])
+                .sum();
+            (sum / area3).sqrt()
         } else {
             1.0
         },
@@ -101,5 +115,42 @@ mod tests {
         // L² stretch of singular values (1/2, 1) of the inverse map at
         // unit area: √((¼ + 1)/2) · √(area ratio 2) = √1.25 ≈ 1.118.
         assert!((s.stretch_l2 - 1.25f64.sqrt()).abs() < 1e-9, "{s:?}");
+    }
+
+    #[test]
+    fn charts_at_different_densities_are_not_stretched() {
+        // Two unit right triangles, each laid out isometrically, one at 4
+        // texels per unit and one at 8.
+        let p = vec![
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [0.0, 1.0, 0.0],
+            [0.0, 0.0, 1.0],
+            [1.0, 0.0, 1.0],
+            [0.0, 1.0, 1.0],
+        ];
+        let t = [[0u32, 1, 2], [3, 4, 5]];
+        let mut a = Atlas {
+            size: 32,
+            corner_uvs: vec![
+                [1.0, 1.0],
+                [5.0, 1.0],
+                [1.0, 5.0],
+                [10.0, 10.0],
+                [18.0, 10.0],
+                [10.0, 18.0],
+            ],
+            triangle_chart: vec![0, 1],
+            chart_count: 2,
+            texels_per_unit: 4.0,
+            placed: true,
+            fits: true,
+        };
+        let s = atlas_stats(&p, &t, &a);
+        assert!((s.stretch_l2 - 1.0).abs() < 1e-12, "{s:?}");
+        // As one chart, the two densities are a stretch.
+        a.triangle_chart = vec![0, 0];
+        a.chart_count = 1;
+        assert!(atlas_stats(&p, &t, &a).stretch_l2 > 1.05);
     }
 }
