@@ -401,9 +401,10 @@ impl<'a> SuccessiveMap<'a> {
             .map(|&i| {
                 Vec3::from(points[i as usize])
                     .as_dvec3()
-                    .distance(c.as_dvec3())
+                    .distance_squared(c.as_dvec3())
             })
             .fold(0.0f64, f64::max)
+            .sqrt()
             * (1.0 + 1e-6);
         if !(c.is_finite() && radius.is_finite()) {
             return each(w, order, out);
@@ -483,12 +484,15 @@ impl<'a> SuccessiveMap<'a> {
                     let dist2 = |t: usize| {
                         pf.distance_squared(closest_on_triangle(pf, &self.rings[t].corners))
                     };
-                    if early && dist2(first) <= tol2 {
+                    // The current face's distance once: for the early exit
+                    // and as a candidate.
+                    let d2_first = if early { dist2(first) } else { f32::INFINITY };
+                    if d2_first <= tol2 {
                         return (first as u32, p);
                     }
                     let mut pick = (f32::INFINITY, risky[0]);
                     for &t in &risky {
-                        let d2 = dist2(t);
+                        let d2 = if t == first { d2_first } else { dist2(t) };
                         if d2 < pick.0 {
                             pick = (d2, t);
                         }
