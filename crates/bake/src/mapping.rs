@@ -490,11 +490,33 @@ impl<'a> SuccessiveMap<'a> {
                     if d2_first <= tol2 {
                         return (first as u32, p);
                     }
-                    let mut pick = (f32::INFINITY, risky[0]);
+                    // The least computed distance, ties to the lower
+                    // index, starting from the center's pick; others are
+                    // skipped by the same noise-proof bounds as in
+                    // `project_on_edge_ring`, which cannot change it.
+                    let mut pick = (if i == first { d2_first } else { dist2(i) }, i);
+                    let mut best_d = pick.0.sqrt();
+                    let mut best_mag = self.rings[i].mag;
+                    let pmag = pf.abs().max_element();
                     for &t in &risky {
+                        if t == i {
+                            continue;
+                        }
+                        let tri = &self.rings[t];
+                        let noise = 0.25 * MARGIN * (2.0 * pmag + tri.mag + best_mag);
+                        let reach = tri.radius + best_d + noise;
+                        if t != first
+                            && (pf.distance_squared(tri.center) > reach * reach
+                                || (tri.normal.dot(pf) - tri.offset).abs()
+                                    > best_d * (1.0 + 1e-5) + 1e-12 + noise)
+                        {
+                            continue;
+                        }
                         let d2 = if t == first { d2_first } else { dist2(t) };
-                        if d2 < pick.0 {
+                        if d2 < pick.0 || (d2 == pick.0 && t < pick.1) {
                             pick = (d2, t);
+                            best_d = d2.sqrt();
+                            best_mag = tri.mag;
                         }
                     }
                     (pick.1 as u32, p)
