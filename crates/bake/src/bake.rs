@@ -554,25 +554,32 @@ pub fn bake_mesh(input: &BakeInput, options: &BakeOptions) -> Result<Baked, Bake
         let mut y0 = 0u32;
         while y0 < size {
             let y1 = (y0 + BAND_ROWS).min(size);
-            // One texel: its surface point on the output, mapped back to
-            // the input through the history, every channel evaluated there.
-            let texel = |i: usize| -> Option<[[u8; 4]; 5]> {
+            // The band's texels mapped back to the input through the
+            // history, a triangle's texels together (they share most of
+            // their walk): its owner, its input face id, its surface point.
+            let surface = map.map_texels(w, y0 as usize..y1 as usize, |i| {
                 let owner = coverage.triangle[i];
                 if owner == NO_TRIANGLE {
                     return None;
                 }
                 let t = members[owner as usize] as usize;
-                let b = coverage.bary[i];
                 let mut p = [0.0f32; 3];
-                for (&v, &wk) in triangles[t].iter().zip(&b) {
+                for (&v, &wk) in triangles[t].iter().zip(&coverage.bary[i]) {
                     let q = s.positions[v as usize];
                     for a in 0..3 {
                         p[a] += wk * q[a];
                     }
                 }
-                let face = s.face_origin[tri_face[t] as usize];
-                let v =
-                    channels_in.evaluate(&map.map(face, p), footprints[owner as usize].as_ref());
+                Some((owner, s.face_origin[tri_face[t] as usize], p))
+            });
+            // One texel: every channel evaluated at its input point, each
+            // texture averaged over the texel's footprint.
+            let texel = |i: usize| -> Option<[[u8; 4]; 5]> {
+                let hit = surface[i - y0 as usize * w].as_ref()?;
+                let owner = coverage.triangle[i] as usize;
+                let t = members[owner] as usize;
+                let b = coverage.bary[i];
+                let v = channels_in.evaluate(hit, footprints[owner].as_ref());
                 let frame = out_tangents.as_ref().and_then(|tan| {
                     let (mut n, mut tv, mut sign) = (glam::Vec3::ZERO, glam::Vec3::ZERO, 0.0);
                     for (k, &wk) in b.iter().enumerate() {

@@ -98,7 +98,42 @@ struct RingTriangle {
     normal: Vec3,
     offset: f32,
     face: u32,
+    /// Largest absolute corner coordinate: the scale of the rounding in
+    /// distances to it (see `MARGIN`).
+    mag: f32,
 }
+
+/// Where a walk through the history stands: the current face, the
+/// collapses still to visit (those before `bound`), and the ring triangle
+/// (index into `rings`) of the last projection, if any.
+#[derive(Clone, Copy, Debug)]
+struct Walk {
+    face: u32,
+    bound: u32,
+    last: Option<u32>,
+}
+
+/// Batches of at most this many points are walked point by point: below
+/// it a certification costs about as much as the walks it would save.
+const LEAF_POINTS: usize = 3;
+
+/// A batch with at least this many points splits in two where at least
+/// `SPLIT_RISKY` ring triangles other than the candidate may be a point's
+/// choice, rather than testing each point against all of them.
+const SPLIT_POINTS: usize = 32;
+const SPLIT_RISKY: usize = 2;
+
+/// The margin, relative to the coordinates' magnitude, by which a ring
+/// triangle must be farther than the candidate to be ruled out for a whole
+/// batch: about 80 ulps of `f32`, far above the rounding of a distance as
+/// `closest_on_triangle` computes it, so every point of the batch picks as
+/// its own walk would.
+const MARGIN: f32 = 1e-5;
+
+/// Side in texels of the tiles [`SuccessiveMap::map_texels`] groups
+/// texels in: small enough that a tile's texels of one triangle are close
+/// together (few branches), large enough to share each walk over many.
+const TILE: usize = 32;
 
 impl<'a> SuccessiveMap<'a> {
     /// Indexes `history` (recorded while simplifying `faces` over
@@ -156,6 +191,10 @@ impl<'a> SuccessiveMap<'a> {
                         // hair too small would skip the true closest.
                         radius: radius * (1.0 + 1e-5) + 1e-12,
                         face: rf.face,
+                        mag: corners
+                            .iter()
+                            .map(|q| q.abs().max_element())
+                            .fold(0.0f32, f32::max),
                     });
                 }
             }
@@ -179,19 +218,341 @@ impl<'a> SuccessiveMap<'a> {
     /// # Panics
     /// When `face` is not a face id of the input.
     pub fn map(&self, face: u32, p: [f32; 3]) -> SurfacePoint {
-        let target = DVec3::from(p.map(f64::from));
-        let mut face = face;
-        let mut q = target;
-        let mut bound = self.history.len() as u32;
-        // Each step strictly lowers `bound`: at most one step per collapse.
-        while let Some(k) = self.previous_touch(face, bound) {
-            if let Some((f, point)) = self.project_on_edge_ring(k as usize, face, target) {
-                face = f;
-                q = point;
-            }
-            bound = k;
+        let pf = Vec3::from(p);
+        let w = self.walk(self.start(face), pf);
+        self.finish(w, pf)
+    }
+
+    /// Maps many points that all lie on the output face whose input face
+    /// id is `face` (the texels of one output triangle, say) into `out`,
+    /// with the same result as [`SuccessiveMap::map`] on each, bit for
+    /// bit, but walking the history once for every group of points that
+    /// follows one path through it (texels of a triangle share most of
+    /// their walk).
+    ///
+    /// Every step of a walk picks the ring triangle closest to the point.
+    /// The batch takes each step once for a ball around its points: the
+    /// triangle closest to the ball's center is the candidate, and another
+    /// triangle is ruled out for every point when it is farther from the
+    /// center by more than twice the radius (distances change by at most
+    /// the radius within the ball), or, where the ball hovers over the
+    /// candidate's interior, by the plane and in-plane parts of the squared
+    /// distances ([`Above`]); margins cover the `f32` rounding of the
+    /// per-point distances. When nothing remains the step is shared. Else
+    /// a large batch splits in two across its longest extent (a smaller
+    /// ball rules out more), and a small one lets each point pick among
+    /// the few remaining triangles, as the per-point search would, and
+    /// goes on in groups of equal picks: the walk is shared up to where
+    /// paths really part. At the end each point needs only its closest
+    /// point on the last ring triangle and its barycentrics on the input
+    /// face, as [`SuccessiveMap::map`] does last.
+    ///
+    /// # Panics
+    /// When `face` is not a face id of the input, or `out` is not as long
+    /// as `points`.
+    pub fn map_many(&self, face: u32, points: &[[f32; 3]], out: &mut [SurfacePoint]) {
+        assert_eq!(points.len(), out.len(), "one output per point");
+        self.map_many_counted(face, points, out);
+    }
+
+    /// [`SuccessiveMap::map_many`], returning how many points were walked
+    /// on their own (for tests: how much of the work was shared).
+    fn map_many_counted(&self, face: u32, points: &[[f32; 3]], out: &mut [SurfacePoint]) -> usize {
+        assert_eq!(points.len(), out.len(), "one output per point");
+        let mut order: Vec<u32> = (0..points.len() as u32).collect();
+        self.map_batch(self.start(face), points, &mut order, out)
+    }
+
+    /// Maps the texels of rows `rows` of an atlas `width` texels wide:
+    /// `texel(i)` gives texel `i`'s output triangle (any id that groups
+    /// texels lying on one output face), the input face id of that output
+    /// face, and the texel's surface point, or `None` for a texel no
+    /// triangle owns. The result holds one entry per texel of the rows,
+    /// `rows.start * width` first, equal to [`SuccessiveMap::map`] on each.
+    ///
+    /// Texels are taken in tiles of 32×32, grouped by triangle within a
+    /// tile and mapped together ([`SuccessiveMap::map_many`]); tiles in
+    /// parallel.
+    pub fn map_texels<F>(
+        &self,
+        width: usize,
+        rows: std::ops::Range<usize>,
+        texel: F,
+    ) -> Vec<Option<SurfacePoint>>
+    where
+        F: Fn(usize) -> Option<(u32, u32, [f32; 3])> + Sync,
+    {
+        use rayon::prelude::*;
+        let first = rows.start * width;
+        let mut out = vec![None; rows.len() * width];
+        let tiles: Vec<(usize, usize)> = rows
+            .clone()
+            .step_by(TILE)
+            .flat_map(|y| (0..width).step_by(TILE).map(move |x| (y, x)))
+            .collect();
+        let mapped: Vec<Vec<(usize, SurfacePoint)>> = tiles
+            .par_iter()
+            .map(|&(y, x)| {
+                let mut items: Vec<(u32, u32, [f32; 3], usize)> = Vec::new();
+                for yy in y..(y + TILE).min(rows.end) {
+                    for xx in x..(x + TILE).min(width) {
+                        let i = yy * width + xx;
+                        if let Some((group, face, p)) = texel(i) {
+                            items.push((group, face, p, i));
+                        }
+                    }
+                }
+                // Stable: texels of a group stay in scan order.
+                items.sort_by_key(|it| it.0);
+                let mut done = Vec::with_capacity(items.len());
+                let mut points = Vec::new();
+                let mut hits = Vec::new();
+                for run in items.chunk_by(|a, b| a.0 == b.0) {
+                    points.clear();
+                    points.extend(run.iter().map(|it| it.2));
+                    hits.clear();
+                    hits.resize(run.len(), self.placeholder());
+                    self.map_many(run[0].1, &points, &mut hits);
+                    done.extend(run.iter().map(|it| it.3).zip(hits.iter().copied()));
+                }
+                done
+            })
+            .collect();
+        for (i, hit) in mapped.into_iter().flatten() {
+            out[i - first] = Some(hit);
         }
-        self.on_input_face(face, q)
+        out
+    }
+
+    /// A value to fill output slots with before they are mapped.
+    fn placeholder(&self) -> SurfacePoint {
+        SurfacePoint {
+            face: 0,
+            corners: [0; 3],
+            bary: [1.0, 0.0, 0.0],
+        }
+    }
+
+    /// The walk of a point on the output face with input face id `face`,
+    /// before its first step.
+    fn start(&self, face: u32) -> Walk {
+        Walk {
+            face,
+            bound: self.history.len() as u32,
+            last: None,
+        }
+    }
+
+    /// Walks `pf` from `w` down to the input.
+    fn walk(&self, mut w: Walk, pf: Vec3) -> Walk {
+        // Each step strictly lowers `bound`: at most one step per collapse.
+        while let Some(k) = self.previous_touch(w.face, w.bound) {
+            if let Some(i) = self.project_on_edge_ring(k as usize, w.face, pf) {
+                w.face = self.rings[i].face;
+                w.last = Some(i as u32);
+            }
+            w.bound = k;
+        }
+        w
+    }
+
+    /// The input point of `pf` once its walk `w` reached the input: its
+    /// closest point on the last ring triangle it was projected to (the
+    /// queries always use the final position), else the point itself.
+    fn finish(&self, w: Walk, pf: Vec3) -> SurfacePoint {
+        let q = match w.last {
+            Some(i) => closest_on_triangle(pf, &self.rings[i as usize].corners).as_dvec3(),
+            None => pf.as_dvec3(),
+        };
+        self.on_input_face(w.face, q)
+    }
+
+    /// [`SuccessiveMap::map_many`] on the points `order` names, all of
+    /// which follow the same path down to `w`; returns how many were
+    /// walked on their own.
+    fn map_batch(
+        &self,
+        mut w: Walk,
+        points: &[[f32; 3]],
+        order: &mut [u32],
+        out: &mut [SurfacePoint],
+    ) -> usize {
+        let each = |w: Walk, order: &[u32], out: &mut [SurfacePoint]| {
+            for &i in order {
+                let pf = Vec3::from(points[i as usize]);
+                out[i as usize] = self.finish(self.walk(w, pf), pf);
+            }
+            order.len()
+        };
+        if order.len() <= LEAF_POINTS {
+            return each(w, order, out);
+        }
+        // The ball around the points: center of their box, radius to the
+        // farthest (a hair more, for its rounding).
+        let (mut lo, mut hi) = (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY));
+        for &i in order.iter() {
+            let p = Vec3::from(points[i as usize]);
+            lo = lo.min(p);
+            hi = hi.max(p);
+        }
+        let c = (lo + hi) * 0.5;
+        let radius = order
+            .iter()
+            .map(|&i| {
+                Vec3::from(points[i as usize])
+                    .as_dvec3()
+                    .distance_squared(c.as_dvec3())
+            })
+            .fold(0.0f64, f64::max)
+            .sqrt()
+            * (1.0 + 1e-6);
+        if !(c.is_finite() && radius.is_finite()) {
+            return each(w, order, out);
+        }
+        let radius = radius as f32;
+        let cmag = c.abs().max_element() + radius;
+        let mut risky: Vec<usize> = Vec::new();
+        while let Some(k) = self.previous_touch(w.face, w.bound) {
+            let start = self.ring_start[k as usize] as usize;
+            let ring = &self.rings[start..self.ring_start[k as usize + 1] as usize];
+            let Some(i) = self.project_on_edge_ring(k as usize, w.face, c) else {
+                w.bound = k;
+                continue;
+            };
+            // Every ring triangle is within `radius` of its distance from
+            // the center at any point of the ball: those farther from the
+            // center than the candidate by more than twice that (and a
+            // margin) are no point's choice.
+            let first = ring.iter().position(|t| t.face == w.face).unwrap_or(0);
+            let best = &self.rings[i];
+            let d = c.distance(closest_on_triangle(c, &best.corners));
+            let above = Above::new(best, c.as_dvec3(), radius as f64);
+            risky.clear();
+            for (j, t) in ring.iter().enumerate() {
+                if start + j == i {
+                    continue;
+                }
+                let margin = 1e-7 * ring[first].radius + MARGIN * (cmag + best.mag + t.mag);
+                let tau = d + 2.0 * radius + margin;
+                // `!(x > y)` keeps NaN as risky.
+                if c.distance(t.center) - t.radius > tau * (1.0 + 1e-5) + 1e-12 {
+                    continue;
+                }
+                if c.distance(closest_on_triangle(c, &t.corners)) > tau {
+                    continue;
+                }
+                if !above.as_ref().is_some_and(|a| a.clears(t, margin as f64)) {
+                    risky.push(start + j);
+                }
+            }
+            if risky.is_empty() {
+                w.face = best.face;
+                w.last = Some(i as u32);
+                w.bound = k;
+                continue;
+            }
+            if risky.len() >= SPLIT_RISKY && order.len() >= SPLIT_POINTS {
+                // Many candidates: a smaller ball has fewer.
+                let axis = (hi - lo).max_position();
+                let mid = c[axis];
+                let mut split = 0;
+                for j in 0..order.len() {
+                    if points[order[j] as usize][axis] < mid {
+                        order.swap(j, split);
+                        split += 1;
+                    }
+                }
+                if split == 0 || split == order.len() {
+                    return each(w, order, out);
+                }
+                let (a, b) = order.split_at_mut(split);
+                return self.map_batch(w, points, a, out) + self.map_batch(w, points, b, out);
+            }
+            // A few candidates: each point picks among them as
+            // `project_on_edge_ring` would (the early exit on the current
+            // face, else the least distance, ties to the lower index), and
+            // the points part by their pick.
+            risky.push(i);
+            risky.sort_unstable();
+            let first = start + first;
+            let early = risky.binary_search(&first).is_ok();
+            let tol2 = (1e-7 * self.rings[first].radius).powi(2);
+            let mut picks: Vec<(u32, u32)> = order
+                .iter()
+                .map(|&p| {
+                    let pf = Vec3::from(points[p as usize]);
+                    let dist2 = |t: usize| {
+                        pf.distance_squared(closest_on_triangle(pf, &self.rings[t].corners))
+                    };
+                    // The current face's distance once: for the early exit
+                    // and as a candidate.
+                    let d2_first = if early { dist2(first) } else { f32::INFINITY };
+                    if d2_first <= tol2 {
+                        return (first as u32, p);
+                    }
+                    // The least computed distance, ties to the lower
+                    // index, starting from the center's pick; others are
+                    // skipped by the same noise-proof bounds as in
+                    // `project_on_edge_ring`, which cannot change it.
+                    let mut pick = (if i == first { d2_first } else { dist2(i) }, i);
+                    let mut best_d = pick.0.sqrt();
+                    let mut best_mag = self.rings[i].mag;
+                    let pmag = pf.abs().max_element();
+                    for &t in &risky {
+                        if t == i {
+                            continue;
+                        }
+                        let tri = &self.rings[t];
+                        let noise = 0.25 * MARGIN * (2.0 * pmag + tri.mag + best_mag);
+                        let reach = tri.radius + best_d + noise;
+                        if t != first
+                            && (pf.distance_squared(tri.center) > reach * reach
+                                || (tri.normal.dot(pf) - tri.offset).abs()
+                                    > best_d * (1.0 + 1e-5) + 1e-12 + noise)
+                        {
+                            continue;
+                        }
+                        let d2 = if t == first { d2_first } else { dist2(t) };
+                        if d2 < pick.0 || (d2 == pick.0 && t < pick.1) {
+                            pick = (d2, t);
+                            best_d = d2.sqrt();
+                            best_mag = tri.mag;
+                        }
+                    }
+                    (pick.1 as u32, p)
+                })
+                .collect();
+            if picks.iter().all(|p| p.0 == picks[0].0) {
+                // No branch here after all: go on together.
+                let t = picks[0].0;
+                w.face = self.rings[t as usize].face;
+                w.last = Some(t);
+                w.bound = k;
+                continue;
+            }
+            picks.sort_unstable();
+            for (slot, pick) in order.iter_mut().zip(&picks) {
+                *slot = pick.1;
+            }
+            let mut alone = 0;
+            let mut at = 0;
+            for run in picks.chunk_by(|a, b| a.0 == b.0) {
+                let t = run[0].0;
+                let next = Walk {
+                    face: self.rings[t as usize].face,
+                    bound: k,
+                    last: Some(t),
+                };
+                alone += self.map_batch(next, points, &mut order[at..at + run.len()], out);
+                at += run.len();
+            }
+            return alone;
+        }
+        for &i in order.iter() {
+            let pf = Vec3::from(points[i as usize]);
+            out[i as usize] = self.finish(w, pf);
+        }
+        0
     }
 
     /// The last collapse before `bound` whose vertex one-ring holds `face`.
@@ -202,46 +563,55 @@ impl<'a> SuccessiveMap<'a> {
         i.checked_sub(1).map(|i| list[i])
     }
 
-    /// The closest point to `p` on collapse `k`'s edge one-ring, as the
-    /// ring recorded it (positions before the collapse); ties keep the
-    /// point's current face, then the earlier triangle, so the answer is
-    /// deterministic. The search starts
+    /// The triangle (index into `rings`) of collapse `k`'s edge one-ring,
+    /// as the ring recorded it (positions before the collapse), holding
+    /// the point closest to `pf`; ties keep the point's current face, then
+    /// the earlier triangle, so the answer is deterministic. The search starts
     /// on the point's current face (in the ring: the vertex one-ring after
     /// a collapse is part of the edge one-ring before it), usually the
     /// answer or close to it, and skips every triangle whose bounding
     /// sphere lies farther than the best distance so far.
-    fn project_on_edge_ring(&self, k: usize, face: u32, p: DVec3) -> Option<(u32, DVec3)> {
-        let ring = &self.rings[self.ring_start[k] as usize..self.ring_start[k + 1] as usize];
-        let pf = p.as_vec3();
+    fn project_on_edge_ring(&self, k: usize, face: u32, pf: Vec3) -> Option<usize> {
+        let start = self.ring_start[k] as usize;
+        let ring = &self.rings[start..self.ring_start[k + 1] as usize];
         let first = ring.iter().position(|t| t.face == face).unwrap_or(0);
         let t0 = ring.get(first)?;
-        let (mut best_i, mut best_q) = (first, closest_on_triangle(pf, &t0.corners));
-        let mut best_d2 = pf.distance_squared(best_q);
+        let mut best_i = first;
+        let mut best_d2 = pf.distance_squared(closest_on_triangle(pf, &t0.corners));
         // On its own face already (flat regions, untouched geometry):
         // nothing can be closer. The tolerance is far below f32 rounding
         // of the triangle's size, so this only skips exact ties.
         if best_d2 <= (1e-7 * t0.radius).powi(2) {
-            return Some((t0.face, best_q.as_dvec3()));
+            return Some(start + first);
         }
         let mut best_d = best_d2.sqrt();
+        let mut best_mag = t0.mag;
+        let pmag = pf.abs().max_element();
         for (i, t) in ring.iter().enumerate() {
             // Every point of the triangle is at least |p − c| − r away, and
             // at least as far as its plane (a hair of slack for rounding).
-            let reach = t.radius + best_d;
+            // A triangle is skipped only when it is farther by more than
+            // the rounding of the two distances as computed: the answer is
+            // then the least computed distance over the whole ring, ties
+            // to the lower index, whatever the order of the search, which
+            // `map_batch` relies on.
+            let noise = 0.25 * MARGIN * (2.0 * pmag + t.mag + best_mag);
+            let reach = t.radius + best_d + noise;
             if i == first
                 || pf.distance_squared(t.center) > reach * reach
-                || (t.normal.dot(pf) - t.offset).abs() > best_d * (1.0 + 1e-5) + 1e-12
+                || (t.normal.dot(pf) - t.offset).abs() > best_d * (1.0 + 1e-5) + 1e-12 + noise
             {
                 continue;
             }
             let q = closest_on_triangle(pf, &t.corners);
             let d2 = pf.distance_squared(q);
             if d2 < best_d2 || (d2 == best_d2 && i < best_i) {
-                (best_i, best_q, best_d2) = (i, q, d2);
+                (best_i, best_d2) = (i, d2);
                 best_d = d2.sqrt();
+                best_mag = t.mag;
             }
         }
-        Some((ring[best_i].face, best_q.as_dvec3()))
+        Some(start + best_i)
     }
 
     /// Barycentrics of `q` on input face `face` (fan-triangulated; the
@@ -333,6 +703,88 @@ fn closest_on_triangle(p: Vec3, t: &[Vec3; 3]) -> Vec3 {
         let (q, _) =
             closest_point_on_triangle(p.as_dvec3(), a.as_dvec3(), b.as_dvec3(), c.as_dvec3());
         q.as_vec3()
+    }
+}
+
+/// A ball of points whose closest points on a ring triangle `T` all lie
+/// inside it (the ball's shadow on `T`'s plane is inside `T`): the distance
+/// to `T` is then the distance to its plane, `|h|`, an affine function
+/// over the ball, and another triangle `T'` at `d'² = h'² + e'²` (`h'` to
+/// its plane, `e'` in its plane) is farther from every point when
+/// `h'² − h² + e'²` stays positive. That is far tighter than comparing
+/// distances at the center with twice the radius for a point hovering over
+/// a patch of small triangles, as a coarse LOD's surface does: there the
+/// two distances differ by about `e'²/2h`, and a ball of any useful size
+/// would never clear the neighbours.
+struct Above {
+    center: DVec3,
+    radius: f64,
+    normal: DVec3,
+    /// Signed distance of the center to `T`'s plane.
+    h: f64,
+}
+
+impl Above {
+    /// `None` when `T` is degenerate or the ball's shadow leaves it.
+    fn new(t: &RingTriangle, center: DVec3, radius: f64) -> Option<Above> {
+        let [a, b, c] = t.corners.map(|q| q.as_dvec3());
+        let normal = (b - a).cross(c - a).try_normalize()?;
+        for (p, q, r) in [(a, b, c), (b, c, a), (c, a, b)] {
+            let m = normal.cross(q - p).try_normalize()?;
+            // Inward edge normal: the shadow is inside when the center is
+            // at least `radius` inside every edge line.
+            let m = if m.dot(r - p) < 0.0 { -m } else { m };
+            // (NaN refuses too.)
+            if m.dot(center - p).partial_cmp(&radius) != Some(std::cmp::Ordering::Greater) {
+                return None;
+            }
+        }
+        Some(Above {
+            center,
+            radius,
+            normal,
+            h: normal.dot(center - a),
+        })
+    }
+
+    /// Whether `t` is farther than `T` from every point of the ball by
+    /// more than `margin`.
+    fn clears(&self, t: &RingTriangle, margin: f64) -> bool {
+        let [a, b, c] = t.corners.map(|q| q.as_dvec3());
+        let Some(n) = (b - a).cross(c - a).try_normalize() else {
+            return false;
+        };
+        let (ctr, r) = (self.center, self.radius);
+        // h' − h and h' + h over the ball: affine, within their gradient's
+        // length times the radius of the center's values.
+        let hj = n.dot(ctr - a);
+        let (da, db) = (hj - self.h, hj + self.h);
+        let (ra, rb) = (
+            (n - self.normal).length() * r,
+            (n + self.normal).length() * r,
+        );
+        let planes = [
+            (da - ra) * (db - rb),
+            (da - ra) * (db + rb),
+            (da + ra) * (db - rb),
+            (da + ra) * (db + rb),
+        ]
+        .into_iter()
+        .fold(f64::INFINITY, f64::min);
+        // e' is at least the ball's distance beyond an edge line of `t`.
+        let mut sep = 0.0f64;
+        for (p, q, o) in [(a, b, c), (b, c, a), (c, a, b)] {
+            let Some(m) = n.cross(q - p).try_normalize() else {
+                continue;
+            };
+            let m = if m.dot(o - p) > 0.0 { -m } else { m };
+            sep = sep.max(m.dot(ctr - p) - r);
+        }
+        let gap2 = planes + sep * sep;
+        // d ≤ |h| + r over the ball; d' ≥ √(d² + gap2), and √(x + g) − √x
+        // falls as x grows.
+        let far = self.h.abs() + r;
+        gap2 > 0.0 && (far * far + gap2).sqrt() - far > margin
     }
 }
 
@@ -546,5 +998,162 @@ mod tests {
         // output face 1 still maps onto the upper sheet.
         let s = map.map(1, [0.2, 0.1, 0.004]);
         assert!(s.face == 1 || s.face == 2, "{s:?}");
+    }
+
+    fn assert_same(a: &SurfacePoint, b: &SurfacePoint, what: &str) {
+        assert_eq!(
+            (a.face, a.corners),
+            (b.face, b.corners),
+            "{what}: {a:?} vs {b:?}"
+        );
+        for k in 0..3 {
+            assert!(
+                (a.bary[k] - b.bary[k]).abs() <= 1e-6,
+                "{what}: {a:?} vs {b:?}"
+            );
+        }
+    }
+
+    /// A bumpy quad sphere (polygon faces: fan triangles on both sides of
+    /// the map) with a deterministic jitter on every vertex, like a scan.
+    fn scan_like(n: usize) -> wildlod_mesh::Mesh {
+        let mut m = wildlod_mesh::shapes::bumpy_quad_sphere(n);
+        let mut state = 0x9e37_79b9_7f4a_7c15u64;
+        for p in &mut m.positions {
+            for c in p.iter_mut() {
+                state = state
+                    .wrapping_mul(6_364_136_223_846_793_005)
+                    .wrapping_add(1_442_695_040_888_963_407);
+                *c += ((state >> 40) as f32 / (1u64 << 24) as f32 - 0.5) * 0.01;
+            }
+        }
+        m
+    }
+
+    /// Every texel of a `size`² atlas of the LOD of `mesh` with `triangles`
+    /// left, mapped texel by texel and tile by tile ([`SuccessiveMap::map_texels`]):
+    /// the same input face and corners, barycentrics within 1e-6. Returns
+    /// (texels, texels walked on their own by [`SuccessiveMap::map_many`]).
+    fn coherent_equals_per_texel(
+        mesh: &wildlod_mesh::Mesh,
+        triangles: usize,
+        size: u32,
+    ) -> (usize, usize) {
+        use wildlod_simplify::{simplify_polygons, Options, Record, Target};
+        let options = Options {
+            target: Target {
+                triangles: Some(triangles),
+                ..Target::default()
+            },
+            record: Record {
+                history: true,
+                ..Record::default()
+            },
+            ..Options::default()
+        };
+        let lod = simplify_polygons(&mesh.positions, &mesh.faces, &options).expect("simplifies");
+        let history = lod.history.as_ref().expect("recorded");
+        let map = SuccessiveMap::new(history, &mesh.positions, &mesh.faces);
+        let mut tris = Vec::new();
+        let mut tri_face = Vec::new();
+        for f in 0..lod.faces.len() {
+            let face = lod.faces.face(f);
+            for k in 1..face.len() - 1 {
+                tris.push([face[0], face[k], face[k + 1]]);
+                tri_face.push(lod.face_origin[f]);
+            }
+        }
+        let atlas = crate::atlas::build_atlas(
+            &lod.positions,
+            &tris,
+            &[],
+            &crate::atlas::AtlasOptions {
+                size,
+                ..crate::atlas::AtlasOptions::default()
+            },
+        );
+        let cov = crate::raster::rasterize(&atlas.corner_uvs, size, 1.5);
+        let texel = |i: usize| {
+            let t = cov.triangle[i];
+            if t == crate::raster::NO_TRIANGLE {
+                return None;
+            }
+            let (b, tri) = (cov.bary[i], tris[t as usize]);
+            let mut p = [0.0f32; 3];
+            for (&v, &wk) in tri.iter().zip(&b) {
+                for (pa, &qa) in p.iter_mut().zip(&lod.positions[v as usize]) {
+                    *pa += wk * qa;
+                }
+            }
+            Some((t, tri_face[t as usize], p))
+        };
+        let n = size as usize;
+        let coherent = map.map_texels(n, 0..n, texel);
+        let mut texels = 0;
+        for (i, hit) in coherent.iter().enumerate() {
+            match (texel(i), hit) {
+                (Some((_, face, p)), Some(hit)) => {
+                    texels += 1;
+                    assert_same(hit, &map.map(face, p), &format!("texel {i}"));
+                }
+                (None, None) => {}
+                (a, b) => panic!("texel {i}: owner {a:?}, mapped {b:?}"),
+            }
+        }
+        // Once more triangle by triangle, counting the lone walks.
+        let mut alone = 0;
+        for t in 0..tris.len() as u32 {
+            let points: Vec<[f32; 3]> = (0..n * n)
+                .filter_map(texel)
+                .filter(|x| x.0 == t)
+                .map(|x| x.2)
+                .collect();
+            let mut out = vec![map.placeholder(); points.len()];
+            alone += map.map_many_counted(tri_face[t as usize], &points, &mut out);
+        }
+        (texels, alone)
+    }
+
+    #[test]
+    fn coherent_mapping_equals_per_texel_mapping_at_a_coarse_target() {
+        let (texels, alone) = coherent_equals_per_texel(&scan_like(8), 12, 512);
+        assert!(texels > 10_000, "{texels}");
+        // Most texels share their walk (a test that batching happens).
+        assert!(alone * 2 < texels, "{alone} of {texels} walked alone");
+    }
+
+    #[test]
+    fn coherent_mapping_equals_per_texel_mapping_at_a_fine_target() {
+        let (texels, alone) = coherent_equals_per_texel(&scan_like(8), 300, 512);
+        assert!(texels > 10_000, "{texels}");
+        assert!(alone * 2 < texels, "{alone} of {texels} walked alone");
+    }
+
+    /// The square after both collapses: output face 2 = (1,0),(0,1),(0,0)
+    /// came from input faces 0..4; a grid of points over it parts into
+    /// several input faces, and every one maps as on its own.
+    #[test]
+    fn coherent_mapping_follows_paths_that_branch_inside_a_triangle() {
+        let (p, f) = square();
+        let h = history(&p, true);
+        let map = SuccessiveMap::new(&h, &p, &f);
+        let n = 40;
+        let mut points = Vec::new();
+        for i in 0..=n {
+            for j in 0..=n - i {
+                let (x, y) = (i as f32 / n as f32, j as f32 / n as f32);
+                // Lifted off the plane a little, as a LOD's surface is.
+                points.push([x, y, 0.05 * x * y]);
+            }
+        }
+        let mut out = vec![map.placeholder(); points.len()];
+        let alone = map.map_many_counted(2, &points, &mut out);
+        let mut faces = std::collections::BTreeSet::new();
+        for (k, &q) in points.iter().enumerate() {
+            assert_same(&out[k], &map.map(2, q), &format!("{q:?}"));
+            faces.insert(out[k].face);
+        }
+        assert!(faces.len() >= 3, "{faces:?}");
+        assert!(alone * 2 < points.len(), "{alone} of {}", points.len());
     }
 }

@@ -3,15 +3,21 @@
 //! 2 µs per texel per core), and the whole bake of a 2048² atlas.
 //!
 //! `cargo bench -p wildlod-bake --bench bake` (or `-p wildlod-bench`) runs,
-//! per corpus mesh (Avocado, CesiumMilkTruck's truck, bob) at 10% and 1%:
+//! per corpus mesh (Avocado, CesiumMilkTruck's truck, bob) and generated
+//! inputs (`wildlod_bench::bake_inputs`: a 20k-triangle textured torus, a
+//! 10k-triangle scan-like sphere) at 10% and 1%:
 //!
-//! - `map <ratio>`: [`SuccessiveMap::map`] on every 8th texel the 2048²
-//!   bake maps (throughput: texels per second, single thread);
+//! - `map <ratio>`: [`SuccessiveMap::map`] on every texel of every 8th
+//!   triangle of the 2048² bake's atlas, one walk per texel (throughput:
+//!   texels per second, single thread);
+//! - `map coherent <ratio>`: the same texels through
+//!   [`SuccessiveMap::map_many`], grouped as the bake groups them (by
+//!   triangle within 32×32 tiles), single thread;
 //! - `bake 2048 <ratio>`: [`bake_mesh`] with a 2048² atlas, simplification
 //!   included (all threads), and `simplify <ratio>` alone for comparison.
 //!
-//! Then it prints µs per texel: mapping alone on one core, as wall time
-//! and as the thread's CPU time (`/proc/thread-self/schedstat`, Linux), and
+//! Then it prints µs per texel: mapping alone on one core, per texel and
+//! coherent, as wall time and as the thread's CPU time (`/proc/thread-self/schedstat`, Linux), and
 //! the whole bake per mapped texel as wall time and as the process's CPU
 //! time. CPU time is what a texel costs a core even when other work shares
 //! the machine; wall time is what a user waits. Under `cargo test` it runs
@@ -23,8 +29,9 @@ use std::time::{Duration, Instant};
 use criterion::{BenchmarkId, Criterion, Throughput};
 use wildlod_bake::{
     bake_mesh, build_atlas, rasterize, AtlasOptions, BakeInput, BakeOptions, SuccessiveMap,
-    NO_TRIANGLE,
+    SurfacePoint, NO_TRIANGLE,
 };
+use wildlod_bench::bake_inputs::{scan_like, textured_torus};
 use wildlod_mesh::{shapes, Material, Mesh, Rgba8Image, Scene, Texture, TextureRef};
 use wildlod_simplify::{simplify_polygons, Options, Target};
 
@@ -118,14 +125,19 @@ fn options(ratio: f64) -> Options {
     }
 }
 
-/// Every `stride`-th texel the bake of a `size`² atlas maps: (input face
-/// of its output face, point).
-fn texel_points(
+/// Texels of one output triangle within one tile: the input face id of
+/// its output face, and their surface points.
+type TexelGroup = (u32, Vec<[f32; 3]>);
+
+/// The texels the bake of a `size`² atlas maps, of every `stride`-th
+/// triangle, grouped as the bake groups them (by triangle within 32×32
+/// tiles): (input face of the group's output face, points).
+fn texel_groups(
     mesh: &Mesh,
     ratio: f64,
     size: u32,
     stride: usize,
-) -> (wildlod_simplify::Simplified, Vec<(u32, [f32; 3])>) {
+) -> (wildlod_simplify::Simplified, Vec<TexelGroup>) {
     let mut o = options(ratio);
     o.record.history = true;
     let s = simplify_polygons(&mesh.positions, &mesh.faces, &o).expect("simplifies");
@@ -148,17 +160,23 @@ fn texel_points(
         },
     );
     let cov = rasterize(&atlas.corner_uvs, size, 1.5);
-    let mut points = Vec::new();
-    for (i, &t) in cov.triangle.iter().enumerate().step_by(stride) {
-        if t == NO_TRIANGLE {
+    let mut groups: std::collections::BTreeMap<(usize, u32), Vec<[f32; 3]>> = Default::default();
+    let n = size as usize;
+    for (i, &t) in cov.triangle.iter().enumerate() {
+        if t == NO_TRIANGLE || t as usize % stride != 0 {
             continue;
         }
         let b = cov.bary[i];
         let tri = tris[t as usize];
         let p = [0, 1, 2].map(|a| (0..3).map(|k| b[k] * s.positions[tri[k] as usize][a]).sum());
-        points.push((tri_face[t as usize], p));
+        let tile = (i / n / 32) * n + (i % n) / 32;
+        groups.entry((tile, t)).or_default().push(p);
     }
-    (s, points)
+    let groups = groups
+        .into_iter()
+        .map(|((_, t), pts)| (tri_face[t as usize], pts))
+        .collect();
+    (s, groups)
 }
 
 /// CPU time of the calling thread in seconds (Linux; `None` elsewhere).
@@ -187,44 +205,104 @@ fn main() {
     let (cases, ratios, size): (Vec<Case>, &[f64], u32) = if bench_mode {
         let mut c = corpus_cases(&corpus);
         c.push(generated_case());
+        for (name, g) in [
+            (
+                "generated textured torus 20k",
+                textured_torus(100, 100, 2048),
+            ),
+            ("generated scan 10k", scan_like(29, 4096)),
+        ] {
+            c.push(Case {
+                name: name.into(),
+                scene: g.scene,
+                mesh: 0,
+                images: vec![Some(g.image)],
+            });
+        }
         (c, &[0.1, 0.01], 2048)
     } else {
         (vec![generated_case()], &[0.1], 256)
     };
+    // `WILDLOD_BAKE_CASES=scan,torus` keeps the cases whose name holds one
+    // of the words; `WILDLOD_BAKE_SECONDS` sets each measurement's time
+    // (default 20 s): the machine is shared.
+    let keep: Option<Vec<String>> = std::env::var("WILDLOD_BAKE_CASES")
+        .ok()
+        .map(|v| v.split(',').map(str::to_string).collect());
+    let cases: Vec<Case> = cases
+        .into_iter()
+        .filter(|c| {
+            keep.as_ref()
+                .map_or(true, |k| k.iter().any(|w| c.name.contains(w.as_str())))
+        })
+        .collect();
+    let seconds: u64 = std::env::var("WILDLOD_BAKE_SECONDS")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(20);
     let mut c = Criterion::default().configure_from_args();
     let mut rows = Vec::new();
     for case in &cases {
         let mesh = &case.scene.meshes[case.mesh];
         let mut group = c.benchmark_group(case.name.as_str());
         group.sample_size(10);
-        group.measurement_time(Duration::from_secs(if bench_mode { 20 } else { 1 }));
+        group.measurement_time(Duration::from_secs(if bench_mode { seconds } else { 1 }));
         for &ratio in ratios {
             let label = format!("{}%", ratio * 100.0);
-            let (s, points) = texel_points(mesh, ratio, size, 8);
+            let (s, groups) = texel_groups(mesh, ratio, size, 8);
             let history = s.history.as_ref().expect("history recorded");
             let map = SuccessiveMap::new(history, &mesh.positions, &mesh.faces);
-            group.throughput(Throughput::Elements(points.len() as u64));
+            let texels: usize = groups.iter().map(|g| g.1.len()).sum();
+            let mut outs: Vec<Vec<SurfacePoint>> = groups
+                .iter()
+                .map(|g| vec![map.map(g.0, g.1[0]); g.1.len()])
+                .collect();
+            group.throughput(Throughput::Elements(texels as u64));
             group.bench_with_input(
                 BenchmarkId::new("map (1 thread)", &label),
-                &points,
-                |b, pts| {
+                &groups,
+                |b, groups| {
                     b.iter(|| {
                         let mut acc = 0u64;
-                        for &(f, p) in pts {
-                            acc += map.map(f, p).face as u64;
+                        for (f, pts) in groups {
+                            for &p in pts {
+                                acc += map.map(*f, p).face as u64;
+                            }
                         }
                         acc
                     })
                 },
             );
-            // One timed pass for the summary table.
+            group.bench_function(BenchmarkId::new("map coherent (1 thread)", &label), |b| {
+                b.iter(|| {
+                    for ((f, pts), out) in groups.iter().zip(outs.iter_mut()) {
+                        map.map_many(*f, pts, out);
+                    }
+                    outs.len()
+                })
+            });
+            // One timed pass of each for the summary table.
+            let n = texels.max(1) as f64;
             let (t0, c0) = (Instant::now(), thread_cpu_seconds());
-            for &(f, p) in &points {
-                std::hint::black_box(map.map(f, p));
+            for (f, pts) in &groups {
+                for &p in pts {
+                    std::hint::black_box(map.map(*f, p));
+                }
             }
-            let n = points.len().max(1) as f64;
             let per_point = t0.elapsed().as_secs_f64() / n;
             let cpu_per_point = c0.zip(thread_cpu_seconds()).map(|(a, b)| (b - a) / n);
+            let (t0, c0) = (Instant::now(), thread_cpu_seconds());
+            for ((f, pts), out) in groups.iter().zip(outs.iter_mut()) {
+                map.map_many(*f, pts, out);
+            }
+            let coherent = t0.elapsed().as_secs_f64() / n;
+            let cpu_coherent = c0.zip(thread_cpu_seconds()).map(|(a, b)| (b - a) / n);
+            // The coherent walk is exact: every texel as on its own.
+            for ((f, pts), out) in groups.iter().zip(&outs) {
+                for (&p, hit) in pts.iter().zip(out) {
+                    assert_eq!(*hit, map.map(*f, p), "coherent mapping differs");
+                }
+            }
             let input = BakeInput {
                 mesh,
                 materials: &case.scene.materials,
@@ -259,11 +337,13 @@ fn main() {
             let t = texels.max(1) as f64;
             let opt = |v: Option<f64>| v.map_or("n/a".to_string(), |x| format!("{x:.2}"));
             rows.push(format!(
-                "| {} | {label} | {} | {:.2} | {} | {:.2} | {} | {:.1} | {} |",
+                "| {} | {label} | {} | {:.2} | {} | {:.2} | {} | {:.2} | {} | {:.1} | {} |",
                 case.name,
                 baked.mesh.triangle_count(),
                 per_point * 1e6,
                 opt(cpu_per_point.map(|x| x * 1e6)),
+                coherent * 1e6,
+                opt(cpu_coherent.map(|x| x * 1e6)),
                 baking * 1e6 / t,
                 opt(bake_cpu.map(|x| x * 1e6 / t)),
                 bake_s,
@@ -274,9 +354,9 @@ fn main() {
     }
     c.final_summary();
     println!(
-        "\n| mesh | ratio | triangles | map µs/texel, wall (1 thread) | map µs/texel, CPU | bake µs/texel, wall (all threads) | bake µs/texel, CPU (all threads) | bake total s, wall | texels mapped |"
+        "\n| mesh | ratio | triangles | map µs/texel, wall (1 thread) | map µs/texel, CPU | coherent map µs/texel, wall (1 thread) | coherent map µs/texel, CPU | bake µs/texel, wall (all threads) | bake µs/texel, CPU (all threads) | bake total s, wall | texels mapped |"
     );
-    println!("|---|---|---|---|---|---|---|---|---|");
+    println!("|---|---|---|---|---|---|---|---|---|---|---|");
     for r in rows {
         println!("{r}");
     }

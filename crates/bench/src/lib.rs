@@ -5,6 +5,7 @@
 //! defaults outside the corpus ([`holdout`]).
 
 pub mod appearance;
+pub mod bake_inputs;
 pub mod evaluation;
 pub mod holdout;
 pub mod methods;

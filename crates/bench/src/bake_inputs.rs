@@ -1,0 +1,162 @@
+//! Generated inputs for the re-baking benchmarks (issue 33): a textured
+//! mesh of about 20,000 triangles with a continuous UV layout and a 2048²
+//! base colour image, and a scan-like mesh of about 10,000 triangles (a
+//! jittered bumpy sphere) whose every quad is its own UV island in a 4096²
+//! image, as photogrammetry atlases are. Made in code, so that no corpus
+//! file is copied into the repository; `--bin bake-inputs` writes them as
+//! GLB for the whole-process timings.
+
+use wildlod_mesh::{
+    shapes, Attribute, ComponentFormat, ImageSource, Material, Mesh, Rgba8Image, Scene, Semantic,
+    Texture, TextureRef,
+};
+
+/// A generated input: the scene and its decoded base colour image.
+pub struct BakeInput {
+    /// One mesh, one material with a base colour texture.
+    pub scene: Scene,
+    /// The decoded image of texture 0.
+    pub image: Rgba8Image,
+}
+
+/// A bumpy torus of `2 · nu · nv` triangles with UVs following its
+/// (u, v) parametrization, seamed once each way, and a `size`² image of a
+/// checker with gradients (detail everywhere).
+pub fn textured_torus(nu: usize, nv: usize, size: u32) -> BakeInput {
+    let mut m = shapes::triangulate(&shapes::torus(nu, nv, 1.0, 0.35));
+    // Bumps in the normal-ish direction: something for the LOD to lose.
+    for p in &mut m.positions {
+        let r = 1.0 + 0.04 * (7.0 * p[0]).sin() * (5.0 * p[1]).cos() * (9.0 * p[2]).sin();
+        *p = p.map(|c| c * r);
+    }
+    // UV per corner from the angle around the axis and around the tube.
+    let mut uv = Vec::with_capacity(2 * m.faces.corner_count());
+    for f in 0..m.faces.len() {
+        let face = m.faces.face(f);
+        let angles: Vec<[f32; 2]> = face
+            .iter()
+            .map(|&v| {
+                let p = m.positions[v as usize];
+                let u = p[1].atan2(p[0]) / std::f32::consts::TAU + 0.5;
+                let ring = (p[0] * p[0] + p[1] * p[1]).sqrt() - 1.0;
+                let w = p[2].atan2(ring) / std::f32::consts::TAU + 0.5;
+                [u, w]
+            })
+            .collect();
+        // Faces across the seam get their wrapped corners moved by one.
+        let fix = |k: usize| {
+            let max = angles
+                .iter()
+                .fold([0f32; 2], |a, b| [a[0].max(b[0]), a[1].max(b[1])]);
+            let mut q = angles[k];
+            for a in 0..2 {
+                if max[a] - q[a] > 0.5 {
+                    q[a] += 1.0;
+                }
+            }
+            q
+        };
+        for k in 0..face.len() {
+            uv.extend_from_slice(&fix(k));
+        }
+    }
+    set_uv(&mut m, uv);
+    let image = pattern(size, 32);
+    BakeInput {
+        scene: scene(m, "torus"),
+        image,
+    }
+}
+
+/// A bumpy quad sphere of `12 n²` triangles, every vertex jittered (a
+/// scan's noise), every quad its own UV island in a grid over a `size`²
+/// image of fine detail.
+pub fn scan_like(n: usize, size: u32) -> BakeInput {
+    let quads = shapes::bumpy_quad_sphere(n);
+    let mut m = shapes::triangulate(&quads);
+    let mut state = 0x2545_f491_4f6c_dd1du64;
+    for p in &mut m.positions {
+        for c in p.iter_mut() {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            *c += ((state >> 40) as f32 / (1u64 << 24) as f32 - 0.5) * 0.4 / n as f32;
+        }
+    }
+    // Two triangles per quad, in order: quad q = triangles 2q, 2q + 1.
+    let nq = m.faces.len().div_ceil(2);
+    let cols = (nq as f32).sqrt().ceil() as usize;
+    let mut uv = Vec::with_capacity(2 * m.faces.corner_count());
+    for f in 0..m.faces.len() {
+        let q = f / 2;
+        let (cx, cy) = ((q % cols) as f32, (q / cols) as f32);
+        let corners: [(f32, f32); 3] = if f % 2 == 0 {
+            [(0.05, 0.05), (0.95, 0.05), (0.95, 0.95)]
+        } else {
+            [(0.05, 0.05), (0.95, 0.95), (0.05, 0.95)]
+        };
+        for (du, dv) in corners {
+            uv.extend_from_slice(&[(cx + du) / cols as f32, (cy + dv) / cols as f32]);
+        }
+    }
+    set_uv(&mut m, uv);
+    let image = pattern(size, 8);
+    BakeInput {
+        scene: scene(m, "scan"),
+        image,
+    }
+}
+
+/// Per-corner `TEXCOORD_0`.
+fn set_uv(m: &mut Mesh, uv: Vec<f32>) {
+    let n = uv.len() as u32 / 2;
+    m.attributes.retain(|a| a.semantic != Semantic::TexCoord(0));
+    m.attributes.push(Attribute {
+        semantic: Semantic::TexCoord(0),
+        components: 2,
+        values: uv,
+        indices: (0..n).collect(),
+        format: ComponentFormat::F32,
+    });
+}
+
+/// A checker of `cell`-texel squares with colour gradients.
+fn pattern(size: u32, cell: usize) -> Rgba8Image {
+    let mut img = Rgba8Image {
+        width: size,
+        height: size,
+        pixels: vec![[0; 4]; size as usize * size as usize],
+    };
+    let s = size as usize;
+    for (i, p) in img.pixels.iter_mut().enumerate() {
+        let (x, y) = (i % s, i / s);
+        let c = if (x / cell + y / cell) % 2 == 0 {
+            220
+        } else {
+            40
+        };
+        *p = [c, (x * 255 / s) as u8, (y * 255 / s) as u8, 255];
+    }
+    img
+}
+
+/// The scene around a mesh: one material whose base colour is texture 0,
+/// a placeholder path as its source (the benchmarks pass decoded images;
+/// `bake-inputs` embeds the PNG).
+fn scene(mut m: Mesh, name: &str) -> Scene {
+    m.parts[0].material = Some(0);
+    let mut scene = Scene::from_mesh(m);
+    scene.materials.push(Material {
+        base_color_texture: Some(TextureRef {
+            texture: 0,
+            tex_coord: 0,
+        }),
+        ..Material::default()
+    });
+    scene.textures.push(Texture {
+        name: name.into(),
+        source: ImageSource::Path(format!("{name}.png").into()),
+        sampler: Default::default(),
+    });
+    scene
+}
