@@ -12,7 +12,7 @@ use rayon::prelude::*;
 use wildlod_mesh::tangents::generate_tangents;
 use wildlod_mesh::{
     AlphaMode, Attribute, ComponentFormat, Faces, Material, Mesh, Part, Rgba8Image, Semantic,
-    Texture, TextureRef, ABSENT,
+    TextureRef, ABSENT,
 };
 use wildlod_simplify::{
     simplify_with_attributes, AttributeInput, FittedSkin, Options, Report, SkinStream,
@@ -23,6 +23,7 @@ use crate::channels::{
     corner_normals, encode, texel_footprint, Channel, Footprint, Frame, InputChannels,
 };
 use crate::gutter::{apply_fill, nearest_owned};
+use crate::input::BakeInput;
 use crate::mapping::SuccessiveMap;
 use crate::raster::{rasterize, NO_TRIANGLE};
 use crate::texture_detail::{content_scale, uv_coverage};
@@ -151,21 +152,6 @@ impl Default for BakeOptions {
             bake_normals: true,
         }
     }
-}
-
-/// What a bake reads: a mesh, the scene's materials and textures, and the
-/// textures' decoded images (`None` where an image could not be read: its
-/// channel then uses the material's factor, and the caller warns).
-#[derive(Clone, Copy, Debug)]
-pub struct BakeInput<'a> {
-    /// The mesh to simplify and bake.
-    pub mesh: &'a Mesh,
-    /// Materials its parts refer to.
-    pub materials: &'a [Material],
-    /// Textures the materials refer to (for their samplers).
-    pub textures: &'a [Texture],
-    /// Decoded image of every texture, same order.
-    pub images: &'a [Option<Rgba8Image>],
 }
 
 /// One re-baked image.

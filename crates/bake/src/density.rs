@@ -15,7 +15,7 @@
 use rayon::prelude::*;
 use wildlod_mesh::Semantic;
 
-use crate::bake::BakeInput;
+use crate::input::BakeInput;
 use crate::mapping::SuccessiveMap;
 use crate::texture_detail::VISIBLE_BLUR;
 

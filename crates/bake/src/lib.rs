@@ -33,6 +33,7 @@ mod bake;
 mod channels;
 mod density;
 pub mod gutter;
+mod input;
 mod mapping;
 mod raster;
 mod texture_detail;
@@ -41,10 +42,9 @@ pub use atlas::{
     atlas_stats, build_atlas, build_atlas_weighted, Atlas, AtlasOptions, AtlasStats,
     MAX_DENSITY_RATIO,
 };
-pub use bake::{
-    bake_mesh, AtlasReport, BakeError, BakeInput, BakeOptions, BakeReport, Baked, BakedImage,
-};
+pub use bake::{bake_mesh, AtlasReport, BakeError, BakeOptions, BakeReport, Baked, BakedImage};
 pub use channels::Channel;
+pub use input::BakeInput;
 pub use mapping::{SuccessiveMap, SurfacePoint};
 pub use raster::{closest_on_triangle_2d, rasterize, Coverage, NO_TRIANGLE};
 pub use texture_detail::VISIBLE_BLUR;
