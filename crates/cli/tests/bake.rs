@@ -934,3 +934,46 @@ fn an_outlier_terrain_rebakes_in_bounded_memory() {
     let kept = lod.scene.meshes[0].triangle_count();
     assert!(kept.abs_diff(triangles / 10) <= 1, "{kept} of {triangles}");
 }
+
+/// Under the file's one budget a part too small to matter vanishes (the
+/// keep-UV run removes it); the re-bake removes the same meshes rather
+/// than keep a triangle of each.
+#[test]
+fn a_rebake_removes_the_meshes_the_file_budget_removes() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("domed.glb");
+    let scene = wildlod_testkit::scenes::domed_scene(40);
+    let input_meshes = scene.meshes.len();
+    wildlod_io::write(
+        &Document::from_scene(scene),
+        &input,
+        &WriteOptions::default(),
+    )
+    .unwrap();
+    let run = |mode: &str| {
+        let out = dir.path().join(format!("{mode}.glb"));
+        let o = wildlod(&[
+            "simplify",
+            s(&input),
+            "-o",
+            s(&out),
+            "--ratio",
+            "0.01",
+            "--textures",
+            mode,
+        ]);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let lod = wildlod_io::read(&out).unwrap();
+        let names: Vec<String> = lod.scene.meshes.iter().map(|m| m.name.clone()).collect();
+        let total: usize = lod.scene.meshes.iter().map(|m| m.triangle_count()).sum();
+        (names, total)
+    };
+    let (keep, keep_total) = run("keep");
+    let (bake, bake_total) = run("bake");
+    assert!(keep.len() < input_meshes, "no part vanished at 1%");
+    assert_eq!(bake, keep, "the re-bake keeps other meshes");
+    assert!(
+        bake_total.abs_diff(keep_total) <= keep_total / 50 + 2,
+        "{bake_total} vs {keep_total} triangles"
+    );
+}
