@@ -883,16 +883,8 @@ mod tests {
         };
         let q = vertex_quadrics(&c, &metric, &[], EdgeImportance::default());
         let model = |joint| CostModel {
-            terms: crate::terms::collapse_terms(&metric),
-            metric,
-            lock_borders: false,
-            area_floor: 0.0,
             attributes_move_vertices: joint,
-            attribute_slack: f64::INFINITY,
-            invisible_distance2: 0.0,
-            exact_flat_borders: true,
-            appearance_budget: f64::INFINITY,
-            regularization_looks: false,
+            ..model_of(metric)
         };
         let border = vec![true; c.pos.len()];
         let mut s = Scratch::default();
@@ -1157,24 +1149,10 @@ mod tests {
         let metric = Metric::default();
         let q = vertex_quadrics(&c, &metric, &[], EdgeImportance::default());
         let with = model_of(metric);
-        let without = CostModel {
-            terms: crate::terms::collapse_terms(&Metric {
-                boundary_area: false,
-                ..metric
-            }),
-            area_floor: 0.0,
-            attributes_move_vertices: false,
-            attribute_slack: f64::INFINITY,
-            invisible_distance2: 0.0,
-            exact_flat_borders: true,
-            appearance_budget: f64::INFINITY,
-            regularization_looks: false,
-            metric: Metric {
-                boundary_area: false,
-                ..metric
-            },
-            lock_borders: false,
-        };
+        let without = model_of(Metric {
+            boundary_area: false,
+            ..metric
+        });
         let mut s = Scratch::default();
         for e in 0..c.edges.len() as u32 {
             assert_eq!(
@@ -1199,24 +1177,10 @@ mod tests {
         let ev = m
             .evaluate(&c, &stored(&c, &q), &[], &[], &[], &[], None, e, &mut s)
             .unwrap();
-        let plain = CostModel {
-            terms: crate::terms::collapse_terms(&Metric {
-                boundary_area: false,
-                ..metric
-            }),
-            area_floor: 0.0,
-            attributes_move_vertices: false,
-            attribute_slack: f64::INFINITY,
-            invisible_distance2: 0.0,
-            exact_flat_borders: true,
-            appearance_budget: f64::INFINITY,
-            regularization_looks: false,
-            metric: Metric {
-                boundary_area: false,
-                ..metric
-            },
-            lock_borders: false,
-        }
+        let plain = model_of(Metric {
+            boundary_area: false,
+            ..metric
+        })
         .evaluate(&c, &stored(&c, &q), &[], &[], &[], &[], None, e, &mut s)
         .unwrap();
         assert!(ev.cost > plain.cost, "{ev:?} vs {plain:?}");
@@ -1244,30 +1208,19 @@ mod tests {
         let e = c.edge_between(1, 2).unwrap();
         let sq = stored(&c, &q);
         let eval = |metric: Metric| {
-            CostModel {
-                terms: crate::terms::collapse_terms(&metric),
-                area_floor: 0.0,
-                attributes_move_vertices: false,
-                attribute_slack: f64::INFINITY,
-                invisible_distance2: 0.0,
-                exact_flat_borders: true,
-                appearance_budget: f64::INFINITY,
-                regularization_looks: false,
-                metric,
-                lock_borders: false,
-            }
-            .evaluate(
-                &c,
-                &sq,
-                &[],
-                &[],
-                &[],
-                &[],
-                None,
-                e,
-                &mut Scratch::default(),
-            )
-            .unwrap()
+            model_of(metric)
+                .evaluate(
+                    &c,
+                    &sq,
+                    &[],
+                    &[],
+                    &[],
+                    &[],
+                    None,
+                    e,
+                    &mut Scratch::default(),
+                )
+                .unwrap()
         };
         let plain = eval(base);
         let eq5 = eval(Metric {
@@ -1321,24 +1274,10 @@ mod tests {
         assert!(ev.position.distance(DVec3::new(2.0, 0.0, 0.0)) < 1e-9);
         assert!((ev.cost - 2.0).abs() < 1e-9, "{}", ev.cost);
         // Without the term the collapse is free.
-        let free = CostModel {
-            terms: crate::terms::collapse_terms(&Metric {
-                gluing_weight: 0.0,
-                ..metric
-            }),
-            area_floor: 0.0,
-            attributes_move_vertices: false,
-            attribute_slack: f64::INFINITY,
-            invisible_distance2: 0.0,
-            exact_flat_borders: true,
-            appearance_budget: f64::INFINITY,
-            regularization_looks: false,
-            metric: Metric {
-                gluing_weight: 0.0,
-                ..metric
-            },
-            lock_borders: false,
-        };
+        let free = model_of(Metric {
+            gluing_weight: 0.0,
+            ..metric
+        });
         let ev = free
             .evaluate(&c, &q, &[], &[], &[], &[], None, e, &mut s)
             .unwrap();
