@@ -46,9 +46,18 @@ impl Coverage {
     }
 }
 
+/// Rows of the atlas one thread assigns at a time.
+const BAND_ROWS: usize = 32;
+
 /// Assigns texels to the triangles with corners `corner_uvs` (three per
 /// triangle, in texels), up to `margin` texels outside them.
+///
+/// Bands of rows are assigned in parallel, each from the triangles whose
+/// box (grown by the margin) reaches it; the winner of a texel depends only
+/// on distances and indices, so the result is the same on any number of
+/// threads.
 pub fn rasterize(corner_uvs: &[[f32; 2]], size: u32, margin: f32) -> Coverage {
+    use rayon::prelude::*;
     let n = size as usize * size as usize;
     let mut c = Coverage {
         size,
@@ -56,39 +65,75 @@ pub fn rasterize(corner_uvs: &[[f32; 2]], size: u32, margin: f32) -> Coverage {
         bary: vec![[0.0; 3]; n],
         distance: vec![f32::INFINITY; n],
     };
+    if n == 0 {
+        return c;
+    }
     let s = size as f32;
-    for (t, uv) in corner_uvs.chunks_exact(3).enumerate() {
-        let q = [uv[0], uv[1], uv[2]];
-        if q.iter().any(|p| !(p[0].is_finite() && p[1].is_finite())) {
-            continue;
-        }
-        let lo_x = q.iter().map(|p| p[0]).fold(f32::INFINITY, f32::min) - margin;
-        let hi_x = q.iter().map(|p| p[0]).fold(f32::NEG_INFINITY, f32::max) + margin;
-        let lo_y = q.iter().map(|p| p[1]).fold(f32::INFINITY, f32::min) - margin;
-        let hi_y = q.iter().map(|p| p[1]).fold(f32::NEG_INFINITY, f32::max) + margin;
-        // Texel x has its center at x + 0.5.
-        let x0 = (lo_x - 0.5).ceil().clamp(0.0, s) as usize;
-        let x1 = ((hi_x - 0.5).floor() + 1.0).clamp(0.0, s) as usize;
-        let y0 = (lo_y - 0.5).ceil().clamp(0.0, s) as usize;
-        let y1 = ((hi_y - 0.5).floor() + 1.0).clamp(0.0, s) as usize;
-        for y in y0..y1 {
-            for x in x0..x1 {
-                let p = [x as f32 + 0.5, y as f32 + 0.5];
-                let (d, b) = closest_on_triangle_2d(p, q);
-                if d > margin {
-                    continue;
-                }
-                let i = y * size as usize + x;
-                let cur = c.distance[i];
-                // Lower distance wins; ties keep the lower triangle.
-                if d < cur || (d == cur && (t as u32) < c.triangle[i]) {
-                    c.distance[i] = d;
-                    c.triangle[i] = t as u32;
-                    c.bary[i] = b;
-                }
+    let w = size as usize;
+    // Each triangle's texel box: columns x0..x1, rows y0..y1.
+    let boxes: Vec<Option<[usize; 4]>> = corner_uvs
+        .chunks_exact(3)
+        .map(|q| {
+            if q.iter().any(|p| !(p[0].is_finite() && p[1].is_finite())) {
+                return None;
+            }
+            let lo_x = q.iter().map(|p| p[0]).fold(f32::INFINITY, f32::min) - margin;
+            let hi_x = q.iter().map(|p| p[0]).fold(f32::NEG_INFINITY, f32::max) + margin;
+            let lo_y = q.iter().map(|p| p[1]).fold(f32::INFINITY, f32::min) - margin;
+            let hi_y = q.iter().map(|p| p[1]).fold(f32::NEG_INFINITY, f32::max) + margin;
+            // Texel x has its center at x + 0.5.
+            let x0 = (lo_x - 0.5).ceil().clamp(0.0, s) as usize;
+            let x1 = ((hi_x - 0.5).floor() + 1.0).clamp(0.0, s) as usize;
+            let y0 = (lo_y - 0.5).ceil().clamp(0.0, s) as usize;
+            let y1 = ((hi_y - 0.5).floor() + 1.0).clamp(0.0, s) as usize;
+            (x0 < x1 && y0 < y1).then_some([x0, x1, y0, y1])
+        })
+        .collect();
+    // Triangles by band, in ascending order.
+    let bands = w.div_ceil(BAND_ROWS);
+    let mut in_band: Vec<Vec<u32>> = vec![Vec::new(); bands];
+    for (t, b) in boxes.iter().enumerate() {
+        if let Some([_, _, y0, y1]) = *b {
+            for list in &mut in_band[y0 / BAND_ROWS..=(y1 - 1) / BAND_ROWS] {
+                list.push(t as u32);
             }
         }
     }
+    let rows = BAND_ROWS * w;
+    c.triangle
+        .par_chunks_mut(rows)
+        .zip(c.bary.par_chunks_mut(rows))
+        .zip(c.distance.par_chunks_mut(rows))
+        .zip(in_band.par_iter())
+        .enumerate()
+        .for_each(|(band, (((owner, bary), distance), tris))| {
+            let first_row = band * BAND_ROWS;
+            let last_row = first_row + owner.len() / w;
+            for &t in tris {
+                let Some([x0, x1, y0, y1]) = boxes[t as usize] else {
+                    continue;
+                };
+                let uv = &corner_uvs[3 * t as usize..3 * t as usize + 3];
+                let q = [uv[0], uv[1], uv[2]];
+                for y in y0.max(first_row)..y1.min(last_row) {
+                    for x in x0..x1 {
+                        let p = [x as f32 + 0.5, y as f32 + 0.5];
+                        let (d, b) = closest_on_triangle_2d(p, q);
+                        if d > margin {
+                            continue;
+                        }
+                        let i = (y - first_row) * w + x;
+                        let cur = distance[i];
+                        // Lower distance wins; ties keep the lower triangle.
+                        if d < cur || (d == cur && t < owner[i]) {
+                            distance[i] = d;
+                            owner[i] = t;
+                            bary[i] = b;
+                        }
+                    }
+                }
+            }
+        });
     c
 }
 
@@ -134,6 +179,54 @@ pub fn closest_on_triangle_2d(p: [f32; 2], q: [[f32; 2]; 3]) -> (f32, [f32; 3]) 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn bands_give_what_every_texel_against_every_triangle_gives() {
+        // Overlapping triangles over several bands, some reaching past the
+        // atlas, and one degenerate: a brute-force search over all
+        // triangles for each texel picks the same owner, distance and
+        // barycentrics.
+        let size = 100u32;
+        let mut seed = 7u64;
+        let mut next = || {
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (seed >> 33) as f32 / (1u64 << 31) as f32
+        };
+        let mut uv = Vec::new();
+        for _ in 0..40 {
+            let (cx, cy) = (next() * 110.0 - 5.0, next() * 110.0 - 5.0);
+            for _ in 0..3 {
+                uv.push([cx + next() * 30.0 - 15.0, cy + next() * 30.0 - 15.0]);
+            }
+        }
+        uv.extend([[10.0, 10.0], [40.0, 70.0], [25.0, 40.0]]);
+        let c = rasterize(&uv, size, 1.5);
+        let mut owned = 0;
+        for y in 0..size as usize {
+            for x in 0..size as usize {
+                let p = [x as f32 + 0.5, y as f32 + 0.5];
+                let mut best = (f32::INFINITY, NO_TRIANGLE, [0.0f32; 3]);
+                for (t, q) in uv.chunks_exact(3).enumerate() {
+                    let (d, b) = closest_on_triangle_2d(p, [q[0], q[1], q[2]]);
+                    if d <= 1.5 && d < best.0 {
+                        best = (d, t as u32, b);
+                    }
+                }
+                let i = y * size as usize + x;
+                assert_eq!(c.triangle[i], best.1, "texel ({x}, {y})");
+                if best.1 != NO_TRIANGLE {
+                    owned += 1;
+                    assert_eq!((c.distance[i], c.bary[i]), (best.0, best.2));
+                }
+            }
+        }
+        assert!(
+            owned > 3000,
+            "the triangles cover much of the atlas: {owned}"
+        );
+    }
 
     #[test]
     fn texel_centers_inside_get_distance_zero_and_their_barycentrics() {

@@ -12,6 +12,7 @@
 use std::path::Path;
 use std::time::Instant;
 
+use rayon::prelude::*;
 use wildlod_bake::{bake_mesh, BakeError, BakeInput, BakeOptions, Baked, Channel};
 use wildlod_io::{decode_image_rgba8, encode_image, Document, ImageEncoding};
 use wildlod_mesh::{ImageSource, Material, Mesh, Rgba8Image, Sampler, Texture, TextureRef, Wrap};
@@ -223,27 +224,36 @@ pub fn rebake_scene(
             }
         } else {
             let (mat0, tex0) = (materials.len() as u32, textures.len() as u32);
-            for img in &baked.images {
-                let material = &baked.materials[img.material];
-                let label = format!(
-                    "{stem}_{}_{}_{}",
-                    file_part(&name),
-                    file_part(if material.name.is_empty() {
-                        "material"
+            // Images encode in parallel: PNG's deflate is the slowest step
+            // after the bake itself.
+            let encoded = baked
+                .images
+                .par_iter()
+                .map(|img| {
+                    let material = &baked.materials[img.material];
+                    let label = format!(
+                        "{stem}_{}_{}_{}",
+                        file_part(&name),
+                        file_part(if material.name.is_empty() {
+                            "material"
+                        } else {
+                            &material.name
+                        }),
+                        img.channel.name()
+                    );
+                    let opaque = img.image.pixels.iter().all(|p| p[3] == 255);
+                    let encoding = if all_jpeg && (opaque || img.channel != Channel::BaseColor) {
+                        ImageEncoding::Jpeg {
+                            quality: settings.jpeg_quality,
+                        }
                     } else {
-                        &material.name
-                    }),
-                    img.channel.name()
-                );
-                let opaque = img.image.pixels.iter().all(|p| p[3] == 255);
-                let encoding = if all_jpeg && (opaque || img.channel != Channel::BaseColor) {
-                    ImageEncoding::Jpeg {
-                        quality: settings.jpeg_quality,
-                    }
-                } else {
-                    ImageEncoding::Png
-                };
-                let bytes = encode_image(&img.image, encoding, &label)?;
+                        ImageEncoding::Png
+                    };
+                    let bytes = encode_image(&img.image, encoding, &label)?;
+                    Ok((label, bytes, encoding))
+                })
+                .collect::<Result<Vec<_>, wildlod_io::Error>>()?;
+            for (label, bytes, encoding) in encoded {
                 textures.push(Texture {
                     name: label,
                     source: ImageSource::Embedded {
