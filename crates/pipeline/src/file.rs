@@ -5,7 +5,7 @@ use std::path::Path;
 use std::time::Instant;
 
 use wildlod_io::{Document, WriteOptions};
-use wildlod_simplify::{Options, Target};
+use wildlod_simplify::{Options, SceneReport, Target};
 
 use crate::{
     build_chain, chain_json, drawn_targets, file_stem, merge_twins_for_output, rebake_levels,
@@ -66,6 +66,22 @@ pub struct SimplifiedDocument {
     pub twins: MergedTwins,
     /// Warnings of the re-bake (textures that could not be decoded).
     pub warnings: Vec<String>,
+    /// The whole file's run report, when the written result is the one
+    /// run under the file's budget (how it shared the budget, which
+    /// meshes went); `None` for mesh-by-mesh runs and re-bakes.
+    pub scene: Option<SceneReport>,
+    /// Per run in `runs`, what was baked for it (`; baked N image(s) in
+    /// SIZE² …`), empty where nothing was.
+    pub notes: Vec<String>,
+}
+
+/// One way of treating the textures, made in full: the document, its runs
+/// and what the summary says about them.
+struct Candidate {
+    doc: Document,
+    runs: Vec<MeshRun>,
+    scene: Option<SceneReport>,
+    notes: Vec<String>,
 }
 
 impl SimplifiedDocument {
@@ -111,25 +127,33 @@ pub fn simplify_document<P: MeshProgress>(
     // candidate's counts when it was made, else its own run's.
     let instances = doc.scene.instance_counts();
     let whole_file: OnceCell<Vec<Target>> = OnceCell::new();
-    let keep = || -> Result<(Document, Vec<MeshRun>), Error> {
+    let keep = || -> Result<Candidate, Error> {
         let mut out = doc.clone();
-        let runs = if per_mesh {
-            simplify_scene(
+        let (runs, scene) = if per_mesh {
+            let runs = simplify_scene(
                 &mut out.scene,
                 input,
                 options,
                 &mesh_targets,
                 &stem,
                 progress,
-            )?
+            )?;
+            (runs, None)
         } else {
-            let run = simplify_whole_scene(&mut out.scene, input, options, &t, &stem, progress)?.0;
+            let (run, report) =
+                simplify_whole_scene(&mut out.scene, input, options, &t, &stem, progress)?;
             let _ = whole_file.set(drawn_targets(&out.scene.meshes, &instances));
-            vec![run]
+            (vec![run], Some(report))
         };
-        Ok((out, runs))
+        let notes = vec![String::new(); runs.len()];
+        Ok(Candidate {
+            doc: out,
+            runs,
+            scene,
+            notes,
+        })
     };
-    let rebake = || -> Result<(Document, Vec<MeshRun>), Error> {
+    let rebake = || -> Result<Candidate, Error> {
         let rebake_targets = if per_mesh {
             mesh_targets.clone()
         } else if let Some(t) = whole_file.get() {
@@ -149,16 +173,24 @@ pub fn simplify_document<P: MeshProgress>(
             &stem,
         )?;
         warnings.extend(more);
-        Ok((out, runs.into_iter().map(|r| r.run).collect()))
+        let (runs, notes) = runs.into_iter().map(|r| (r.run, r.atlases)).unzip();
+        Ok(Candidate {
+            doc: out,
+            runs,
+            scene: None,
+            notes,
+        })
     };
-    let ((out, runs), choice) =
-        treat_textures(&doc, input, output, textures.mode, keep, rebake, |r| &r.0)?;
+    let (done, choice) =
+        treat_textures(&doc, input, output, textures.mode, keep, rebake, |c| &c.doc)?;
     Ok(SimplifiedDocument {
-        doc: out,
-        runs,
+        doc: done.doc,
+        runs: done.runs,
         textures: choice,
         twins,
         warnings,
+        scene: done.scene,
+        notes: done.notes,
     })
 }
 

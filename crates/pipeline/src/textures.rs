@@ -108,15 +108,15 @@ impl TextureSettings {
 /// and measures the re-bake and keeps the lower (see the module
 /// documentation). Returns the chosen candidate and, for a file with a
 /// base colour texture (or a re-bake asked for), what was chosen and why.
-pub fn treat_textures<T, E: From<Error> + std::fmt::Display>(
+pub fn treat_textures<T>(
     doc: &Document,
     input: &Path,
     output: &Path,
     mode: TextureMode,
-    keep: impl FnOnce() -> Result<T, E>,
-    rebake: impl FnOnce() -> Result<T, E>,
+    keep: impl FnOnce() -> Result<T, Error>,
+    rebake: impl FnOnce() -> Result<T, Error>,
     doc_of: impl Fn(&T) -> &Document,
-) -> Result<(T, Option<TextureChoice>), E> {
+) -> Result<(T, Option<TextureChoice>), Error> {
     let textured = has_base_color_texture(&doc.scene);
     let fixed = |mode| TextureChoice {
         mode,
@@ -153,7 +153,7 @@ pub fn treat_textures<T, E: From<Error> + std::fmt::Display>(
             let baked = match rebake() {
                 Ok(b) => b,
                 Err(e) => {
-                    choice.rebake_failed = Some(format!("{e:#}"));
+                    choice.rebake_failed = Some(with_causes(&e));
                     return Ok((kept, Some(choice)));
                 }
             };
@@ -224,6 +224,19 @@ pub fn choose(keep_uv_excess: Option<f64>, rebaked_excess: Option<f64>) -> Textu
         (None, Some(_)) => TextureMode::Bake,
         _ => TextureMode::Keep,
     }
+}
+
+/// An error's message followed by each of its causes, `: `-separated (what
+/// `anyhow` prints with `{:#}`): the summary says why, not only where.
+fn with_causes(e: &dyn std::error::Error) -> String {
+    let mut text = e.to_string();
+    let mut source = e.source();
+    while let Some(cause) = source {
+        text.push_str(": ");
+        text.push_str(&cause.to_string());
+        source = cause.source();
+    }
+    text
 }
 
 #[cfg(test)]

@@ -1,18 +1,15 @@
 //! `wildlod simplify`: read → simplify every mesh → write.
 
-use std::cell::OnceCell;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use anyhow::{bail, Context};
 use wildlod_io::{Document, ErrorKind, WriteOptions};
-use wildlod_mesh::Scene;
 use wildlod_pipeline::{
-    drawn_targets, file_stem, merge_twins_for_output, rebake_scene, simplify_scene, targets_for,
-    treat_textures, BakeSettings, FileTargets, MeshRun, NormalSetting, RunJson, SeamSetting,
-    TextureChoice, TextureMode, Tuning,
+    file_stem, simplify_document, BakeSettings, FileTargets, NormalSetting, SeamSetting,
+    TextureChoice, TextureMode, TextureSettings, Tuning,
 };
-use wildlod_simplify::{Options, Report, SceneReport, StopReason, Target};
+use wildlod_simplify::{Options, Report, SceneReport, StopReason};
 
 use super::with_flag_names;
 use crate::args::SimplifyArgs;
@@ -235,83 +232,77 @@ pub(crate) fn tuning(t: &TuningArgs) -> Tuning {
 /// Runs `simplify`.
 pub fn run(cfg: &Config) -> anyhow::Result<()> {
     let t0 = Instant::now();
-    let mut doc = wildlod_io::read(&cfg.input)?;
+    let doc = wildlod_io::read(&cfg.input)?;
     if !cfg.quiet {
         for w in &doc.warnings {
             eprintln!("warning: {}: {w}", cfg.input.display());
         }
     }
     let stem = file_stem(&cfg.input);
+    let names: Vec<String> = doc
+        .scene
+        .meshes
+        .iter()
+        .enumerate()
+        .map(|(m, mesh)| match mesh.name.as_str() {
+            "" => format!("mesh {m}"),
+            n => n.to_string(),
+        })
+        .collect();
+    let show = !cfg.quiet && !cfg.json;
     let targets = FileTargets {
         ratio: cfg.ratio,
         faces: cfg.faces,
         error: cfg.error,
     };
-    let (twins, t) = merge_twins_for_output(&mut doc.scene, &cfg.output, &targets);
-    let adjusted = Config {
-        ratio: t.ratio,
-        faces: t.faces,
-        error: t.error,
-        ..cfg.clone()
-    };
-    let cfg = &adjusted;
-    let show = !cfg.quiet && !cfg.json;
-    // A re-bake under the file's one budget reaches mesh by mesh what the
-    // keep-UV run over the whole file spent where (see `rebake`).
-    let instances = doc.scene.instance_counts();
-    let whole_file: OnceCell<Vec<Target>> = OnceCell::new();
-    let (done, choice) = treat_textures(
-        &doc,
+    let done = simplify_document(
+        doc,
         &cfg.input,
         &cfg.output,
-        cfg.textures,
-        || {
-            let done = keep_uvs(&doc, cfg, &stem, show)?;
-            if !cfg.per_mesh {
-                let _ = whole_file.set(drawn_targets(&done.doc.scene.meshes, &instances));
-            }
-            Ok(done)
+        &targets,
+        cfg.per_mesh,
+        &cfg.options,
+        &TextureSettings {
+            mode: cfg.textures,
+            bake: cfg.bake,
         },
-        || {
-            let targets = match whole_file.get() {
-                Some(t) => t.clone(),
-                None if cfg.per_mesh => mesh_targets(&doc.scene, cfg),
-                None => {
-                    let mut whole = doc.clone();
-                    simplify_whole_scene(&mut whole, cfg, &stem, false)?;
-                    drawn_targets(&whole.scene.meshes, &instances)
-                }
-            };
-            rebake(&doc, cfg, &targets, &stem)
-        },
-        |d: &Done| &d.doc,
+        &|name| Progress::new(name, show),
     )?;
-    if show {
-        for line in &done.lines {
-            emit(&(line.clone() + "\n"))?;
+    if !cfg.quiet {
+        for w in &done.warnings {
+            eprintln!("warning: {w}");
         }
-        if let Some(c) = &choice {
+    }
+    if show {
+        let lines: Vec<String> = match &done.scene {
+            Some(report) => done
+                .runs
+                .iter()
+                .map(|run| scene_summary(&stem, report, &names, run.seconds))
+                .collect(),
+            None => done
+                .runs
+                .iter()
+                .zip(&done.notes)
+                .map(|(r, note)| summary(&r.name, &r.report, r.seconds) + note)
+                .collect(),
+        };
+        for line in lines {
+            emit(&(line + "\n"))?;
+        }
+        if let Some(c) = &done.textures {
             emit(&(texture_line(c) + "\n"))?;
         }
-        if twins.pairs > 0 {
+        if done.twins.pairs > 0 {
             emit(&format!(
                 "twins: {} reversed face pairs written once with a double-sided material ({} triangles the input drew twice)\n",
-                twins.pairs, twins.triangles
+                done.twins.pairs, done.twins.triangles
             ))?;
         }
     }
     write(&done.doc, cfg)?;
     if cfg.json {
-        let mut json = RunJson::new(
-            &cfg.input,
-            &cfg.output,
-            &done.runs,
-            t0.elapsed().as_secs_f64(),
-        );
-        json.textures = choice;
-        json.double_sided_twins = twins.pairs;
-        // The input as the file drew it, before its twins were merged.
-        json.input_triangles += twins.triangles;
+        let json = done.json(&cfg.input, &cfg.output, t0.elapsed().as_secs_f64());
         let text = serde_json::to_string_pretty(&json).context("serializing the report")?;
         emit(&(text + "\n"))?;
     }
@@ -346,96 +337,6 @@ fn texture_line(c: &TextureChoice) -> String {
         (_, TextureMode::Bake) => "textures: re-baked (--textures bake)".to_string(),
         _ => "textures: UVs kept (--textures keep)".to_string(),
     }
-}
-
-/// Every textured mesh re-baked, each to its target in `targets`: mesh by
-/// mesh, since baking maps every texel through one mesh's collapse
-/// history, but under the file's one budget unless `--per-mesh` (the
-/// counts the whole-file run gives each mesh; one it removes goes).
-fn rebake(doc: &Document, cfg: &Config, targets: &[Target], stem: &str) -> anyhow::Result<Done> {
-    let mut out = doc.clone();
-    let (runs, lines) = bake_scene(&mut out, cfg, targets, stem)?;
-    Ok(Done {
-        doc: out,
-        runs,
-        lines,
-    })
-}
-
-/// The input's UVs kept: the whole file under one budget, or every mesh
-/// alone with `--per-mesh`.
-fn keep_uvs(doc: &Document, cfg: &Config, stem: &str, show: bool) -> anyhow::Result<Done> {
-    let mut out = doc.clone();
-    if cfg.per_mesh {
-        let targets = mesh_targets(&doc.scene, cfg);
-        let runs = simplify_scene(
-            &mut out.scene,
-            &cfg.input,
-            &cfg.options,
-            &targets,
-            stem,
-            &|name| Progress::new(name, show),
-        )?;
-        let lines = runs
-            .iter()
-            .map(|r| summary(&r.name, &r.report, r.seconds))
-            .collect();
-        Ok(Done {
-            doc: out,
-            runs,
-            lines,
-        })
-    } else {
-        let (run, line) = simplify_whole_scene(&mut out, cfg, stem, show)?;
-        Ok(Done {
-            doc: out,
-            runs: vec![run],
-            lines: vec![line],
-        })
-    }
-}
-
-/// A simplified document with its runs and their summary lines (printed
-/// only for the result that is written).
-struct Done {
-    doc: Document,
-    runs: Vec<MeshRun>,
-    lines: Vec<String>,
-}
-
-/// The whole file under one budget in world space (see
-/// [`wildlod_pipeline::simplify_whole_scene`]), with its summary line.
-fn simplify_whole_scene(
-    doc: &mut Document,
-    cfg: &Config,
-    stem: &str,
-    show: bool,
-) -> anyhow::Result<(MeshRun, String)> {
-    let names: Vec<String> = doc
-        .scene
-        .meshes
-        .iter()
-        .enumerate()
-        .map(|(m, mesh)| match mesh.name.as_str() {
-            "" => format!("mesh {m}"),
-            n => n.to_string(),
-        })
-        .collect();
-    let targets = FileTargets {
-        ratio: cfg.ratio,
-        faces: cfg.faces,
-        error: cfg.error,
-    };
-    let (run, report) = wildlod_pipeline::simplify_whole_scene(
-        &mut doc.scene,
-        &cfg.input,
-        &cfg.options,
-        &targets,
-        stem,
-        &|name| Progress::new(name, show),
-    )?;
-    let line = scene_summary(stem, &report, &names, run.seconds);
-    Ok((run, line))
 }
 
 /// The scene run's line: the file's triangles and achieved error (relative
@@ -562,41 +463,4 @@ pub fn summary(name: &str, r: &Report, seconds: f64) -> String {
         );
     }
     s
-}
-
-/// The target of every stored mesh: the same ratio for all; a `--faces`
-/// budget of drawn triangles shared in proportion to the triangles each
-/// mesh draws (largest remainders, so the shares sum to the budget), each a
-/// count of drawn triangles too; `--error` converted from the file's
-/// diagonal to each mesh's own.
-///
-/// Every mesh keeps at least one triangle, whatever the targets: a mesh
-/// simplified to nothing would leave its nodes, skins and instances
-/// pointing at an empty mesh, and `--ratio 0` would write a file with no
-/// geometry and exit 0. "As small as possible" is what a user asking for 0
-/// wants; one triangle per mesh is the smallest valid result.
-pub(super) fn mesh_targets(scene: &Scene, cfg: &Config) -> Vec<Target> {
-    targets_for(scene, cfg.ratio, cfg.faces, cfg.error)
-}
-
-/// Re-bakes every mesh of the document in place (the pipeline's
-/// [`wildlod_pipeline::rebake_scene`]), printing its warnings; returns
-/// every simplified mesh's run and its summary line, saying what was baked.
-fn bake_scene(
-    doc: &mut Document,
-    cfg: &Config,
-    targets: &[Target],
-    stem: &str,
-) -> anyhow::Result<(Vec<MeshRun>, Vec<String>)> {
-    let (baked, warnings) = rebake_scene(doc, &cfg.input, &cfg.options, &cfg.bake, targets, stem)?;
-    if !cfg.quiet {
-        for w in warnings {
-            eprintln!("warning: {w}");
-        }
-    }
-    let lines = baked
-        .iter()
-        .map(|b| summary(&b.run.name, &b.run.report, b.run.seconds) + &b.atlases)
-        .collect();
-    Ok((baked.into_iter().map(|b| b.run).collect(), lines))
 }
