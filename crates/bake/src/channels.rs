@@ -608,11 +608,20 @@ pub(crate) fn decode_normal(t: [f32; 4]) -> Vec3 {
     Vec3::new(2.0 * t[0] - 1.0, 2.0 * t[1] - 1.0, 2.0 * t[2] - 1.0).normalize_or_zero()
 }
 
-/// A unit tangent-space vector as a normal-map texel. Vectors pointing
-/// below the surface (possible where the output surface turned away from
-/// the input's) are lifted to the horizon: a normal map cannot hold them.
+/// A unit tangent-space vector as a normal-map texel.
+///
+/// A normal map cannot hold a vector below the surface (two-channel
+/// encodings rebuild z ≥ 0, and a light from the front would leave the
+/// texel black). One comes from an input point that faces away from the
+/// output face: the far side of a thin part the level merged into one
+/// sheet (a plate's underside under its top, a leaf's back, a cloth's
+/// hem), or a fold. The output face shows that part's near side, whose
+/// normal is the far side's turned around: the vector is negated (the
+/// tea set's plates at 1%, lifted to the horizon instead, were crossed by
+/// black wedges in lit renders). What is left within a hair of the
+/// horizon is lifted to it.
 pub(crate) fn encode_normal(v: Vec3) -> [u8; 4] {
-    let mut v = v;
+    let mut v = if v.z < 0.0 { -v } else { v };
     if v.z < 0.01 {
         v.z = 0.01;
     }
@@ -861,6 +870,18 @@ mod tests {
         assert!((f.to_tangent(f.to_world(v)) - v).length() < 1e-6);
         let mirrored = Frame::new(Vec3::Z, Vec3::X, -1.0).expect("frame");
         assert!((mirrored.to_world(Vec3::Y) + Vec3::Y).length() < 1e-6);
+    }
+
+    #[test]
+    fn a_normal_below_the_surface_is_turned_around_not_laid_flat() {
+        // The underside of a thin plate seen through the output's top face:
+        // (0.3, 0, -0.954) stands for the top's (-0.3, 0, 0.954).
+        let below = Vec3::new(0.3, 0.0, -0.954).normalize();
+        let t = encode_normal(below);
+        let back = decode_normal(t.map(|c| c as f32 / 255.0));
+        assert!((back - (-below)).length() < 0.01, "{back:?}");
+        // Straight down is straight up, not a grazing normal.
+        assert_eq!(encode_normal(-Vec3::Z), [128, 128, 255, 255]);
     }
 
     #[test]
