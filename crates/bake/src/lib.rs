@@ -25,8 +25,15 @@
 //!   smaller atlas).
 //! - [`gutter`]: the rest of the atlas filled from the nearest texel, so
 //!   that no mip level shows background (W App. B).
-//! - [`bake_mesh`] (`bake.rs`): the driver, from a mesh, its materials and
-//!   decoded images to a simplified mesh, new materials and images.
+//! - `prepare.rs`: one mesh simplified with its history, triangulated, its
+//!   faces grouped by output material.
+//! - `shared_layout.rs`: one atlas per output material across every mesh
+//!   baked together, texel densities comparable in world units.
+//! - [`bake_meshes`] (`scene_bake.rs`): the driver, from several meshes
+//!   with their materials and decoded images to simplified meshes sharing
+//!   one material and one set of images per material group.
+//! - [`bake_mesh`] (`bake.rs`): the same for one mesh; `interface.rs`
+//!   holds the options and results both share.
 
 mod atlas;
 mod bake;
@@ -34,17 +41,23 @@ mod channels;
 mod density;
 pub mod gutter;
 mod input;
+mod interface;
 mod mapping;
+mod prepare;
 mod raster;
+mod scene_bake;
+mod shared_layout;
 mod texture_detail;
 
 pub use atlas::{
     atlas_stats, build_atlas, build_atlas_weighted, Atlas, AtlasOptions, AtlasStats,
     MAX_DENSITY_RATIO,
 };
-pub use bake::{bake_mesh, AtlasReport, BakeError, BakeOptions, BakeReport, Baked, BakedImage};
+pub use bake::bake_mesh;
 pub use channels::Channel;
 pub use input::BakeInput;
+pub use interface::{AtlasReport, BakeError, BakeOptions, BakeReport, Baked, BakedImage};
 pub use mapping::{SuccessiveMap, SurfacePoint};
 pub use raster::{closest_on_triangle_2d, rasterize, Coverage, NO_TRIANGLE};
+pub use scene_bake::{bake_meshes, BakedMesh, SceneBakeError, SceneBaked, SceneMesh};
 pub use texture_detail::VISIBLE_BLUR;
