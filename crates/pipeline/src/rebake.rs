@@ -1,21 +1,24 @@
 //! Re-baking a file's textures (`--textures bake`, and `auto` where it
 //! re-bakes): every mesh simplified with collapses free to cross UV seams
-//! and its textures re-baked onto a new atlas (W §4.3, by `wildlod-bake`).
+//! and the textures re-baked onto new atlases (W §4.3, by `wildlod-bake`),
+//! one atlas and material per output material across the whole file: the
+//! meshes that share an input material share its atlas, as Simplygon and
+//! InstaLOD bake a scene.
 //!
 //! Images are decoded here (8-bit, a quarter of the float decoder's
 //! memory), baked, encoded as PNG (JPEG when the input's textures were all
 //! JPEG) and put into the scene as embedded images named
-//! `<stem>_<mesh>_<material>_<channel>`; the writers place them (a `.glb`
+//! `<stem>_<mesh>_<material>_<channel>` (`<mesh>`: the first mesh of the
+//! atlas); the writers place them (a `.glb`
 //! embeds them, a `.gltf` or `.obj` writes them beside the output). The
 //! input's materials and textures are replaced by the baked ones.
 
 use std::path::Path;
-use std::time::Instant;
 
 use rayon::prelude::*;
-use wildlod_bake::{bake_mesh, BakeError, BakeInput, BakeOptions, Baked, Channel};
+use wildlod_bake::{bake_meshes, BakeError, BakeInput, BakeOptions, BakedMesh, Channel, SceneMesh};
 use wildlod_io::{decode_image_rgba8, encode_image, Document, ImageEncoding};
-use wildlod_mesh::{ImageSource, Material, Mesh, Rgba8Image, Sampler, Texture, TextureRef, Wrap};
+use wildlod_mesh::{ImageSource, Material, Mesh, Rgba8Image, Sampler, Texture, Wrap};
 use wildlod_simplify::{InputData, Options, Report, StopReason, Target};
 
 use crate::{clear_unused_joint_slots, mesh_name, Error, MeshRun};
@@ -86,8 +89,11 @@ pub struct RebakedRun {
 /// Re-bakes every mesh of `doc` (read from `input`) in place, each to its
 /// target in `targets` (drawn triangles, as without baking; a target of
 /// exactly 0 triangles and no other limit removes the mesh), with the
-/// simplifier `options`. Returns every simplified mesh's run and the
-/// warnings (a texture that cannot be decoded bakes from its material's
+/// simplifier `options`, all baked together (`wildlod_bake::bake_meshes`):
+/// one material and one set of images per output material group across
+/// the file, every mesh's parts of the group pointing at it; a mesh with
+/// nothing to bake keeps its materials (without textures). Returns every
+/// simplified mesh's run and the warnings (a texture that cannot be decoded bakes from its material's
 /// factor, and says so).
 pub fn rebake_scene(
     doc: &mut Document,
@@ -130,13 +136,151 @@ pub fn rebake_scene(
         .all(|t| is_jpeg(&scene.textures[t].source))
         && used.iter().any(|&u| u);
 
+    // Every mesh with something to simplify is baked with the others:
+    // one atlas, one set of images and one material per output material
+    // group across the file (`wildlod_bake::bake_meshes`).
+    let instances = scene.instance_counts();
+    let world_scales = world_scales(scene);
+    let mut baked_index: Vec<Option<usize>> = vec![None; scene.meshes.len()];
+    let mut to_bake: Vec<SceneMesh> = Vec::new();
+    for (m, mesh) in scene.meshes.iter().enumerate() {
+        let target = targets.get(m).cloned().unwrap_or_default();
+        if mesh.faces.is_empty() || vanishes(&target) {
+            continue;
+        }
+        // Targets and reports count drawn triangles, as without baking: a
+        // mesh shown by k nodes counts each face k times.
+        let k = instances.get(m).copied().unwrap_or(1);
+        baked_index[m] = Some(to_bake.len());
+        to_bake.push(SceneMesh {
+            input: BakeInput {
+                mesh,
+                materials: &scene.materials,
+                textures: &scene.textures,
+                images: &images,
+            },
+            simplify: Options {
+                target,
+                data: InputData {
+                    face_instances: if k > 1 {
+                        vec![u32::try_from(k).unwrap_or(u32::MAX); mesh.faces.len()]
+                    } else {
+                        Vec::new()
+                    },
+                    ..options.data.clone()
+                },
+                ..options.clone()
+            },
+            world_scale: world_scales.get(m).copied().unwrap_or(1.0),
+        });
+    }
+    let bake_options = BakeOptions {
+        texture_size: settings.texture_size,
+        merge_materials: settings.merge_materials,
+        bake_normals: settings.normal_maps,
+        ..BakeOptions::default()
+    };
+    let baked = if to_bake.is_empty() {
+        None
+    } else {
+        let mesh_of = |i: usize| {
+            baked_index
+                .iter()
+                .position(|&b| b == Some(i))
+                .unwrap_or_default()
+        };
+        Some(bake_meshes(&to_bake, &bake_options).map_err(|e| {
+            let name = mesh_name(scene, mesh_of(e.mesh), stem);
+            match e.source {
+                BakeError::Simplify(source) => Error::Simplify {
+                    file: input.to_path_buf(),
+                    mesh: name,
+                    source,
+                },
+                source => Error::Bake {
+                    file: input.to_path_buf(),
+                    mesh: name,
+                    source,
+                },
+            }
+        })?)
+    };
+    drop(to_bake);
+
+    // The shared images, encoded once each, in parallel (PNG's deflate is
+    // the slowest step after the bake itself); named after the first mesh
+    // of their atlas.
     let mut materials: Vec<Material> = Vec::new();
     let mut textures: Vec<Texture> = Vec::new();
+    if let Some(b) = &baked {
+        let encoded = b
+            .images
+            .par_iter()
+            .map(|img| {
+                let material = &b.materials[img.material];
+                let first = b.atlas_meshes[img.material]
+                    .first()
+                    .and_then(|&i| baked_index.iter().position(|&x| x == Some(i)))
+                    .unwrap_or_default();
+                let label = format!(
+                    "{stem}_{}_{}_{}",
+                    file_part(&mesh_name(scene, first, stem)),
+                    file_part(if material.name.is_empty() {
+                        "material"
+                    } else {
+                        &material.name
+                    }),
+                    img.channel.name()
+                );
+                let opaque = img.image.pixels.iter().all(|p| p[3] == 255);
+                let encoding = if all_jpeg && (opaque || img.channel != Channel::BaseColor) {
+                    ImageEncoding::Jpeg {
+                        quality: settings.jpeg_quality,
+                    }
+                } else {
+                    ImageEncoding::Png
+                };
+                let bytes = encode_image(&img.image, encoding, &label)?;
+                Ok((label, bytes, encoding))
+            })
+            .collect::<Result<Vec<_>, wildlod_io::Error>>()?;
+        for (label, bytes, encoding) in encoded {
+            textures.push(Texture {
+                name: label,
+                source: ImageSource::Embedded {
+                    bytes,
+                    mime_type: encoding.mime_type().into(),
+                },
+                // The atlas must not wrap: its border is gutter.
+                sampler: Sampler {
+                    wrap_u: Wrap::ClampToEdge,
+                    wrap_v: Wrap::ClampToEdge,
+                },
+            });
+        }
+        // Baked materials first; their texture references are already
+        // indices into `textures`.
+        materials.extend(b.materials.iter().cloned());
+    }
     // Input materials kept for meshes that had nothing to bake.
     let mut kept: Vec<Option<u32>> = vec![None; scene.materials.len()];
     let mut meshes = Vec::with_capacity(scene.meshes.len());
     let mut runs = Vec::new();
-    let instances = scene.instance_counts();
+    let (images_per_atlas, sharing): (Vec<usize>, Vec<usize>) = match &baked {
+        Some(b) => (0..b.atlases.len())
+            .map(|a| {
+                (
+                    b.images.iter().filter(|i| i.material == a).count(),
+                    b.atlas_meshes[a].len(),
+                )
+            })
+            .unzip(),
+        None => (Vec::new(), Vec::new()),
+    };
+    let mut baked_meshes: Vec<Option<BakedMesh>> = match baked {
+        Some(b) => b.meshes.into_iter().map(Some).collect(),
+        None => Vec::new(),
+    };
     for (m, mesh) in scene.meshes.iter().enumerate() {
         let name = mesh_name(scene, m, stem);
         if mesh.faces.is_empty() {
@@ -149,13 +293,10 @@ pub fn rebake_scene(
             meshes.push(mesh);
             continue;
         }
-        // Targets and reports count drawn triangles, as without baking: a
-        // mesh shown by k nodes counts each face k times.
-        let k = instances.get(m).copied().unwrap_or(1);
-        let target = targets.get(m).cloned().unwrap_or_default();
-        if vanishes(&target) {
+        let Some(b) = baked_index[m].and_then(|i| baked_meshes[i].take()) else {
             // The file's budget removed it (see `drawn_targets`): written
             // as no mesh, counted as its triangles gone.
+            let k = instances.get(m).copied().unwrap_or(1);
             runs.push(RebakedRun {
                 run: MeshRun {
                     mesh: m,
@@ -174,125 +315,23 @@ pub fn rebake_scene(
                 ..Mesh::default()
             });
             continue;
-        }
-        let t0 = Instant::now();
-        let bake_options = BakeOptions {
-            simplify: Options {
-                target,
-                data: InputData {
-                    face_instances: if k > 1 {
-                        vec![u32::try_from(k).unwrap_or(u32::MAX); mesh.faces.len()]
-                    } else {
-                        Vec::new()
-                    },
-                    ..options.data.clone()
-                },
-                ..options.clone()
-            },
-            texture_size: settings.texture_size,
-            merge_materials: settings.merge_materials,
-            bake_normals: settings.normal_maps,
-            ..BakeOptions::default()
         };
-        let bake_input = BakeInput {
-            mesh,
-            materials: &scene.materials,
-            textures: &scene.textures,
-            images: &images,
-        };
-        let baked = bake_mesh(&bake_input, &bake_options).map_err(|e| match e {
-            BakeError::Simplify(source) => Error::Simplify {
-                file: input.to_path_buf(),
-                mesh: name.clone(),
-                source,
-            },
-            source => Error::Bake {
-                file: input.to_path_buf(),
-                mesh: name.clone(),
-                source,
-            },
-        })?;
-        let seconds = t0.elapsed().as_secs_f64();
-        let note = atlas_summary(&baked);
-        let mut out = baked.mesh.clone();
+        let note = atlas_summary(&b, &images_per_atlas, &sharing);
+        let mut out = b.mesh;
         clear_unused_joint_slots(&mut out);
-        if baked.images.is_empty() {
+        if b.keeps_input_materials {
             for p in &mut out.parts {
                 p.material = p
                     .material
                     .map(|i| keep(i, scene, &mut kept, &mut materials));
-            }
-        } else {
-            let (mat0, tex0) = (materials.len() as u32, textures.len() as u32);
-            // Images encode in parallel: PNG's deflate is the slowest step
-            // after the bake itself.
-            let encoded = baked
-                .images
-                .par_iter()
-                .map(|img| {
-                    let material = &baked.materials[img.material];
-                    let label = format!(
-                        "{stem}_{}_{}_{}",
-                        file_part(&name),
-                        file_part(if material.name.is_empty() {
-                            "material"
-                        } else {
-                            &material.name
-                        }),
-                        img.channel.name()
-                    );
-                    let opaque = img.image.pixels.iter().all(|p| p[3] == 255);
-                    let encoding = if all_jpeg && (opaque || img.channel != Channel::BaseColor) {
-                        ImageEncoding::Jpeg {
-                            quality: settings.jpeg_quality,
-                        }
-                    } else {
-                        ImageEncoding::Png
-                    };
-                    let bytes = encode_image(&img.image, encoding, &label)?;
-                    Ok((label, bytes, encoding))
-                })
-                .collect::<Result<Vec<_>, wildlod_io::Error>>()?;
-            for (label, bytes, encoding) in encoded {
-                textures.push(Texture {
-                    name: label,
-                    source: ImageSource::Embedded {
-                        bytes,
-                        mime_type: encoding.mime_type().into(),
-                    },
-                    // The atlas must not wrap: its border is gutter.
-                    sampler: Sampler {
-                        wrap_u: Wrap::ClampToEdge,
-                        wrap_v: Wrap::ClampToEdge,
-                    },
-                });
-            }
-            for mat in &baked.materials {
-                let shift = |r: Option<TextureRef>| {
-                    r.map(|r| TextureRef {
-                        texture: r.texture + tex0,
-                        tex_coord: r.tex_coord,
-                    })
-                };
-                materials.push(Material {
-                    base_color_texture: shift(mat.base_color_texture),
-                    metallic_roughness_texture: shift(mat.metallic_roughness_texture),
-                    normal_texture: shift(mat.normal_texture),
-                    occlusion_texture: shift(mat.occlusion_texture),
-                    emissive_texture: shift(mat.emissive_texture),
-                    ..mat.clone()
-                });
-            }
-            for p in &mut out.parts {
-                p.material = p.material.map(|i| i + mat0);
             }
         }
         runs.push(RebakedRun {
             run: MeshRun {
                 mesh: m,
                 name,
-                report: baked.report.simplify.clone(),
-                seconds,
+                report: b.report.simplify,
+                seconds: b.seconds,
             },
             atlases: note,
         });
@@ -338,8 +377,10 @@ fn keep(
     k
 }
 
-/// What was baked for one mesh, for its summary line.
-fn atlas_summary(b: &Baked) -> String {
+/// What was baked for one mesh, for its summary line: its atlases'
+/// images (`images[a]`: atlas `a`'s), sizes and layouts, and how many
+/// meshes share each (`sharing[a]`).
+fn atlas_summary(b: &BakedMesh, images: &[usize], sharing: &[usize]) -> String {
     if b.report.atlases.is_empty() {
         return "; nothing to bake (no texture, no vertex color)".into();
     }
@@ -347,9 +388,14 @@ fn atlas_summary(b: &Baked) -> String {
         .report
         .atlases
         .iter()
-        .map(|a| {
+        .zip(&b.atlases)
+        .map(|(a, &i)| {
+            let shared = match sharing.get(i).copied().unwrap_or(1) {
+                0 | 1 => String::new(),
+                n => format!(", atlas {i} shared by {n} meshes"),
+            };
             format!(
-                "{}² ({} charts, {:.0}% used, stretch {:.3}, layout {:.0} ms, bake {:.0} ms)",
+                "{}² ({} charts, {:.0}% used, stretch {:.3}, layout {:.0} ms, bake {:.0} ms{shared})",
                 a.size,
                 a.stats.charts,
                 100.0 * a.stats.utilization,
@@ -359,11 +405,31 @@ fn atlas_summary(b: &Baked) -> String {
             )
         })
         .collect();
-    format!(
-        "; baked {} image(s) in {}",
-        b.images.len(),
-        parts.join(", ")
-    )
+    let n: usize = b.atlases.iter().filter_map(|&i| images.get(i)).sum();
+    format!("; baked {n} image(s) in {}", parts.join(", "))
+}
+
+/// Each mesh's length scale in the scene: the largest over the nodes that
+/// show it of the cube root of the determinant of their world matrix's
+/// linear part (1 for a mesh no node shows), so that its charts get
+/// texels per unit of world surface.
+fn world_scales(scene: &wildlod_mesh::Scene) -> Vec<f64> {
+    let mut out = vec![0.0f64; scene.meshes.len()];
+    for (m, w) in scene.instances() {
+        let d = glam::Mat4::from_cols_array(&w).determinant();
+        let s = f64::from(d.abs()).cbrt();
+        if let Some(o) = out.get_mut(m as usize) {
+            if s.is_finite() {
+                *o = o.max(s);
+            }
+        }
+    }
+    for s in &mut out {
+        if *s <= 0.0 {
+            *s = 1.0;
+        }
+    }
+    out
 }
 
 /// A texture as warnings name it.
