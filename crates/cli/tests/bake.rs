@@ -977,3 +977,77 @@ fn a_rebake_removes_the_meshes_the_file_budget_removes() {
         "{bake_total} vs {keep_total} triangles"
     );
 }
+
+/// Texture Chamfer distance of the domed scene (40 parts) re-baked at 10%
+/// with one atlas per mesh, as main measured it at 973f67c (`wildlod
+/// compare IN OUT --json`, field `texture_chamfer`; its floor was 0.0124)
+/// before meshes shared atlases: the bound a shared atlas must stay within
+/// (plus the sampling floor).
+const PER_MESH_ATLAS_TEXTURE_CHAMFER: f64 = 0.0155;
+
+/// A re-bake packs one atlas per input material across meshes (issue 33):
+/// forty parts sharing one textured material come out with one material
+/// and one base-color image between them, not forty, and show the
+/// texture as well as forty atlases of their own did.
+#[test]
+fn a_rebake_packs_one_atlas_per_material_across_meshes() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("domed.glb");
+    let parts = 40;
+    wildlod_io::write(
+        &Document::from_scene(wildlod_testkit::scenes::domed_scene(parts)),
+        &input,
+        &WriteOptions::default(),
+    )
+    .unwrap();
+    let out = dir.path().join("lod.glb");
+    let o = wildlod(&[
+        "simplify",
+        s(&input),
+        "-o",
+        s(&out),
+        "--ratio",
+        "0.1",
+        "--textures",
+        "bake",
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let lod = wildlod_io::read(&out).unwrap();
+    let scene = &lod.scene;
+    // The parts' input material ("paint"): one output material, with a
+    // base-color texture, that every part's faces use.
+    let paint: Vec<usize> = (0..scene.materials.len())
+        .filter(|&m| scene.materials[m].name == "paint")
+        .collect();
+    assert_eq!(paint.len(), 1, "{} paint materials", paint.len());
+    let paint = paint[0];
+    assert!(scene.materials[paint].base_color_texture.is_some());
+    let mut parts_seen = 0;
+    for m in scene.meshes.iter().filter(|m| m.name.starts_with("part")) {
+        if m.faces.is_empty() {
+            continue;
+        }
+        parts_seen += 1;
+        for p in &m.parts {
+            assert_eq!(p.material, Some(paint as u32), "{}", m.name);
+        }
+    }
+    assert!(parts_seen > parts / 2, "{parts_seen} parts kept");
+    // Sky and paint: two base-color images in the file, not one per mesh.
+    let base_color: std::collections::BTreeSet<u32> = scene
+        .materials
+        .iter()
+        .filter_map(|m| m.base_color_texture.map(|t| t.texture))
+        .collect();
+    assert_eq!(base_color.len(), 2, "{base_color:?}");
+
+    let c = wildlod(&["compare", s(&input), s(&out), "--json"]);
+    assert!(c.status.success(), "{}", String::from_utf8_lossy(&c.stderr));
+    let j: serde_json::Value = serde_json::from_slice(&c.stdout).unwrap();
+    let chamfer = j["texture_chamfer"].as_f64().unwrap();
+    let floor = j["texture_chamfer_floor"].as_f64().unwrap();
+    assert!(
+        chamfer <= PER_MESH_ATLAS_TEXTURE_CHAMFER + floor,
+        "texture Chamfer {chamfer:.4} vs one atlas per mesh {PER_MESH_ATLAS_TEXTURE_CHAMFER} + floor {floor:.4}"
+    );
+}
