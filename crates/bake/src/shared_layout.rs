@@ -11,17 +11,20 @@
 //!
 //! Texel density across meshes: each mesh is in its own local units, so
 //! its positions are scaled by its world scale before the layout (the
-//! packer gives every chart the same texels per unit of length, and a
-//! mesh drawn ten times larger must get ten times the texels per local
-//! unit), and each triangle's input density (`density.rs`, texels per
-//! local unit area) is divided by the square of that scale. Each mesh's
-//! level scale (√ of the triangles it kept, floored by its textures'
-//! detail) multiplies its charts' density squared, so a mesh reduced
-//! further gets fewer texels per unit of surface, as its own atlas would
-//! have. The atlas side is chosen as for one mesh (the input's density
-//! times the level scale, at least [`MIN_LEVEL_SIDE`], a power of two,
-//! growing until the charts fit), with the texel counts of the members
-//! summed.
+//! packer gives every chart the same texels per unit of length) and each
+//! triangle's input density (`density.rs`, texels per local unit area) is
+//! divided by the square of that scale: densities are per unit of world
+//! area, comparable across meshes. A textured chart then gets texels in
+//! proportion to the input texels it shows, whatever its mesh's scale;
+//! surface without a density of its own (no UVs, no texture: the typical
+//! density) gets texels per unit of *world* area, so a mesh drawn twice as
+//! large gets four times the atlas area. Each mesh's level scale (√ of the
+//! triangles it kept, floored by its textures' detail) multiplies its
+//! charts' density squared, so a mesh reduced further gets fewer texels,
+//! as its own atlas would have. The atlas side is chosen as for one mesh
+//! (the input's density times the level scale, at least
+//! [`MIN_LEVEL_SIDE`], a power of two, growing until the charts fit), with
+//! the members' texel counts summed.
 
 use std::time::Instant;
 

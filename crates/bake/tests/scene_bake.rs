@@ -241,3 +241,81 @@ fn two_meshes_sharing_a_material_bake_into_one_atlas_each_from_its_own_input() {
     assert!(counted.iter().all(|&c| c > 2000), "{counted:?} texels");
     assert!(worst <= 8, "largest difference {worst}/255");
 }
+
+/// Total UV area (in the atlas's unit square) of a mesh's triangles.
+fn uv_area(m: &Mesh) -> f64 {
+    let uv = m.attribute(&Semantic::TexCoord(0)).expect("uvs");
+    (0..m.faces.len())
+        .map(|f| {
+            let q: Vec<&[f32]> = (0..3)
+                .map(|k| uv.corner_value(3 * f + k).expect("uv"))
+                .collect();
+            0.5 * f64::from(
+                ((q[1][0] - q[0][0]) * (q[2][1] - q[0][1])
+                    - (q[1][1] - q[0][1]) * (q[2][0] - q[0][0]))
+                    .abs(),
+            )
+        })
+        .sum()
+}
+
+#[test]
+fn surface_without_a_density_of_its_own_gets_the_typical_one_per_unit_of_world_area() {
+    // A textured unit plane, and a unit plane of the same material with no
+    // UVs (no input density of its own: it gets the typical one) drawn at
+    // twice the size. Per unit of world surface the two get the same
+    // texels, so the second, four times the world area, gets four times
+    // the atlas area (one in its own units would give it the same).
+    let img = checker();
+    let mut bare = plane(8, 1);
+    bare.attributes
+        .retain(|a| a.semantic != Semantic::TexCoord(0));
+    let meshes = [plane(8, 0), bare];
+    let materials = [Material {
+        base_color_texture: Some(TextureRef {
+            texture: 0,
+            tex_coord: 0,
+        }),
+        ..Material::default()
+    }];
+    let textures = [Texture {
+        name: "t".into(),
+        source: ImageSource::Path("t.png".into()),
+        sampler: Sampler::default(),
+    }];
+    let images = [Some(img)];
+    let scene: Vec<SceneMesh> = meshes
+        .iter()
+        .zip([1.0, 2.0])
+        .map(|(mesh, world_scale)| SceneMesh {
+            input: BakeInput {
+                mesh,
+                materials: &materials,
+                textures: &textures,
+                images: &images,
+            },
+            simplify: Options {
+                target: Target {
+                    ratio: Some(0.5),
+                    ..Target::default()
+                },
+                ..Options::default()
+            },
+            world_scale,
+        })
+        .collect();
+    let options = BakeOptions {
+        texture_size: Some(256),
+        bake_normals: false,
+        ..BakeOptions::default()
+    };
+    let baked = bake_meshes(&scene, &options).expect("bakes");
+    assert_eq!(baked.materials.len(), 1);
+    let (a, b) = (
+        uv_area(&baked.meshes[0].mesh),
+        uv_area(&baked.meshes[1].mesh),
+    );
+    assert!(a > 0.01, "{a}");
+    let ratio = b / a;
+    assert!((3.6..=4.4).contains(&ratio), "atlas area ratio {ratio:.3}");
+}
