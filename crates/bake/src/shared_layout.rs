@@ -53,8 +53,11 @@ pub(crate) struct SharedGroup {
     /// Meshes with faces in the group, in mesh order, with their local
     /// group (part) index.
     pub meshes: Vec<(usize, u32)>,
+    /// Per entry of `meshes`: its range of `members`.
+    pub ranges: Vec<std::ops::Range<usize>>,
     /// Triangles laid out (far outliers' left out), as (mesh, triangle),
-    /// contiguous per mesh in `meshes` order: index = atlas owner.
+    /// contiguous per mesh in `meshes` order (see `ranges`): index = atlas
+    /// owner.
     pub members: Vec<(u32, u32)>,
     /// Whether any member mesh is textured (else only a normal map is
     /// baked, and a layout that does not fit is dropped).
@@ -89,6 +92,7 @@ pub(crate) fn shared_groups(prepared: &[Prepared], kept: &[bool]) -> Vec<SharedG
                         key,
                         first_material: p.group_first_material[lg],
                         meshes: Vec::new(),
+                        ranges: Vec::new(),
                         members: Vec::new(),
                         textured: false,
                     });
@@ -98,12 +102,15 @@ pub(crate) fn shared_groups(prepared: &[Prepared], kept: &[bool]) -> Vec<SharedG
             let group = &mut groups[g];
             group.meshes.push((m, lg as u32));
             group.textured |= p.textured;
+            let start = group.members.len();
             group.members.extend(
                 (0..p.triangles.len() as u32)
                     .filter(|&t| p.tri_group[t as usize] == lg as u32)
                     .filter(|&t| !p.triangles[t as usize].iter().any(|&v| p.far[v as usize]))
                     .map(|t| (m as u32, t)),
             );
+            let end = group.members.len();
+            group.ranges.push(start..end);
         }
     }
     groups
@@ -195,16 +202,9 @@ fn member_densities(
     face_densities: &[Vec<Option<f64>>],
 ) -> Vec<f64> {
     let mut per_mesh: Vec<(Vec<f64>, f64, f64)> = Vec::with_capacity(group.meshes.len());
-    let mut start = 0;
-    for &(m, _) in &group.meshes {
+    for (&(m, _), range) in group.meshes.iter().zip(&group.ranges) {
         let p = &prepared[m];
-        let end = start
-            + group.members[start..]
-                .iter()
-                .take_while(|x| x.0 as usize == m)
-                .count();
-        let members = &group.members[start..end];
-        start = end;
+        let members = &group.members[range.clone()];
         let tris: Vec<[u32; 3]> = members
             .iter()
             .map(|&(_, t)| p.triangles[t as usize])
@@ -248,18 +248,11 @@ fn member_densities(
         }
     }
     let mut out = Vec::with_capacity(group.members.len());
-    let mut start = 0;
-    for (own, uniform, factor) in &per_mesh {
-        let m = group.members.get(start).map(|x| x.0);
-        let n = group.members[start..]
-            .iter()
-            .take_while(|x| Some(x.0) == m)
-            .count();
-        for i in 0..n {
+    for ((own, uniform, factor), range) in per_mesh.iter().zip(&group.ranges) {
+        for i in 0..range.len() {
             let d = if own.is_empty() { *uniform } else { own[i] };
             out.push(d * factor);
         }
-        start += n;
     }
     out
 }
@@ -273,11 +266,11 @@ fn member_densities(
 /// its output area to its input area does not depend on them.
 fn density_size(group: &SharedGroup, prepared: &[Prepared], options: &BakeOptions) -> u32 {
     let (mut full2, mut scaled2) = (0.0f64, 0.0f64);
-    for &(m, _) in &group.meshes {
+    for (&(m, _), range) in group.meshes.iter().zip(&group.ranges) {
         let p = &prepared[m];
         let (texels, area) = p.input_texels;
         let mut out_area = 0.0;
-        for &(_, t) in group.members.iter().filter(|x| x.0 as usize == m) {
+        for &(_, t) in &group.members[range.clone()] {
             let q = p.triangles[t as usize]
                 .map(|v| glam::DVec3::from(p.s.positions[v as usize].map(f64::from)));
             out_area += 0.5 * (q[1] - q[0]).cross(q[2] - q[0]).length();
