@@ -295,11 +295,34 @@ pub(crate) fn mip_levels(image: &Rgba8Image, srgb: bool, lut: &[f32; 256]) -> Ve
     out
 }
 
+/// Mip levels of every (image, encoding) a channel samples, built the
+/// first time a texel's footprint needs them (most bakes shrink some
+/// charts, few need every image's chain). One per image list, shared by
+/// every mesh baked from it: meshes sharing a material must not each hold
+/// its images' chains.
+pub(crate) struct MipCache {
+    /// Slot `2 t + srgb`: texture `t` decoded as sRGB or not.
+    slots: Vec<OnceLock<Vec<Rgba8Image>>>,
+}
+
+impl MipCache {
+    /// An empty cache for `textures` images.
+    pub(crate) fn new(textures: usize) -> Self {
+        MipCache {
+            slots: (0..2 * textures).map(|_| OnceLock::new()).collect(),
+        }
+    }
+
+    fn slot(texture: u32, srgb: bool) -> usize {
+        2 * texture as usize + usize::from(srgb)
+    }
+}
+
 /// One input material, resolved for sampling.
 struct Resolved<'a> {
     material: Material,
     /// Per channel: the texture, the UV stream it reads and its slot in
-    /// [`InputChannels::mips`].
+    /// [`MipCache`].
     textures: [Option<(TextureSampler<'a>, &'a Attribute, usize)>; 5],
 }
 
@@ -316,10 +339,9 @@ pub(crate) struct InputChannels<'a> {
     /// normal map exists.
     tangents: Option<Vec<[f32; 4]>>,
     lut: [f32; 256],
-    /// Mip levels of every (image, encoding) a channel samples, built the
-    /// first time a texel's footprint needs them (most bakes shrink some
-    /// charts, few need every image's chain).
-    mips: Vec<OnceLock<Vec<Rgba8Image>>>,
+    /// Mip chains of `images`, shared with the other meshes baked from
+    /// them.
+    mips: &'a MipCache,
 }
 
 /// An output texel's footprint on the surface: how far its surface point
@@ -357,19 +379,20 @@ pub(crate) struct PointChannels {
 
 impl<'a> InputChannels<'a> {
     /// Resolves the mesh's materials; `images[t]` is texture `t` decoded
-    /// (or `None` when it could not be: its channel then uses the factor).
+    /// (or `None` when it could not be: its channel then uses the factor);
+    /// `mips` is the mip cache of `images` (`MipCache::new(images.len())`).
     pub(crate) fn new(
         mesh: &'a Mesh,
         materials: &'a [Material],
         textures: &'a [Texture],
         images: &'a [Option<Rgba8Image>],
         tangents: Option<Vec<[f32; 4]>>,
+        mips: &'a MipCache,
     ) -> Self {
         let mut resolved = Vec::with_capacity(materials.len() + 1);
         // One mip chain per (texture, sRGB or not), shared by every
-        // material and channel that samples it.
-        let mut slots: Vec<(u32, bool)> = Vec::new();
-        let mut resolve = |m: &Material| {
+        // material, channel and mesh that samples it.
+        let resolve = |m: &Material| {
             let mut t: [Option<(TextureSampler<'a>, &'a Attribute, usize)>; 5] = [None; 5];
             for ch in Channel::ALL {
                 let Some(r) = ch.texture(m) else { continue };
@@ -381,13 +404,7 @@ impl<'a> InputChannels<'a> {
                     .unwrap_or_default();
                 if let (Some(image), Some(uv)) = (image, uv) {
                     let srgb = matches!(ch, Channel::BaseColor | Channel::Emissive);
-                    let slot = match slots.iter().position(|&k| k == (r.texture, srgb)) {
-                        Some(i) => i,
-                        None => {
-                            slots.push((r.texture, srgb));
-                            slots.len() - 1
-                        }
-                    };
+                    let slot = MipCache::slot(r.texture, srgb);
                     t[ch.index()] = Some((
                         TextureSampler {
                             image,
@@ -435,7 +452,7 @@ impl<'a> InputChannels<'a> {
             normals: corner_normals(mesh),
             tangents,
             lut,
-            mips: (0..slots.len()).map(|_| OnceLock::new()).collect(),
+            mips,
         }
     }
 
@@ -517,7 +534,7 @@ impl<'a> InputChannels<'a> {
             let (tex, uv, slot) = r.textures[ch.index()].as_ref()?;
             let axes = footprint.and_then(|f| self.uv_axes(uv, s, f));
             let uv = Self::interpolate::<2>(uv, s)?;
-            Some(tex.sample_filtered(uv, axes, &self.mips[*slot], &self.lut))
+            Some(tex.sample_filtered(uv, axes, &self.mips.slots[*slot], &self.lut))
         };
         let mut base = m.base_color;
         if let Some(t) = sample(Channel::BaseColor) {

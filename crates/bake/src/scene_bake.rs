@@ -19,7 +19,7 @@ use wildlod_mesh::{AlphaMode, Material, Mesh, Rgba8Image, Semantic, TextureRef};
 use wildlod_simplify::Options;
 
 use crate::channels::{
-    corner_normals, encode, texel_footprint, Channel, Footprint, Frame, InputChannels,
+    corner_normals, encode, texel_footprint, Channel, Footprint, Frame, InputChannels, MipCache,
 };
 use crate::density::input_face_densities;
 use crate::gutter::{apply_fill, nearest_owned};
@@ -221,11 +221,27 @@ pub fn bake_meshes(
     }
     drop(corner_uv);
 
-    // Per mesh: what its texels evaluate against.
+    // Per mesh: what its texels evaluate against, the mip chains of each
+    // image list built once for every mesh that reads it.
+    let mut image_lists: Vec<&[Option<Rgba8Image>]> = Vec::new();
+    for p in &prepared {
+        if !image_lists.iter().any(|l| std::ptr::eq(*l, p.input.images)) {
+            image_lists.push(p.input.images);
+        }
+    }
+    let caches: Vec<MipCache> = image_lists.iter().map(|l| MipCache::new(l.len())).collect();
     let channels_in: Vec<Option<InputChannels>> = prepared
         .iter()
         .zip(&kept)
-        .map(|(p, &k)| (!k).then(|| input_channels(&p.input)))
+        .map(|(p, &k)| {
+            (!k).then(|| {
+                let list = image_lists
+                    .iter()
+                    .position(|l| std::ptr::eq(*l, p.input.images))
+                    .unwrap_or_default();
+                input_channels(&p.input, &caches[list])
+            })
+        })
         .collect();
     let group_channels: Vec<Vec<Channel>> = groups
         .iter()
@@ -326,7 +342,7 @@ pub fn bake_meshes(
 
 /// The input's channels of one mesh, with its tangents for the normal
 /// map's UV set when a material has a normal map.
-fn input_channels<'a>(input: &BakeInput<'a>) -> InputChannels<'a> {
+fn input_channels<'a>(input: &BakeInput<'a>, mips: &'a MipCache) -> InputChannels<'a> {
     let normal_uv = input
         .materials
         .iter()
@@ -339,6 +355,7 @@ fn input_channels<'a>(input: &BakeInput<'a>) -> InputChannels<'a> {
         input.textures,
         input.images,
         tangents,
+        mips,
     )
 }
 
