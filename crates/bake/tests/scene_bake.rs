@@ -319,3 +319,68 @@ fn surface_without_a_density_of_its_own_gets_the_typical_one_per_unit_of_world_a
     let ratio = b / a;
     assert!((3.6..=4.4).contains(&ratio), "atlas area ratio {ratio:.3}");
 }
+
+#[test]
+fn a_mesh_with_nothing_to_bake_keeps_its_materials_beside_a_baked_one() {
+    // Mesh 0 textured (material 0), mesh 1 plain (material 1, a factor
+    // only); no normal maps asked: mesh 1 has nothing to bake.
+    let img = checker();
+    let mut plain = plane(8, 1);
+    plain.parts[0].material = Some(1);
+    let meshes = [plane(8, 0), plain];
+    let materials = [
+        Material {
+            base_color_texture: Some(TextureRef {
+                texture: 0,
+                tex_coord: 0,
+            }),
+            ..Material::default()
+        },
+        Material {
+            name: "plain".into(),
+            base_color: [0.2, 0.4, 0.6, 1.0],
+            ..Material::default()
+        },
+    ];
+    let textures = [Texture {
+        name: "t".into(),
+        source: ImageSource::Path("t.png".into()),
+        sampler: Sampler::default(),
+    }];
+    let images = [Some(img)];
+    let scene: Vec<SceneMesh> = meshes
+        .iter()
+        .map(|mesh| SceneMesh {
+            input: BakeInput {
+                mesh,
+                materials: &materials,
+                textures: &textures,
+                images: &images,
+            },
+            simplify: Options {
+                target: Target {
+                    ratio: Some(0.5),
+                    ..Target::default()
+                },
+                ..Options::default()
+            },
+            world_scale: 1.0,
+        })
+        .collect();
+    let options = BakeOptions {
+        texture_size: Some(128),
+        bake_normals: false,
+        ..BakeOptions::default()
+    };
+    let baked = bake_meshes(&scene, &options).expect("bakes");
+    assert_eq!(baked.materials.len(), 1);
+    assert_eq!(baked.atlases.len(), 1);
+    assert_eq!(baked.atlas_meshes, vec![vec![0]]);
+    let (a, b) = (&baked.meshes[0], &baked.meshes[1]);
+    assert!(!a.keeps_input_materials && a.mesh.parts[0].material == Some(0));
+    assert!(a.mesh.attribute(&Semantic::TexCoord(0)).is_some());
+    assert!(b.keeps_input_materials, "nothing to bake on mesh 1");
+    assert_eq!(b.mesh.parts[0].material, Some(1));
+    assert!(b.atlases.is_empty() && b.report.atlases.is_empty());
+    assert!(b.mesh.attribute(&Semantic::TexCoord(0)).is_none());
+}
