@@ -384,3 +384,72 @@ fn a_mesh_with_nothing_to_bake_keeps_its_materials_beside_a_baked_one() {
     assert!(b.atlases.is_empty() && b.report.atlases.is_empty());
     assert!(b.mesh.attribute(&Semantic::TexCoord(0)).is_none());
 }
+
+#[test]
+fn a_mesh_reduced_further_gets_fewer_texels_in_the_shared_atlas() {
+    // Two equal planes over equal halves of one flat colour (which may be
+    // averaged down without a visible change): one kept whole, one reduced
+    // to a few triangles. Each mesh's own atlas would follow its level (√
+    // of the triangles kept); in the shared atlas its charts do.
+    let img = Rgba8Image::filled(64, 64, [200, 120, 40, 255]);
+    let meshes = [plane(8, 0), plane(8, 1)];
+    let materials = [Material {
+        base_color_texture: Some(TextureRef {
+            texture: 0,
+            tex_coord: 0,
+        }),
+        ..Material::default()
+    }];
+    let textures = [Texture {
+        name: "t".into(),
+        source: ImageSource::Path("t.png".into()),
+        sampler: Sampler::default(),
+    }];
+    let images = [Some(img)];
+    let scene: Vec<SceneMesh> = meshes
+        .iter()
+        .zip([1.0, 0.03])
+        .map(|(mesh, ratio)| SceneMesh {
+            input: BakeInput {
+                mesh,
+                materials: &materials,
+                textures: &textures,
+                images: &images,
+            },
+            simplify: Options {
+                target: Target {
+                    ratio: Some(ratio),
+                    ..Target::default()
+                },
+                ..Options::default()
+            },
+            world_scale: 1.0,
+        })
+        .collect();
+    let options = BakeOptions {
+        bake_normals: false,
+        ..BakeOptions::default()
+    };
+    let baked = bake_meshes(&scene, &options).expect("bakes");
+    assert_eq!(baked.materials.len(), 1);
+    let level = |k: usize| {
+        let r = &baked.meshes[k].report.simplify;
+        r.output_triangles as f64 / r.input_triangles as f64
+    };
+    assert!(
+        level(0) > 0.99 && level(1) < 0.1,
+        "{} {}",
+        level(0),
+        level(1)
+    );
+    let (a, b) = (
+        uv_area(&baked.meshes[0].mesh),
+        uv_area(&baked.meshes[1].mesh),
+    );
+    let ratio = b / a;
+    assert!(
+        ratio < 0.5,
+        "atlas area ratio {ratio:.3}, level {:.3}",
+        level(1)
+    );
+}
