@@ -277,6 +277,7 @@ pub fn rebake_scene(
             .unzip(),
         None => (Vec::new(), Vec::new()),
     };
+    let mut described = vec![false; sharing.len()];
     let mut baked_meshes: Vec<Option<BakedMesh>> = match baked {
         Some(b) => b.meshes.into_iter().map(Some).collect(),
         None => Vec::new(),
@@ -316,7 +317,7 @@ pub fn rebake_scene(
             });
             continue;
         };
-        let note = atlas_summary(&b, &images_per_atlas, &sharing);
+        let note = atlas_summary(&b, &images_per_atlas, &sharing, &mut described);
         let mut out = b.mesh;
         clear_unused_joint_slots(&mut out);
         if b.keeps_input_materials {
@@ -379,8 +380,15 @@ fn keep(
 
 /// What was baked for one mesh, for its summary line: its atlases'
 /// images (`images[a]`: atlas `a`'s), sizes and layouts, and how many
-/// meshes share each (`sharing[a]`).
-fn atlas_summary(b: &BakedMesh, images: &[usize], sharing: &[usize]) -> String {
+/// meshes share each (`sharing[a]`). A shared atlas is described on the
+/// first line that names it (`described[a]` then set); later lines only
+/// point at it.
+fn atlas_summary(
+    b: &BakedMesh,
+    images: &[usize],
+    sharing: &[usize],
+    described: &mut Vec<bool>,
+) -> String {
     if b.report.atlases.is_empty() {
         return "; nothing to bake (no texture, no vertex color)".into();
     }
@@ -394,6 +402,12 @@ fn atlas_summary(b: &BakedMesh, images: &[usize], sharing: &[usize]) -> String {
                 0 | 1 => String::new(),
                 n => format!(", atlas {i} shared by {n} meshes"),
             };
+            if described.len() <= i {
+                described.resize(i + 1, false);
+            }
+            if !shared.is_empty() && std::mem::replace(&mut described[i], true) {
+                return format!("{}² (atlas {i}, above)", a.size);
+            }
             format!(
                 "{}² ({} charts, {:.0}% used, stretch {:.3}, layout {:.0} ms, bake {:.0} ms{shared})",
                 a.size,
