@@ -53,11 +53,19 @@ pub(crate) fn coplanar(a: DVec3, b: DVec3) -> bool {
 }
 
 /// Whether every face around `i` or `j` with area lies in one plane
-/// (orientation aside: a flipped face of a flat sheet is still flat).
+/// (orientation aside: a flipped face of a flat sheet is still flat); if
+/// so, `faces` holds them (as [`Complex::star_faces`] lists them).
+///
+/// The stars are read in place and collected only once they prove flat:
+/// most are not, and a fan's centre has every face of the mesh in its
+/// star, so copying it first made each evaluation of an edge there O(n).
 pub(crate) fn planar_star(c: &Complex, i: u32, j: u32, faces: &mut Vec<u32>) -> bool {
-    c.star_faces(i, j, faces);
+    let around_i = c.vert_faces[i as usize].iter();
+    let around_j_only = c.vert_faces[j as usize]
+        .iter()
+        .filter(|&&f| !c.face(f).contains(&i));
     let mut first: Option<DVec3> = None;
-    for &f in faces.iter() {
+    for &f in around_i.chain(around_j_only) {
         let Some((n, _, _)) = face_plane(c, f) else {
             continue;
         };
@@ -67,6 +75,7 @@ pub(crate) fn planar_star(c: &Complex, i: u32, j: u32, faces: &mut Vec<u32>) -> 
             Some(_) => {}
         }
     }
+    c.star_faces(i, j, faces);
     true
 }
 

@@ -11,9 +11,13 @@
 //! removals swap the last entry in, `retain` keeps the order), so every
 //! walk over a star sees what it saw before.
 //!
-//! A span counts its entries in 16 bits. A star that outgrows that (a fan's
-//! centre, a vertex shared by a whole soup) lives in a vector of its own;
-//! its span then only points there.
+//! A star of more than `MAX_POOLED` entries (a fan's centre, a vertex
+//! shared by a whole soup) lives in a vector of its own, with an index from
+//! each entry to its position; its span then only points there. Without
+//! the index every face or edge leaving such a star cost a scan of it, and
+//! a fan of n triangles took O(n²) (a 200,000-triangle fan: 20 s).
+
+use std::collections::HashMap;
 
 /// Where a star lives in the pool, or (`cap == LARGE`) which large star
 /// it is.
@@ -27,8 +31,78 @@ struct Span {
 /// The `cap` of a span whose star lives in `StarLists::large`.
 const LARGE: u16 = u16::MAX;
 
-/// The most entries a star keeps in the pool.
-const MAX_POOLED: usize = LARGE as usize - 1;
+/// The most entries a star keeps in the pool (a span counts up to
+/// `LARGE - 1`). Below it a removal's scan costs less than a hash lookup
+/// would save; no vertex of a regular mesh comes near it.
+const MAX_POOLED: usize = 1024;
+
+/// A star too large for the pool, with where each entry sits.
+#[derive(Clone, Debug, Default)]
+struct LargeStar {
+    entries: Vec<u32>,
+    /// Entry → its position in `entries`. `None` while an entry repeats
+    /// (a face holding the vertex at two corners, for a moment): then a
+    /// removal scans for the first occurrence, as a vector's would.
+    at: Option<HashMap<u32, u32>>,
+}
+
+impl LargeStar {
+    fn new(entries: Vec<u32>) -> LargeStar {
+        let mut star = LargeStar { entries, at: None };
+        star.reindex();
+        star
+    }
+
+    /// Rebuilds the index, or drops it if an entry repeats.
+    fn reindex(&mut self) {
+        let mut at = HashMap::with_capacity(self.entries.capacity());
+        for (p, &x) in self.entries.iter().enumerate() {
+            if at.insert(x, p as u32).is_some() {
+                self.at = None;
+                return;
+            }
+        }
+        self.at = Some(at);
+    }
+
+    fn push(&mut self, x: u32) {
+        if let Some(at) = &mut self.at {
+            if at.insert(x, self.entries.len() as u32).is_some() {
+                self.at = None;
+            }
+        }
+        self.entries.push(x);
+    }
+
+    /// Removes the first occurrence of `x`, the last entry taking its
+    /// place.
+    fn remove(&mut self, x: u32) {
+        match &mut self.at {
+            Some(at) => {
+                let Some(p) = at.remove(&x) else {
+                    return;
+                };
+                let p = p as usize;
+                self.entries.swap_remove(p);
+                if let Some(&moved) = self.entries.get(p) {
+                    at.insert(moved, p as u32);
+                }
+            }
+            None => {
+                if let Some(p) = self.entries.iter().position(|&y| y == x) {
+                    self.entries.swap_remove(p);
+                    // The repeat may have been the one removed.
+                    self.reindex();
+                }
+            }
+        }
+    }
+
+    fn retain(&mut self, keep: impl FnMut(&u32) -> bool) {
+        self.entries.retain(keep);
+        self.reindex();
+    }
+}
 
 /// One star per vertex, in a shared pool.
 #[derive(Clone, Debug, Default)]
@@ -37,8 +111,8 @@ pub(crate) struct StarLists {
     pool: Vec<u32>,
     /// Pool entries no span owns.
     garbage: usize,
-    /// The stars too large for a span.
-    large: Vec<Vec<u32>>,
+    /// The stars too large for the pool.
+    large: Vec<LargeStar>,
 }
 
 impl StarLists {
@@ -55,7 +129,7 @@ impl StarLists {
                     len: 0,
                     cap: LARGE,
                 });
-                large.push(Vec::with_capacity(cap));
+                large.push(LargeStar::new(Vec::with_capacity(cap)));
             } else {
                 span.push(Span {
                     start: next as u32,
@@ -85,7 +159,7 @@ impl StarLists {
     pub fn get(&self, v: usize) -> &[u32] {
         let s = self.span[v];
         if s.cap == LARGE {
-            return &self.large[s.start as usize];
+            return &self.large[s.start as usize].entries;
         }
         &self.pool[s.start as usize..s.start as usize + s.len as usize]
     }
@@ -102,6 +176,13 @@ impl StarLists {
         Some((&mut self.pool[start..start + len], &mut s.len))
     }
 
+    /// The star of `v` if it lives outside the pool.
+    #[inline]
+    fn large_mut(&mut self, v: usize) -> Option<&mut LargeStar> {
+        let s = self.span[v];
+        (s.cap == LARGE).then(|| &mut self.large[s.start as usize])
+    }
+
     /// Every star, in vertex order.
     #[cfg(test)]
     pub fn iter(&self) -> impl Iterator<Item = &[u32]> + '_ {
@@ -111,17 +192,12 @@ impl StarLists {
     /// Appends `x` to the star of `v`.
     #[inline]
     pub fn push(&mut self, v: usize, x: u32) {
-        let s = self.span[v];
-        if s.cap == LARGE {
-            self.large[s.start as usize].push(x);
-            return;
-        }
-        if s.len == s.cap {
+        if self.span[v].len == self.span[v].cap && self.span[v].cap != LARGE {
             self.grow(v);
-            if self.span[v].cap == LARGE {
-                self.large[self.span[v].start as usize].push(x);
-                return;
-            }
+        }
+        if let Some(star) = self.large_mut(v) {
+            star.push(x);
+            return;
         }
         let s = &mut self.span[v];
         self.pool[s.start as usize + s.len as usize] = x;
@@ -132,24 +208,14 @@ impl StarLists {
     /// taking its place (a vector's `swap_remove`).
     #[inline]
     pub fn remove(&mut self, v: usize, x: u32) {
-        // One search for both kinds of star: on a fan's centre this scan
-        // is most of a collapse.
-        if let Some(p) = self.get(v).iter().position(|&y| y == x) {
-            self.swap_remove(v, p);
-        }
-    }
-
-    /// Removes entry `p` of `v`'s star, the last entry taking its place.
-    #[inline]
-    fn swap_remove(&mut self, v: usize, p: usize) {
         match self.pooled_mut(v) {
             Some((star, len)) => {
-                star[p] = star[star.len() - 1];
-                *len -= 1;
+                if let Some(p) = star.iter().position(|&y| y == x) {
+                    star[p] = star[star.len() - 1];
+                    *len -= 1;
+                }
             }
-            None => {
-                self.large[self.span[v].start as usize].swap_remove(p);
-            }
+            None => self.large[self.span[v].start as usize].remove(x),
         }
     }
 
@@ -177,7 +243,7 @@ impl StarLists {
         out.extend_from_slice(self.get(v));
         let s = self.span[v];
         if s.cap == LARGE {
-            self.large[s.start as usize] = Vec::new();
+            self.large[s.start as usize] = LargeStar::default();
         } else {
             self.garbage += s.cap as usize;
         }
@@ -202,7 +268,7 @@ impl StarLists {
                 len: 0,
                 cap: LARGE,
             };
-            self.large.push(star);
+            self.large.push(LargeStar::new(star));
             return;
         }
         if self.pool.len() + cap > self.pool.capacity() {
@@ -382,10 +448,76 @@ mod tests {
         stars.take(2, &mut out);
         assert_eq!(out, std::mem::take(&mut reference[2]));
         // Star 5 was made large first, star 2 grew out of the pool second.
-        assert_eq!(stars.large[1].capacity(), 0);
+        assert_eq!(stars.large[1].entries.capacity(), 0);
         stars.push(2, 1);
         reference[2].push(1);
         assert_eq!(as_vecs(&stars), reference);
+    }
+
+    #[test]
+    fn large_stars_with_repeats_behave_like_vectors() {
+        // Three stars far past the pool, fed entries from a small range so
+        // that entries repeat (the index gives way to a scan) and stop
+        // repeating again (it comes back), through pushes, removals of
+        // present and absent entries, and retains.
+        let n = 3usize;
+        let mut stars = StarLists::with_capacities([0u32, 2000, 5].into_iter());
+        let mut reference: Vec<Vec<u32>> = vec![Vec::new(); n];
+        let mut x = 987654321u64;
+        let mut next = || {
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            x
+        };
+        let (mut indexed, mut scanned) = (0, 0);
+        for step in 0..60_000u32 {
+            let v = (next() % n as u64) as usize;
+            match next() % 4096 {
+                0..=2399 => {
+                    // Mostly fresh entries, now and then a repeat.
+                    let y = if next() % 50 == 0 {
+                        (next() % 64) as u32
+                    } else {
+                        1000 + step
+                    };
+                    stars.push(v, y);
+                    reference[v].push(y);
+                }
+                2400..=4094 => {
+                    let y = match reference[v].len() {
+                        0 => 7,
+                        len => reference[v][(next() % len as u64) as usize],
+                    };
+                    let y = if next() % 10 == 0 { u32::MAX } else { y };
+                    stars.remove(v, y);
+                    if let Some(p) = reference[v].iter().position(|&z| z == y) {
+                        reference[v].swap_remove(p);
+                    }
+                }
+                _ => {
+                    let m = 5 + (next() % 5) as u32;
+                    stars.retain(v, |y| y % m != 0);
+                    reference[v].retain(|y| y % m != 0);
+                }
+            }
+            assert_eq!(stars.get(v), &reference[v][..], "step {step}");
+            if let Some(star) = stars.large_mut(v) {
+                match &star.at {
+                    Some(at) => {
+                        indexed += 1;
+                        // The index says where every entry is.
+                        assert_eq!(at.len(), star.entries.len());
+                        for (&y, &p) in at {
+                            assert_eq!(star.entries[p as usize], y);
+                        }
+                    }
+                    None => scanned += 1,
+                }
+            }
+        }
+        assert!(reference.iter().all(|r| r.len() > MAX_POOLED));
+        assert!(indexed > 1000 && scanned > 1000, "{indexed} {scanned}");
     }
 
     #[test]
