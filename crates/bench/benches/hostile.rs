@@ -1,6 +1,7 @@
 //! Inputs that once made wildlod run for minutes, timed so that a
-//! regression shows: one polygon of 100,000 corners, and a glTF whose nodes
-//! form a chain 100,000 deep, each node showing a mesh. Time must grow
+//! regression shows: one polygon of 100,000 corners, a fan of 100,000
+//! triangles around one vertex, and a glTF whose nodes form a chain
+//! 100,000 deep, each node showing a mesh. Time must grow
 //! near-linearly with faces, corners, nodes and depth; each case here is
 //! meant to stay under a second.
 //!
@@ -13,7 +14,7 @@ use std::time::Duration;
 use criterion::{BenchmarkId, Criterion, Throughput};
 use wildlod_io::{Document, WriteOptions};
 use wildlod_mesh::{shapes, Faces, Mesh, Node, Scene};
-use wildlod_simplify::{simplify_mesh, Options};
+use wildlod_simplify::{simplify_mesh, Options, Target};
 
 /// A flat convex polygon of `k` corners on the unit circle: the worst
 /// case of the old per-face cost (every edge sees every corner).
@@ -27,6 +28,21 @@ fn ngon(k: usize) -> Mesh {
     let mut faces = Faces::new();
     faces.push(&(0..k as u32).collect::<Vec<u32>>());
     Mesh::from_polygons(positions, faces)
+}
+
+/// `n` triangles around one centre, the rim wavy (a flat fan is a known
+/// limit, see docs/robustness.md): the centre's star holds every face, so
+/// a cost per collapse that grows with a star makes the run quadratic.
+fn fan(n: usize) -> Mesh {
+    let mut positions = vec![[0.0f32; 3]];
+    positions.extend((0..n).map(|i| {
+        let a = i as f32 / n as f32 * std::f32::consts::TAU;
+        [a.cos(), a.sin(), 0.05 * (7.0 * a).sin()]
+    }));
+    let indices: Vec<u32> = (0..n as u32)
+        .flat_map(|i| [0, 1 + i, 1 + (i + 1) % n as u32])
+        .collect();
+    Mesh::from_triangles(positions, &indices)
 }
 
 /// `depth` nodes, each the only child of the one before, each translated a
@@ -93,6 +109,26 @@ fn main() {
     group.bench_with_input(BenchmarkId::new("write GLB", n), &doc, |b, d| {
         let out = dir.path().join("ngon_out.glb");
         b.iter(|| wildlod_io::write(d, &out, &WriteOptions::default()).is_ok())
+    });
+    group.finish();
+
+    let mut group = c.benchmark_group("fan");
+    group.sample_size(10);
+    group.measurement_time(Duration::from_secs(10));
+    group.throughput(Throughput::Elements(n as u64));
+    let to_tenth = Options {
+        target: Target {
+            ratio: Some(0.1),
+            ..Target::default()
+        },
+        ..Options::default()
+    };
+    group.bench_with_input(BenchmarkId::new("simplify_mesh 10%", n), &fan(n), |b, m| {
+        b.iter(|| {
+            simplify_mesh(m, &to_tenth)
+                .map(|(lod, _)| lod.faces.len())
+                .unwrap_or(0)
+        })
     });
     group.finish();
 
