@@ -354,6 +354,16 @@ impl std::ops::Index<usize> for StarLists {
 mod tests {
     use super::*;
 
+    /// A fixed pseudo-random sequence (xorshift64) from `seed`.
+    fn xorshift(mut x: u64) -> impl FnMut() -> u64 {
+        move || {
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            x
+        }
+    }
+
     /// The stars as vectors, for comparison.
     fn as_vecs(s: &StarLists) -> Vec<Vec<u32>> {
         s.iter().map(<[u32]>::to_vec).collect()
@@ -367,13 +377,7 @@ mod tests {
         let n = 50usize;
         let mut stars = StarLists::with_capacities((0..n as u32).map(|v| v % 4));
         let mut reference: Vec<Vec<u32>> = vec![Vec::new(); n];
-        let mut x = 12345u64;
-        let mut next = || {
-            x ^= x << 13;
-            x ^= x >> 7;
-            x ^= x << 17;
-            x
-        };
+        let mut next = xorshift(12345u64);
         let mut out = Vec::new();
         let mut compactions = 0;
         for step in 0..20_000u32 {
@@ -463,13 +467,7 @@ mod tests {
         let n = 3usize;
         let mut stars = StarLists::with_capacities([0u32, 2000, 5].into_iter());
         let mut reference: Vec<Vec<u32>> = vec![Vec::new(); n];
-        let mut x = 987654321u64;
-        let mut next = || {
-            x ^= x << 13;
-            x ^= x >> 7;
-            x ^= x << 17;
-            x
-        };
+        let mut next = xorshift(987654321u64);
         let (mut indexed, mut scanned) = (0, 0);
         for step in 0..60_000u32 {
             let v = (next() % n as u64) as usize;
