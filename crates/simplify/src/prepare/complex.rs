@@ -990,12 +990,18 @@ impl Complex {
     /// once, and exactly the faces that hold its vertex).
     pub fn star_faces(&self, i: u32, j: u32, out: &mut Vec<u32>) {
         out.clear();
-        out.extend_from_slice(&self.vert_faces[i as usize]);
-        for &f in &self.vert_faces[j as usize] {
-            if !self.face(f).contains(&i) {
-                out.push(f);
-            }
-        }
+        out.extend(self.star_faces_iter(i, j));
+    }
+
+    /// The faces of [`Complex::star_faces`], read in place.
+    pub fn star_faces_iter(&self, i: u32, j: u32) -> impl Iterator<Item = u32> + '_ {
+        let around_j_only = self.vert_faces[j as usize]
+            .iter()
+            .filter(move |&&f| !self.face(f).contains(&i));
+        self.vert_faces[i as usize]
+            .iter()
+            .chain(around_j_only)
+            .copied()
     }
 
     /// Removes repeated vertices of face `f` in place. Consecutive repeats

@@ -60,12 +60,8 @@ pub(crate) fn coplanar(a: DVec3, b: DVec3) -> bool {
 /// most are not, and a fan's centre has every face of the mesh in its
 /// star, so copying it first made each evaluation of an edge there O(n).
 pub(crate) fn planar_star(c: &Complex, i: u32, j: u32, faces: &mut Vec<u32>) -> bool {
-    let around_i = c.vert_faces[i as usize].iter();
-    let around_j_only = c.vert_faces[j as usize]
-        .iter()
-        .filter(|&&f| !c.face(f).contains(&i));
     let mut first: Option<DVec3> = None;
-    for &f in around_i.chain(around_j_only) {
+    for f in c.star_faces_iter(i, j) {
         let Some((n, _, _)) = face_plane(c, f) else {
             continue;
         };
