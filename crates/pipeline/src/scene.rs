@@ -195,6 +195,7 @@ pub fn whole_report(r: &SceneReport) -> Report {
         let j = &g.report.rejected;
         rejected.normal_flip += j.normal_flip;
         rejected.topology += j.topology;
+        rejected.flat_border += j.flat_border;
         rejected.locked_border += j.locked_border;
         rejected.overshoot += j.overshoot;
         rejected.error_limit += j.error_limit;

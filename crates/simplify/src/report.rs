@@ -39,6 +39,9 @@ pub struct Rejections {
     pub overshoot: usize,
     /// The collapse's error exceeded the error limit.
     pub error_limit: usize,
+    /// A face of a flat region would have flattened to a line on the
+    /// region's border (see the flat-border rule).
+    pub flat_border: usize,
 }
 
 /// Whether the attributes' steering was kept (see

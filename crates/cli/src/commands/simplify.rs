@@ -422,8 +422,8 @@ pub fn summary(name: &str, r: &Report, seconds: f64) -> String {
     if short && r.stop == Some(StopReason::NoCollapsibleEdges) {
         let j = &r.rejected;
         s.push_str(&format!(
-            " (target {} not reached: no collapsible edge left; refused by normal flip {}, topology {}, locked border {}, overshoot {})",
-            r.target_triangles, j.normal_flip, j.topology, j.locked_border, j.overshoot
+            " (target {} not reached: no collapsible edge left; refused by normal flip {}, topology {}, locked border {}, overshoot {}, flat border {})",
+            r.target_triangles, j.normal_flip, j.topology, j.locked_border, j.overshoot, j.flat_border
         ));
     } else if short && r.stop == Some(StopReason::ErrorLimit) {
         s.push_str(" (stopped at the error limit)");

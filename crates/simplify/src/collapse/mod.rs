@@ -3,10 +3,11 @@
 //! vertex quadrics and the initial queue from `terms`, then pops the
 //! cheapest collapse, checks its guards, makes it and re-evaluates what
 //! changed, until the target. `heap.rs` is the queue, `ordering.rs`
-//! Knodt's near-tie order, `flip_waits.rs` the edges a flip refused,
-//! `partition.rs` the parallel first phase of large inputs, `history.rs`
-//! the record re-baking maps texels through (W §4.3.1). It ends in a
-//! [`Collapsed`], which the refit and the assembly read.
+//! Knodt's near-tie order, `witness_waits.rs` the edges refused for a face
+//! that would flip or flatten, `partition.rs` the parallel first phase of
+//! large inputs, `history.rs` the record re-baking maps texels through
+//! (W §4.3.1). It ends in a [`Collapsed`], which the refit and the assembly
+//! read.
 
 use glam::DVec3;
 use rayon::prelude::*;
@@ -15,6 +16,7 @@ use crate::edges::virtual_edges::{add_virtual_edges, find_virtual_edges};
 use crate::options::Metric;
 use crate::options::Options;
 use crate::prepare::complex::Edge;
+use crate::prepare::flat_stars::FlatStars;
 use crate::prepare::geometry::face_plane;
 use crate::prepare::Prepared;
 use crate::report::{Report, StopReason};
@@ -25,7 +27,8 @@ use crate::terms::cost::{
     Evaluation, Scratch,
 };
 use crate::terms::guards::{
-    flipped_face, keeps_topology, pinch_prices, pinches, removed_triangles, PinchPrices,
+    flattens_a_face, flipped_face, keeps_topology, pinch_prices, pinches, removed_triangles,
+    PinchPrices,
 };
 use crate::terms::stored::{Isotropic, StoredQuadric};
 use crate::terms::symmetry::{edge_symmetry_weights, EdgeNormals, SymmetryInput, SymmetryOptions};
@@ -34,13 +37,13 @@ use heap::{CollapseQueue, Entry};
 use history::{History, HistoryRecorder};
 use ordering::{tie_distance, tie_tolerance, TieOrder};
 
-mod flip_waits;
 pub(crate) mod heap;
 pub(crate) mod history;
 pub(crate) mod ordering;
 mod partition;
+mod witness_waits;
 
-use flip_waits::FlipWaits;
+use witness_waits::WitnessWaits;
 
 /// Near the target, the exact number of triangles a collapse removes is
 /// computed before making it, so that the target is met to ±1 triangle.
@@ -50,19 +53,21 @@ const EXACT_COUNT_WINDOW: usize = 256;
 /// What the guards say about a collapse.
 enum Verdict {
     Allowed,
-    /// Refused: the face would turn past the normal limit.
-    Flips(u32),
+    /// Refused for what would become of this face: it would turn past the
+    /// normal limit, or flatten to a line on a flat border. The edge waits
+    /// for the face to change (see `witness_waits`).
+    Waits(u32),
     /// Refused by another guard.
     Refused,
 }
 
 /// Clears edge `e`'s refusal, from whichever list holds it.
-fn unrefuse(edge: &mut Edge, e: u32, refused_around: &mut [u32], flip_waits: &mut FlipWaits) {
+fn unrefuse(edge: &mut Edge, e: u32, refused_around: &mut [u32], witness_waits: &mut WitnessWaits) {
     if !edge.refused() {
         return;
     }
     edge.set_refused(false);
-    if flip_waits.forget(e) == Some(false) {
+    if witness_waits.forget(e) == Some(false) {
         // Not counted around its ends: out of retries one ring out.
         return;
     }
@@ -249,12 +254,12 @@ pub(crate) struct Run<'o> {
     /// left the queue is put back to be evaluated again soon.
     last_cost: f64,
     /// Refused edges around each vertex, so that finding them near a
-    /// collapse costs nothing in the usual case of none. Edges the flip
-    /// guard refused are not counted: they wait in `flip_waits`.
+    /// collapse costs nothing in the usual case of none. Edges refused for a
+    /// face are not counted: they wait in `witness_waits`.
     refused_around: Vec<u32>,
-    /// Edges the flip guard refused, each waiting on the face that
-    /// flipped (see `flip_waits`).
-    flip_waits: FlipWaits,
+    /// Edges refused for a face that would flip or flatten, each waiting on
+    /// that face (see `witness_waits`).
+    witness_waits: WitnessWaits,
     /// Vertices on a boundary edge (kept only when a term needs them).
     border: Vec<bool>,
     /// Which vertices are at a sharp crease (see `init_queue`).
@@ -262,6 +267,9 @@ pub(crate) struct Run<'o> {
     /// Vertices that must not move or vanish (empty: none): a chunk's
     /// vertices shared with other chunks, in the partitioned path.
     locked: Vec<bool>,
+    /// Which vertices' faces are flat, for the flat-border rule (empty
+    /// while the rule does not apply).
+    flat: FlatStars,
     track_border: bool,
     /// What a pinch costs at each vertex (see `guards::pinch_prices`).
     pinch_price: PinchPrices,
@@ -401,10 +409,11 @@ impl<'o> Run<'o> {
             virtual_pairs,
             last_cost: 0.0,
             refused_around: vec![0; nv],
-            flip_waits: FlipWaits::default(),
+            witness_waits: WitnessWaits::default(),
             border: Vec::new(),
             crease: Vec::new(),
             locked,
+            flat: FlatStars::default(),
             track_border,
             pinch_price: PinchPrices {
                 base: pinch_base,
@@ -469,10 +478,11 @@ impl<'o> Run<'o> {
             virtual_pairs: Vec::new(),
             last_cost: 0.0,
             refused_around: vec![0; nv],
-            flip_waits: FlipWaits::default(),
+            witness_waits: WitnessWaits::default(),
             border: Vec::new(),
             crease: Vec::new(),
             locked,
+            flat: FlatStars::default(),
             track_border: parent.model.needs_border(),
             pinch_price: PinchPrices {
                 base: parent.pinch_price.base,
@@ -576,13 +586,17 @@ impl<'o> Run<'o> {
         } else {
             Vec::new()
         };
-        let (model, quadrics, reg, border, crease, locked, attrs) = (
+        if self.model.exact_flat_borders && self.model.needs_border() {
+            self.flat = FlatStars::measure(c);
+        }
+        let (model, quadrics, reg, border, crease, locked, flat, attrs) = (
             &self.model,
             &self.quadrics,
             &self.reg,
             &self.border,
             &self.crease,
             &self.locked,
+            &self.flat,
             self.attrs.as_ref(),
         );
         let entries: Vec<Entry> = (0..c.edges.len() as u32)
@@ -592,7 +606,7 @@ impl<'o> Run<'o> {
                     return None;
                 }
                 model
-                    .evaluate(c, quadrics, reg, border, crease, locked, attrs, e, s)
+                    .evaluate(c, quadrics, reg, border, crease, locked, flat, attrs, e, s)
                     .map(|ev| Entry {
                         cost: ev.cost,
                         edge: e,
@@ -700,10 +714,11 @@ impl<'o> Run<'o> {
             // The entry is current, so evaluating again gives its cost back,
             // now with the position (cheaper than storing one per edge),
             // unless it was just evaluated on its way to the top.
-            let c = &self.p.complex;
             if known.is_none() {
+                self.refresh_flat(e);
                 self.report.evaluations += 1;
             }
+            let c = &self.p.complex;
             let Some(ev) = known.or_else(|| {
                 self.model.evaluate(
                     c,
@@ -712,6 +727,7 @@ impl<'o> Run<'o> {
                     &self.border,
                     &self.crease,
                     &self.locked,
+                    &self.flat,
                     self.attrs.as_ref(),
                     e,
                     &mut self.scratch,
@@ -749,16 +765,16 @@ impl<'o> Run<'o> {
             } else {
                 Default::default()
             };
-            match self.allowed(i, j, ev.position, min_cos) {
+            match self.allowed(i, j, &ev, min_cos) {
                 Verdict::Allowed => {}
-                Verdict::Flips(face) => {
+                Verdict::Waits(face) => {
                     // Tried again when that face changes or the edge's
                     // cost does, and only a few times at collapses nearby
-                    // before that: see `flip_waits`.
+                    // before that: see `witness_waits`.
                     let edge = &mut self.p.complex.edges[e as usize];
                     if !edge.refused() {
                         edge.set_refused(true);
-                        if self.flip_waits.wait(e, face) {
+                        if self.witness_waits.wait(e, face) {
                             self.refused_around[a as usize] += 1;
                             self.refused_around[b as usize] += 1;
                         }
@@ -866,6 +882,7 @@ impl<'o> Run<'o> {
                     .map(|l| l.2);
                 return Some((top.edge, top.cost, known));
             }
+            self.refresh_flat(top.edge);
             let c = &self.p.complex;
             self.report.evaluations += 1;
             let ev = self.model.evaluate(
@@ -875,6 +892,7 @@ impl<'o> Run<'o> {
                 &self.border,
                 &self.crease,
                 &self.locked,
+                &self.flat,
                 self.attrs.as_ref(),
                 top.edge,
                 &mut self.scratch,
@@ -894,6 +912,15 @@ impl<'o> Run<'o> {
                 }
             }
         }
+    }
+
+    /// Measures again the planes of `e`'s ends where their counts went
+    /// stale (see `FlatStars`), so that every edge evaluated there reads
+    /// the counts instead of scanning the stars.
+    fn refresh_flat(&mut self, e: u32) {
+        let [a, b] = self.p.complex.edges[e as usize].ends;
+        self.flat.refresh(&self.p.complex, a);
+        self.flat.refresh(&self.p.complex, b);
     }
 
     /// The sides opposite `a`–`b` in the quads it is a side of.
@@ -953,7 +980,8 @@ impl<'o> Run<'o> {
     }
 
     /// The guards, cheapest first.
-    fn allowed(&mut self, i: u32, j: u32, x: DVec3, min_cos: Option<f64>) -> Verdict {
+    fn allowed(&mut self, i: u32, j: u32, ev: &Evaluation, min_cos: Option<f64>) -> Verdict {
+        let x = ev.position;
         let c = &mut self.p.complex;
         c.star_faces(i, j, &mut self.star);
         let c = &self.p.complex;
@@ -975,10 +1003,19 @@ impl<'o> Run<'o> {
             self.report.rejected.topology += 1;
             return Verdict::Refused;
         }
+        // Nor may a face of a flat region flatten to a line on its border
+        // (three corners on a straight border run): the flip guard cannot
+        // judge a face without area, so it could fold over later.
+        if ev.holds_flat_border {
+            if let Some(face) = flattens_a_face(c, &self.star, i, j, x) {
+                self.report.rejected.flat_border += 1;
+                return Verdict::Waits(face);
+            }
+        }
         if let Some(mc) = min_cos {
             if let Some(face) = flipped_face(c, &self.star, i, j, x, mc) {
                 self.report.rejected.normal_flip += 1;
-                return Verdict::Flips(face);
+                return Verdict::Waits(face);
             }
         }
         Verdict::Allowed
@@ -1002,6 +1039,9 @@ impl<'o> Run<'o> {
                 }
             }
         }
+        // The star's faces change: out of their corners' plane counts
+        // now, back in once changed.
+        self.flat.before_collapse(&self.p.complex, &self.star);
         let c = &mut self.p.complex;
         let (pi, pj) = (c.pos[i as usize], c.pos[j as usize]);
         if let Some(h) = &mut self.history {
@@ -1013,6 +1053,7 @@ impl<'o> Run<'o> {
             .map(|a| a.plan(c, i, j, &mut self.attr_scratch));
         let prefer_removed = pj.distance_squared(ev.position) < pi.distance_squared(ev.position);
         let outcome = c.collapse(e, i, ev.position, prefer_removed, &mut self.changed);
+        self.flat.after_collapse(c, &self.star);
         if let Some(&at_crease) = self.crease.get(j as usize) {
             self.crease[i as usize] |= at_crease;
         }
@@ -1027,9 +1068,9 @@ impl<'o> Run<'o> {
                 &mut c.edges[k as usize],
                 k,
                 &mut self.refused_around,
-                &mut self.flip_waits,
+                &mut self.witness_waits,
             );
-            self.flip_waits.cost_changed(k);
+            self.witness_waits.cost_changed(k);
         }
         self.moved[i as usize] = true;
         self.merged_into[j as usize] = i;
@@ -1091,9 +1132,9 @@ impl<'o> Run<'o> {
         // Those whose cost changed: their retries one ring out start over.
         todo.sort_unstable();
         todo.dedup();
-        if !self.flip_waits.is_empty() {
+        if !self.witness_waits.is_empty() {
             for &ed in &todo {
-                self.flip_waits.cost_changed(ed);
+                self.witness_waits.cost_changed(ed);
             }
         }
         let changed_cost = todo.len();
@@ -1101,7 +1142,7 @@ impl<'o> Run<'o> {
             let k = c.other(ei, i);
             if self.refused_around[k as usize] > 0 {
                 for &ek in &c.vert_edges[k as usize] {
-                    if c.edges[ek as usize].refused() && self.flip_waits.near_retry(ek) {
+                    if c.edges[ek as usize].refused() && self.witness_waits.near_retry(ek) {
                         todo.push(ek);
                     }
                 }
@@ -1112,14 +1153,14 @@ impl<'o> Run<'o> {
         for t in changed_cost..todo.len() {
             let ed = todo[t];
             if (t == 0 || todo[t - 1] != ed) && todo[..changed_cost].binary_search(&ed).is_err() {
-                self.flip_waits.retried_near(ed);
+                self.witness_waits.retried_near(ed);
             }
         }
-        // Edges refused for a flip whose witness face was in the star:
+        // Edges refused for a face, when that witness was in the star:
         // every such face lost a corner or has `i` moved now.
-        if !self.flip_waits.is_empty() {
+        if !self.witness_waits.is_empty() {
             for &f in &self.star {
-                self.flip_waits.wake(f, &mut todo);
+                self.witness_waits.wake(f, &mut todo);
             }
         }
         todo.sort_unstable();
@@ -1132,7 +1173,7 @@ impl<'o> Run<'o> {
             }
             let edge = &mut c.edges[k];
             edge.bump_gen();
-            unrefuse(edge, ed, &mut self.refused_around, &mut self.flip_waits);
+            unrefuse(edge, ed, &mut self.refused_around, &mut self.witness_waits);
             if !edge.queued() {
                 // Not in the queue (refused, or not collapsible before): put
                 // it back, stale, under the cost of the last collapse so
@@ -1155,7 +1196,7 @@ impl<'o> Run<'o> {
     pub(crate) fn release_adjacency(&mut self) {
         self.queue = CollapseQueue::default();
         self.refused_around = Vec::new();
-        self.flip_waits = FlipWaits::default();
+        self.witness_waits = WitnessWaits::default();
         self.p.complex.clear_adjacency();
     }
 

@@ -569,7 +569,7 @@ fn one_pass(run: &mut Run, shift: DVec3, handoff: usize, progress: &dyn Fn(f64))
     let mut slots = slots;
     slots.slot = Vec::new();
     debug_assert!(run.refused_around.iter().all(|&n| n == 0));
-    debug_assert!(run.flip_waits.is_empty());
+    debug_assert!(run.witness_waits.is_empty());
     run.refused_around = Vec::new();
     // Rounds: every chunk makes its collapses up to the cap, which then
     // doubles (or jumps to the cheapest collapse left). Within a round the
@@ -721,6 +721,7 @@ fn add_report(to: &mut Report, from: &Report) {
     to.error = to.error.max(from.error);
     let (t, f) = (&mut to.rejected, &from.rejected);
     t.normal_flip += f.normal_flip;
+    t.flat_border += f.flat_border;
     t.topology += f.topology;
     t.locked_border += f.locked_border;
     t.overshoot += f.overshoot;

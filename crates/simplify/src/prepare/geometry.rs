@@ -41,7 +41,7 @@ pub(crate) fn polygon_normal(p: &[DVec3]) -> DVec3 {
 }
 
 /// Sine of the angle below which two unit face normals count as one plane
-/// for [`planar_star`] (as a sine: a cosine cannot tell angles this small
+/// for the flat-border rule (`flat_stars.rs`; as a sine: a cosine cannot tell angles this small
 /// from 0 in double precision): faces within 1e-9 radians, so what stays
 /// in the plane stays there to about 1e-9 of the region's size.
 pub(crate) const PLANAR_SIN: f64 = 1e-9;
@@ -50,29 +50,6 @@ pub(crate) const PLANAR_SIN: f64 = 1e-9;
 #[inline]
 pub(crate) fn coplanar(a: DVec3, b: DVec3) -> bool {
     a.cross(b).length() <= PLANAR_SIN
-}
-
-/// Whether every face around `i` or `j` with area lies in one plane
-/// (orientation aside: a flipped face of a flat sheet is still flat); if
-/// so, `faces` holds them (as [`Complex::star_faces`] lists them).
-///
-/// The stars are read in place and collected only once they prove flat:
-/// most are not, and a fan's centre has every face of the mesh in its
-/// star, so copying it first made each evaluation of an edge there O(n).
-pub(crate) fn planar_star(c: &Complex, i: u32, j: u32, faces: &mut Vec<u32>) -> bool {
-    let mut first: Option<DVec3> = None;
-    for f in c.star_faces_iter(i, j) {
-        let Some((n, _, _)) = face_plane(c, f) else {
-            continue;
-        };
-        match first {
-            None => first = Some(n),
-            Some(n0) if !coplanar(n0, n) => return false,
-            Some(_) => {}
-        }
-    }
-    c.star_faces(i, j, faces);
-    true
 }
 
 /// Plane of face `f`: (unit normal, area, centroid), or `None` when it has no

@@ -3,7 +3,7 @@
 //! faces, edges and vertices, however non-manifold). Polygons of many
 //! corners are split first (`large_polygons.rs`), hidden twin faces folded
 //! away (`twins.rs`); `geometry.rs` measures the complex's faces for every
-//! later step.
+//! later step, `flat_stars.rs` remembers which vertices' faces are flat.
 //!
 //! The steps after it, each a module that imports only the ones before:
 //! `edges` (virtual edges, W §4.1) → `terms` (the error metric, W §4.2,
@@ -11,6 +11,7 @@
 //! `assemble` (the output and its maps back to the input).
 
 pub(crate) mod complex;
+pub(crate) mod flat_stars;
 pub(crate) mod geometry;
 pub(crate) mod large_polygons;
 pub(crate) mod star_lists;

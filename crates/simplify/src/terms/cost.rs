@@ -17,7 +17,8 @@ use rayon::prelude::*;
 
 use crate::options::Metric;
 use crate::prepare::complex::{Complex, NONE};
-use crate::prepare::geometry::{face_plane, planar_star};
+use crate::prepare::flat_stars::FlatStars;
+use crate::prepare::geometry::face_plane;
 use crate::terms::attributes::{AttrScratch, AttributeState};
 use crate::terms::guards::too_small_for_budget;
 use crate::terms::quadric::{place, place_by_planes, place_exact, Quadric};
@@ -489,6 +490,13 @@ pub(crate) struct Evaluation {
     pub cost: f64,
     /// Where the new vertex goes.
     pub position: DVec3,
+    /// The position holds the border of a flat region (the flat-border
+    /// rule in [`CostModel::evaluate`]): the collapse must not flatten a
+    /// face of the region to a line there, which the guards check when it
+    /// is made (`guards::flattens_a_face`). Checking here would read the
+    /// whole star at every evaluation: at a fan's centre, every face for
+    /// each of its edges.
+    pub holds_flat_border: bool,
 }
 
 /// Root-mean-square distance from `x` to the planes vertices `i` and `j`
@@ -566,7 +574,6 @@ pub(crate) struct Scratch {
     pub a: Vec<u32>,
     pub b: Vec<u32>,
     pub crease: Vec<u32>,
-    pub faces: Vec<u32>,
     pub attributes: AttrScratch,
 }
 
@@ -603,6 +610,7 @@ impl CostModel {
         border: &[bool],
         crease: &[bool],
         locked: &[bool],
+        flat: &FlatStars,
         attributes: Option<&AttributeState>,
         e: u32,
         s: &mut Scratch,
@@ -724,7 +732,7 @@ impl CostModel {
         // border vertex an input one (as meshoptimizer keeps all borders);
         // along a straight run that costs nothing. Curved or folded
         // borders keep the optimal placement, which serves them.
-        let position = if (bi || bj)
+        let (position, holds_flat_border) = if (bi || bj)
             && !fixed_i
             && !fixed_j
             && position != pi
@@ -733,11 +741,13 @@ impl CostModel {
             // A virtual edge joins separate parts (W §4.1): no region's
             // border to keep between them.
             && !c.edges[e as usize].is_virtual()
-            && planar_star(c, i, j, &mut s.faces)
+            && flat.flat_pair(c, i, j)
             // A collapse that only deletes faces (a lone triangle going
             // to an edge) keeps no border: where its leftover edge lies
             // matters only to the merges after it.
-            && s.faces.iter().any(|&f| !crate::terms::guards::vanishes(c.face(f), i, j))
+            && c
+                .star_faces_iter(i, j)
+                .any(|f| !crate::terms::guards::vanishes(c.face(f), i, j))
         {
             let at = match (bi, bj) {
                 (true, false) => pi,
@@ -749,15 +759,9 @@ impl CostModel {
                 _ if ranked.eval(pi) <= ranked.eval(pj) => pi,
                 _ => pj,
             };
-            // Nor may a face of the region flatten to a line there (three
-            // corners on a straight border run): the flip guard cannot
-            // judge a face without area, so it could fold over later.
-            if crate::terms::guards::flattens_a_face(c, &s.faces, i, j, at) {
-                return None;
-            }
-            at
+            (at, true)
         } else {
-            position
+            (position, false)
         };
         // A fixed endpoint's collapse is ranked by the whole quadric, as
         // the solve cannot set the regularization aside there.
@@ -796,7 +800,11 @@ impl CostModel {
         if !cost.is_finite() {
             return None;
         }
-        Some(Evaluation { cost, position })
+        Some(Evaluation {
+            cost,
+            position,
+            holds_flat_border,
+        })
     }
 }
 
@@ -895,7 +903,18 @@ mod tests {
             .unwrap();
         let eval = |joint, a: Option<&AttributeState>, s: &mut Scratch| {
             model(joint)
-                .evaluate(&c, &stored(&c, &q), &[], &border, &[], &[], a, e, s)
+                .evaluate(
+                    &c,
+                    &stored(&c, &q),
+                    &[],
+                    &border,
+                    &[],
+                    &[],
+                    &FlatStars::default(),
+                    a,
+                    e,
+                    s,
+                )
                 .unwrap()
         };
         let surface = eval(false, None, &mut s);
@@ -1156,8 +1175,30 @@ mod tests {
         let mut s = Scratch::default();
         for e in 0..c.edges.len() as u32 {
             assert_eq!(
-                with.evaluate(&c, &stored(&c, &q), &[], &[], &[], &[], None, e, &mut s),
-                without.evaluate(&c, &stored(&c, &q), &[], &[], &[], &[], None, e, &mut s)
+                with.evaluate(
+                    &c,
+                    &stored(&c, &q),
+                    &[],
+                    &[],
+                    &[],
+                    &[],
+                    &FlatStars::default(),
+                    None,
+                    e,
+                    &mut s
+                ),
+                without.evaluate(
+                    &c,
+                    &stored(&c, &q),
+                    &[],
+                    &[],
+                    &[],
+                    &[],
+                    &FlatStars::default(),
+                    None,
+                    e,
+                    &mut s
+                )
             );
         }
     }
@@ -1175,13 +1216,35 @@ mod tests {
         let mut s = Scratch::default();
         let e = c.edge_between(0, 2).unwrap();
         let ev = m
-            .evaluate(&c, &stored(&c, &q), &[], &[], &[], &[], None, e, &mut s)
+            .evaluate(
+                &c,
+                &stored(&c, &q),
+                &[],
+                &[],
+                &[],
+                &[],
+                &FlatStars::default(),
+                None,
+                e,
+                &mut s,
+            )
             .unwrap();
         let plain = model_of(Metric {
             boundary_area: false,
             ..metric
         })
-        .evaluate(&c, &stored(&c, &q), &[], &[], &[], &[], None, e, &mut s)
+        .evaluate(
+            &c,
+            &stored(&c, &q),
+            &[],
+            &[],
+            &[],
+            &[],
+            &FlatStars::default(),
+            None,
+            e,
+            &mut s,
+        )
         .unwrap();
         assert!(ev.cost > plain.cost, "{ev:?} vs {plain:?}");
     }
@@ -1216,6 +1279,7 @@ mod tests {
                     &[],
                     &[],
                     &[],
+                    &FlatStars::default(),
                     None,
                     e,
                     &mut Scratch::default(),
@@ -1266,7 +1330,18 @@ mod tests {
         let m = model_of(metric);
         let mut s = Scratch::default();
         let ev = m
-            .evaluate(&c, &q, &[], &[], &[], &[], None, e, &mut s)
+            .evaluate(
+                &c,
+                &q,
+                &[],
+                &[],
+                &[],
+                &[],
+                &FlatStars::default(),
+                None,
+                e,
+                &mut s,
+            )
             .unwrap();
         // Each vertex has area share 1/2 and lies in z = 0: the planes are
         // indifferent within the plane, the gluing term 2·(1/2)·|x−p|² per
@@ -1279,7 +1354,18 @@ mod tests {
             ..metric
         });
         let ev = free
-            .evaluate(&c, &q, &[], &[], &[], &[], None, e, &mut s)
+            .evaluate(
+                &c,
+                &q,
+                &[],
+                &[],
+                &[],
+                &[],
+                &FlatStars::default(),
+                None,
+                e,
+                &mut s,
+            )
             .unwrap();
         assert!(ev.cost < 1e-12);
     }
@@ -1298,8 +1384,19 @@ mod tests {
                 ..model_of(metric)
             };
             let e = c.edge_between(0, 1).unwrap();
-            m.evaluate(&c, &q, &[], &[], &[], &[], None, e, &mut Scratch::default())
-                .map(|ev| ev.position)
+            m.evaluate(
+                &c,
+                &q,
+                &[],
+                &[],
+                &[],
+                &[],
+                &FlatStars::default(),
+                None,
+                e,
+                &mut Scratch::default(),
+            )
+            .map(|ev| ev.position)
         };
         let (p0, p1) = (DVec3::ZERO, DVec3::X);
         // A lone triangle: collapsing its side 0–1 deletes it, no face of
@@ -1341,7 +1438,18 @@ mod tests {
         // Every vertex of the hinge is on the border.
         for e in 0..c.edges.len() as u32 {
             assert_eq!(
-                m.evaluate(&c, &stored(&c, &q), &[], &[], &[], &[], None, e, &mut s),
+                m.evaluate(
+                    &c,
+                    &stored(&c, &q),
+                    &[],
+                    &[],
+                    &[],
+                    &[],
+                    &FlatStars::default(),
+                    None,
+                    e,
+                    &mut s
+                ),
                 None
             );
         }
@@ -1443,8 +1551,19 @@ mod tests {
         let locked = [false, false, true, false];
         let mut s = Scratch::default();
         let mut eval = |crease: &[bool]| {
-            m.evaluate(&c, &q, &[], &[], crease, &locked, None, e, &mut s)
-                .unwrap()
+            m.evaluate(
+                &c,
+                &q,
+                &[],
+                &[],
+                crease,
+                &locked,
+                &FlatStars::default(),
+                None,
+                e,
+                &mut s,
+            )
+            .unwrap()
         };
         let without = eval(&[false; 4]);
         let with = eval(&[true, false, false, false]);
@@ -1465,7 +1584,18 @@ mod tests {
         };
         let flagged = [true, false, false, false];
         let ev = off
-            .evaluate(&c, &q, &[], &[], &flagged, &locked, None, e, &mut s)
+            .evaluate(
+                &c,
+                &q,
+                &[],
+                &[],
+                &flagged,
+                &locked,
+                &FlatStars::default(),
+                None,
+                e,
+                &mut s,
+            )
             .unwrap();
         assert_eq!(ev.cost, without.cost);
     }

@@ -69,12 +69,13 @@ pub(crate) fn vanishes(face: &[u32], i: u32, j: u32) -> bool {
     face.len() == 3 && face.contains(&i) && face.contains(&j)
 }
 
-/// Whether collapsing `i`–`j` to `x` leaves a surviving face of `star`
-/// that had area with none (its corners on one line, to 1e-12 of its
-/// area). [`flipped_face`] does not judge faces without area, so a face
-/// flattened to a line could later turn over unseen; the flat-border rule
-/// (see `CostModel::evaluate`) refuses such collapses.
-pub(crate) fn flattens_a_face(c: &Complex, star: &[u32], i: u32, j: u32, x: DVec3) -> bool {
+/// The first surviving face of `star` that had area and has none once
+/// `i`–`j` collapses to `x` (its corners on one line, to 1e-12 of its
+/// area), if any. [`flipped_face`] does not judge faces without area, so a
+/// face flattened to a line could later turn over unseen; the flat-border
+/// rule (see `CostModel::evaluate`) refuses such collapses, and the face
+/// is the witness the refused edge waits on (see `collapse::witness_waits`).
+pub(crate) fn flattens_a_face(c: &Complex, star: &[u32], i: u32, j: u32, x: DVec3) -> Option<u32> {
     let mut old_p: smallvec::SmallVec<[DVec3; 8]> = smallvec::SmallVec::new();
     let mut new_p: smallvec::SmallVec<[DVec3; 8]> = smallvec::SmallVec::new();
     for &f in star {
@@ -94,10 +95,10 @@ pub(crate) fn flattens_a_face(c: &Complex, star: &[u32], i: u32, j: u32, x: DVec
             polygon_normal(&new_p).length_squared(),
         );
         if lo > 1e-30 && ln <= 1e-24 * lo {
-            return true;
+            return Some(f);
         }
     }
-    false
+    None
 }
 
 /// The link condition for polygon complexes (Dey et al. 1999; W App. B),
@@ -677,11 +678,15 @@ mod tests {
             &[0, 1, 2, 0, 2, 3, 0, 3, 4, 0, 4, 1],
         );
         let star: Vec<u32> = c.vert_faces[0].to_vec();
-        assert!(!flattens_a_face(&c, &star, 0, 1, DVec3::X));
-        assert!(flattens_a_face(&c, &star, 0, 1, -DVec3::X));
+        assert_eq!(flattens_a_face(&c, &star, 0, 1, DVec3::X), None);
+        // Face 1, (0, 2, 3), is the first that flattens: it is the witness.
+        assert_eq!(flattens_a_face(&c, &star, 0, 1, -DVec3::X), Some(1));
         // Onto the line through 2 and 3, between them: face (0, 2, 3) has
         // its three corners on one line.
-        assert!(flattens_a_face(&c, &star, 0, 1, DVec3::new(-0.5, 0.5, 0.0)));
+        assert_eq!(
+            flattens_a_face(&c, &star, 0, 1, DVec3::new(-0.5, 0.5, 0.0)),
+            Some(1)
+        );
     }
 
     #[test]

@@ -1,4 +1,6 @@
-//! Edges the flip guard refused, each waiting on the face that flipped.
+//! Edges refused for what would become of one face of their star (it
+//! would flip past the normal limit, or flatten to a line on a flat
+//! border), each waiting on that face.
 //!
 //! A refused edge used to be tried again after every collapse one ring
 //! out. Around a vertex of high valence that is a quadratic walk: on a
@@ -6,15 +8,18 @@
 //! decimals), a few hundred edges of the fan's center were refused for a
 //! sliver they would flip, and every collapse along the rim (each rim
 //! vertex is a neighbour of the center) queued them all again, each try
-//! costing the center's valence, to be refused by the same sliver.
+//! costing the center's valence, to be refused by the same sliver. The
+//! flat-border rule's refusals walk the same way around the center of a
+//! flat disc written as a fan from its center.
 //!
 //! A retry cannot pass while nothing it reads changed. The edge's cost and
 //! position change only with its generation (the loop bumps it for every
 //! edge whose cost a collapse changed), and with the same position the
-//! face that flipped flips again as long as that face keeps its corners
-//! where they were. A face changes only in a collapse of one of its
-//! vertices, that is a collapse whose star holds it. So an edge refused
-//! for a flip waits on that face, its witness, and goes back into the
+//! face that flipped (or flattened) does so again as long as that face
+//! keeps its corners where they were: both verdicts read only its corners
+//! and the position. A face changes only in a collapse of one of its
+//! vertices, that is a collapse whose star holds it. So a refused edge
+//! waits on that face, its witness, and goes back into the
 //! queue when a collapse's star holds the witness or when its generation
 //! is bumped: the same collapses are made as before, without the retries
 //! that could only fail again. Every retry is then paid for by a collapse
@@ -35,13 +40,13 @@ use std::collections::HashMap;
 
 use smallvec::SmallVec;
 
-/// How many times a collapse one ring out puts an edge refused for a flip
+/// How many times a collapse one ring out puts an edge refused for a face
 /// back into the queue before its cost changes (see the module's note).
 pub(crate) const NEIGHBOUR_RETRIES: u8 = 8;
 
 /// Edges waiting for their witness face to change.
 #[derive(Default)]
-pub(crate) struct FlipWaits {
+pub(crate) struct WitnessWaits {
     /// The face each waiting edge waits on, and whether collapses one ring
     /// out may still try it again (it is then counted in the loop's
     /// `refused_around`).
@@ -53,8 +58,8 @@ pub(crate) struct FlipWaits {
     tries: HashMap<u32, u8>,
 }
 
-impl FlipWaits {
-    /// `edge` was refused because face `face` would flip. Returns whether
+impl WitnessWaits {
+    /// `edge` was refused for what would become of face `face`. Returns whether
     /// collapses one ring out may still try it again.
     pub fn wait(&mut self, edge: u32, face: u32) -> bool {
         let near = self.tries.get(&edge).copied().unwrap_or(0) < NEIGHBOUR_RETRIES;
@@ -120,7 +125,7 @@ mod tests {
 
     #[test]
     fn an_edge_wakes_once_and_only_for_its_current_witness() {
-        let mut w = FlipWaits::default();
+        let mut w = WitnessWaits::default();
         w.wait(7, 1);
         w.wait(8, 1);
         // Edge 8 goes back into the queue and is refused again for face 2.
@@ -142,7 +147,7 @@ mod tests {
 
     #[test]
     fn retries_one_ring_out_run_out_until_the_cost_changes() {
-        let mut w = FlipWaits::default();
+        let mut w = WitnessWaits::default();
         for _ in 0..NEIGHBOUR_RETRIES {
             assert!(w.wait(3, 9));
             assert!(w.near_retry(3));
