@@ -982,11 +982,13 @@ impl<'o> Run<'o> {
     /// The guards, cheapest first.
     fn allowed(&mut self, i: u32, j: u32, ev: &Evaluation, min_cos: Option<f64>) -> Verdict {
         let x = ev.position;
-        let c = &mut self.p.complex;
-        c.star_faces(i, j, &mut self.star);
+        // No guard reads the whole star unless it must: a refused collapse
+        // at a vertex with a hundred thousand faces costs no more than at
+        // any other (see `guards`).
         let c = &self.p.complex;
         let left = c.triangles - self.target;
         if left <= EXACT_COUNT_WINDOW {
+            c.star_faces(i, j, &mut self.star);
             let removed = removed_triangles(c, &self.star, i, j);
             // Within one triangle of the target (one face's worth where
             // faces have twins, which go together: a doubled mesh then
@@ -1007,13 +1009,13 @@ impl<'o> Run<'o> {
         // (three corners on a straight border run): the flip guard cannot
         // judge a face without area, so it could fold over later.
         if ev.holds_flat_border {
-            if let Some(face) = flattens_a_face(c, &self.star, i, j, x) {
+            if let Some(face) = flattens_a_face(c, i, j, x) {
                 self.report.rejected.flat_border += 1;
                 return Verdict::Waits(face);
             }
         }
         if let Some(mc) = min_cos {
-            if let Some(face) = flipped_face(c, &self.star, i, j, x, mc) {
+            if let Some(face) = flipped_face(c, i, j, x, mc) {
                 self.report.rejected.normal_flip += 1;
                 return Verdict::Waits(face);
             }
@@ -1025,6 +1027,7 @@ impl<'o> Run<'o> {
         // Which vertices' faces change: those of the star. Only when one of
         // them is on a border can border flags change (see below), so the
         // usual interior collapse just scans the flags.
+        self.p.complex.star_faces(i, j, &mut self.star);
         let mut star_had_border = false;
         if self.track_border {
             let c = &self.p.complex;

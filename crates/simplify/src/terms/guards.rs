@@ -6,28 +6,21 @@ use glam::DVec3;
 use crate::prepare::complex::Complex;
 use crate::prepare::geometry::polygon_normal;
 
-/// The first surviving face of their star (in `star`'s order) that
-/// collapsing `i`–`j` to `x` turns by more than the angle whose cosine is
-/// `min_cos`, if any: the collapse loop keeps it as the reason for the
-/// refusal. Faces without area before or after are not judged (their
-/// normal means nothing).
-pub(crate) fn flipped_face(
-    c: &Complex,
-    star: &[u32],
-    i: u32,
-    j: u32,
-    x: DVec3,
-    min_cos: f64,
-) -> Option<u32> {
+/// The first surviving face of their star (in [`Complex::star_faces`]'
+/// order) that collapsing `i`–`j` to `x` turns by more than the angle
+/// whose cosine is `min_cos`, if any: the collapse loop keeps it as the
+/// reason for the refusal. Faces without area before or after are not
+/// judged (their normal means nothing).
+pub(crate) fn flipped_face(c: &Complex, i: u32, j: u32, x: DVec3, min_cos: f64) -> Option<u32> {
     let mut old_p: smallvec::SmallVec<[DVec3; 8]> = smallvec::SmallVec::new();
     let mut new_p: smallvec::SmallVec<[DVec3; 8]> = smallvec::SmallVec::new();
-    for &f in star {
+    first_moved_failing(c, i, j, x, |f| {
         let face = c.face(f);
         let (old, new) = if let [a, b, d] = *face {
             // A triangle holding both endpoints vanishes: nothing to judge.
             let has = |v: u32| a == v || b == v || d == v;
             if has(i) && has(j) {
-                continue;
+                return false;
             }
             let p = |v: u32| c.pos[v as usize];
             let m = |v: u32| {
@@ -53,14 +46,8 @@ pub(crate) fn flipped_face(
         };
         let (lo, ln) = (old.length_squared(), new.length_squared());
         // Areas below ~1e-15 of the unit-diagonal mesh are numerical dust.
-        if lo <= 1e-30 || ln <= 1e-30 {
-            continue;
-        }
-        if old.dot(new) < min_cos * (lo * ln).sqrt() {
-            return Some(f);
-        }
-    }
-    None
+        lo > 1e-30 && ln > 1e-30 && old.dot(new) < min_cos * (lo * ln).sqrt()
+    })
 }
 
 /// Whether a face vanishes when `i` and `j` merge: a triangle on the edge.
@@ -69,19 +56,19 @@ pub(crate) fn vanishes(face: &[u32], i: u32, j: u32) -> bool {
     face.len() == 3 && face.contains(&i) && face.contains(&j)
 }
 
-/// The first surviving face of `star` that had area and has none once
+/// The first surviving face of their star that had area and has none once
 /// `i`–`j` collapses to `x` (its corners on one line, to 1e-12 of its
 /// area), if any. [`flipped_face`] does not judge faces without area, so a
 /// face flattened to a line could later turn over unseen; the flat-border
 /// rule (see `CostModel::evaluate`) refuses such collapses, and the face
 /// is the witness the refused edge waits on (see `collapse::witness_waits`).
-pub(crate) fn flattens_a_face(c: &Complex, star: &[u32], i: u32, j: u32, x: DVec3) -> Option<u32> {
+pub(crate) fn flattens_a_face(c: &Complex, i: u32, j: u32, x: DVec3) -> Option<u32> {
     let mut old_p: smallvec::SmallVec<[DVec3; 8]> = smallvec::SmallVec::new();
     let mut new_p: smallvec::SmallVec<[DVec3; 8]> = smallvec::SmallVec::new();
-    for &f in star {
+    first_moved_failing(c, i, j, x, |f| {
         let face = c.face(f);
         if vanishes(face, i, j) {
-            continue;
+            return false;
         }
         old_p.clear();
         new_p.clear();
@@ -94,11 +81,59 @@ pub(crate) fn flattens_a_face(c: &Complex, star: &[u32], i: u32, j: u32, x: DVec
             polygon_normal(&old_p).length_squared(),
             polygon_normal(&new_p).length_squared(),
         );
-        if lo > 1e-30 && ln <= 1e-24 * lo {
-            return Some(f);
+        lo > 1e-30 && ln <= 1e-24 * lo
+    })
+}
+
+/// The first face, in the order of [`Complex::star_faces`], that collapsing
+/// `i`–`j` to `x` moves and `fails`. Faces that do not move (around an
+/// endpoint already at `x`) cannot flip or flatten, so they are not read:
+/// a rim vertex merging into a fan's center at the center reads its own
+/// two faces, not the center's hundred thousand.
+fn first_moved_failing(
+    c: &Complex,
+    i: u32,
+    j: u32,
+    x: DVec3,
+    mut fails: impl FnMut(u32) -> bool,
+) -> Option<u32> {
+    let (i_moves, j_moves) = (c.pos[i as usize] != x, c.pos[j as usize] != x);
+    let around_j_only = |f: &u32| !c.face(*f).contains(&i);
+    if i_moves {
+        let found = c.vert_faces[i as usize].iter().copied().find(|&f| fails(f));
+        if found.is_some() || !j_moves {
+            return found;
+        }
+        return c.vert_faces[j as usize]
+            .iter()
+            .filter(|f| around_j_only(f))
+            .copied()
+            .find(|&f| fails(f));
+    }
+    if !j_moves {
+        return None;
+    }
+    // Only `j` moves: its faces that also hold `i` come first, in `i`'s
+    // order, then the others in `j`'s.
+    let mut with_i: smallvec::SmallVec<[u32; 4]> = smallvec::SmallVec::new();
+    let mut alone = None;
+    for &f in &c.vert_faces[j as usize] {
+        if !around_j_only(&f) {
+            if fails(f) {
+                with_i.push(f);
+            }
+        } else if alone.is_none() && fails(f) {
+            alone = Some(f);
         }
     }
-    None
+    match with_i.len() {
+        0 => alone,
+        1 => with_i.first().copied(),
+        _ => c.vert_faces[i as usize]
+            .iter()
+            .copied()
+            .find(|f| with_i.contains(f)),
+    }
 }
 
 /// The link condition for polygon complexes (Dey et al. 1999; W App. B),
@@ -110,41 +145,45 @@ pub(crate) fn flattens_a_face(c: &Complex, star: &[u32], i: u32, j: u32, x: DVec
 /// - if both are on the boundary, `i`–`j` is a boundary edge;
 /// - the edge is used by at most two faces, and the collapse does not delete
 ///   an isolated triangle (a whole component).
+///
+/// Every rule is symmetric in `i` and `j`, so each is read from the smaller
+/// star and the stars of its neighbours, never from the larger one: this
+/// runs at every pop of the queue, and a vertex with a hundred thousand
+/// faces (a flat fan's center) would otherwise cost that much each time
+/// one of its edges is tried.
 pub(crate) fn keeps_topology(c: &Complex, i: u32, j: u32) -> bool {
     let faces_on_edge = c.edge_face_count(i, j);
     if faces_on_edge > 2 {
         return false;
     }
+    let (s, l) = smaller_star(c, i, j);
     // Common neighbors through edges.
-    let ni: Vec<u32> = c.vert_edges[i as usize]
-        .iter()
-        .map(|&e| c.other(e, i))
-        .collect();
-    for &e in &c.vert_edges[j as usize] {
-        let k = c.other(e, j);
-        if k == i || !ni.contains(&k) {
+    for &e in &c.vert_edges[s as usize] {
+        let k = c.other(e, s);
+        if k == l || c.edge_between(k, l).is_none() {
             continue;
         }
-        let closes = c.vert_faces[i as usize].iter().any(|&f| {
-            let face = c.face(f);
-            face.len() == 3 && face.contains(&j) && face.contains(&k)
-        });
-        if !closes {
+        if !has_triangle(c, s, k, [i, j, k]) {
             return false;
         }
     }
     // Sides of faces of i (not holding j) and of j (not holding i).
-    if shares_a_far_side(c, i, j) {
+    let mut shared = false;
+    for_far_sides(c, s, l, &mut |_, a, b| {
+        shared = faces_with_far_side(c, l, s, a, b).next().is_some();
+        shared
+    });
+    if shared {
         return false;
     }
     let (bi, bj) = (c.on_boundary(i), c.on_boundary(j));
-    if bi && bj && c.edge_face_count(i, j) != 1 {
+    if bi && bj && faces_on_edge != 1 {
         return false;
     }
     // An isolated triangle on the edge would vanish with its component.
-    for &f in &c.vert_faces[i as usize] {
+    for &f in &c.vert_faces[s as usize] {
         let face = c.face(f);
-        if face.len() == 3 && face.contains(&j) {
+        if face.len() == 3 && face.contains(&l) {
             let isolated = (0..3).all(|k| c.edge_face_count(face[k], face[(k + 1) % 3]) == 1);
             if isolated {
                 return false;
@@ -154,10 +193,46 @@ pub(crate) fn keeps_topology(c: &Complex, i: u32, j: u32) -> bool {
     true
 }
 
-/// The sides of `v`'s faces that do not hold `other` and do not touch `v`
-/// (for a triangle fan, the rim of `v`'s star), as sorted vertex pairs.
-fn far_sides(c: &Complex, v: u32, other: u32) -> Vec<(u32, u32)> {
-    let mut out = Vec::new();
+/// `i` and `j` ordered by the size of their stars, the smaller first.
+fn smaller_star(c: &Complex, i: u32, j: u32) -> (u32, u32) {
+    if c.vert_faces[i as usize].len() <= c.vert_faces[j as usize].len() {
+        (i, j)
+    } else {
+        (j, i)
+    }
+}
+
+/// Whether a triangle has the three corners `tri`, read from the smaller
+/// star of `a` and `b` (two of them).
+fn has_triangle(c: &Complex, a: u32, b: u32, tri: [u32; 3]) -> bool {
+    let (s, _) = smaller_star(c, a, b);
+    c.vert_faces[s as usize].iter().any(|&f| {
+        let face = c.face(f);
+        face.len() == 3 && tri.iter().all(|v| face.contains(v))
+    })
+}
+
+/// Whether `a` and `b` are consecutive corners of `face`.
+fn has_side(face: &[u32], a: u32, b: u32) -> bool {
+    let n = face.len();
+    (0..n).any(|k| {
+        let (p, q) = (face[k], face[(k + 1) % n]);
+        (p == a && q == b) || (p == b && q == a)
+    })
+}
+
+/// Whether `w` and `v` are consecutive corners of some face.
+fn side_neighbours(c: &Complex, w: u32, v: u32) -> bool {
+    let (s, _) = smaller_star(c, w, v);
+    c.vert_faces[s as usize]
+        .iter()
+        .any(|&f| has_side(c.face(f), w, v))
+}
+
+/// Calls `visit(face, a, b)` for each side `a`–`b` of each face of `v`
+/// without `other` that does not touch `v` (for a triangle fan, the rim
+/// of `v`'s star), until it returns true.
+fn for_far_sides(c: &Complex, v: u32, other: u32, visit: &mut dyn FnMut(u32, u32, u32) -> bool) {
     for &f in &c.vert_faces[v as usize] {
         let face = c.face(f);
         if face.contains(&other) {
@@ -166,23 +241,27 @@ fn far_sides(c: &Complex, v: u32, other: u32) -> Vec<(u32, u32)> {
         let n = face.len();
         for k in 0..n {
             let (a, b) = (face[k], face[(k + 1) % n]);
-            if a != v && b != v {
-                out.push((a.min(b), a.max(b)));
+            if a != v && b != v && visit(f, a, b) {
+                return;
             }
         }
     }
-    out.sort_unstable();
-    out
 }
 
-/// The second rule of the link condition: a side far from both `i` and
-/// `j` belongs to faces of each, so the collapse folds two faces onto one
-/// another (the tetrahedron, a tube's closed end).
-fn shares_a_far_side(c: &Complex, i: u32, j: u32) -> bool {
-    let si = far_sides(c, i, j);
-    far_sides(c, j, i)
-        .iter()
-        .any(|s| si.binary_search(s).is_ok())
+/// The faces of `v` without `other` of which `a`–`b` (neither of them `v`)
+/// is a side, read from the smaller star of `a` and `b`.
+fn faces_with_far_side(
+    c: &Complex,
+    v: u32,
+    other: u32,
+    a: u32,
+    b: u32,
+) -> impl Iterator<Item = u32> + '_ {
+    let (s, _) = smaller_star(c, a, b);
+    c.vert_faces[s as usize].iter().copied().filter(move |&f| {
+        let face = c.face(f);
+        face.contains(&v) && !face.contains(&other) && has_side(face, a, b)
+    })
 }
 
 /// How clearly a face must turn towards a ring's center (cosine of the
@@ -195,7 +274,7 @@ const FACES_AIR: f64 = 0.2;
 /// than air: false only when the face clearly turns towards the center,
 /// as a hole's wall does; a solid strand's faces turn away from it, and a
 /// flat strip's (or a twin-faced sheet's) neither way.
-fn faces_away(c: &Complex, f: u32, center: DVec3) -> bool {
+pub(super) fn faces_away(c: &Complex, f: u32, center: DVec3) -> bool {
     let p: smallvec::SmallVec<[DVec3; 8]> = c.face(f).iter().map(|&v| c.pos[v as usize]).collect();
     let centroid = p.iter().copied().sum::<DVec3>() / p.len().max(1) as f64;
     let n = polygon_normal(&p);
@@ -216,91 +295,47 @@ fn faces_away(c: &Complex, f: u32, center: DVec3) -> bool {
 /// flatten a thin part into edges no face uses, which the output cannot
 /// show. False when `i`–`j` is no face's side.
 pub(crate) fn pinches(c: &Complex, i: u32, j: u32) -> bool {
-    // Checked once per collapse the loop pops, so from one pass over each
-    // star: each face's neighbours of the star's center (`prev`, `next`),
-    // which for a triangle are also its far side.
-    let corners = |v: u32| {
-        let mut out: smallvec::SmallVec<[(u32, u32, u32, usize); 12]> = smallvec::SmallVec::new();
-        for &f in &c.vert_faces[v as usize] {
-            let face = c.face(f);
-            let n = face.len();
-            if let Some(k) = face.iter().position(|&w| w == v) {
-                out.push((f, face[(k + n - 1) % n], face[(k + 1) % n], n));
-            }
-        }
-        out
-    };
-    let si = corners(i);
-    if !si.iter().any(|&(_, p, q, _)| p == j || q == j) {
+    // Checked once per collapse the loop pops, so, like the link
+    // condition, read from the smaller star and its neighbours' stars.
+    if c.edge_face_count(i, j) == 0 {
         return false;
     }
-    let sj = corners(j);
+    let (s, l) = smaller_star(c, i, j);
     let (pi, pj) = (c.pos[i as usize], c.pos[j as usize]);
-    let neighbour_of_i = |w: u32| si.iter().any(|&(_, p, q, _)| p == w || q == w);
-    // First rule: a common neighbour `w` with no triangle (i, j, w).
-    for &(_, p, q, _) in &sj {
-        for w in [p, q] {
-            if w == i || !neighbour_of_i(w) {
-                continue;
-            }
-            let closed = si
-                .iter()
-                .any(|&(_, a, b, n)| n == 3 && ((a == j && b == w) || (a == w && b == j)));
-            if closed {
+    // First rule: a common face-side neighbour `w` with no triangle
+    // (i, j, w), judged at the first face of `i` on the edge.
+    for &f in &c.vert_faces[s as usize] {
+        let face = c.face(f);
+        let n = face.len();
+        let Some(k) = face.iter().position(|&v| v == s) else {
+            continue;
+        };
+        for w in [face[(k + n - 1) % n], face[(k + 1) % n]] {
+            if w == l || !side_neighbours(c, w, l) || has_triangle(c, s, w, [i, j, w]) {
                 continue;
             }
             let ring = (pi + pj + c.pos[w as usize]) / 3.0;
-            let on_edge = si.iter().find(|&&(_, a, b, _)| a == j || b == j);
-            if on_edge.is_some_and(|&(g, ..)| faces_away(c, g, ring)) {
+            // Rare (a tube's ring): reading all of `i`'s star is fine here.
+            let on_edge = c.vert_faces[i as usize]
+                .iter()
+                .copied()
+                .find(|&g| has_side(c.face(g), i, j));
+            if on_edge.is_some_and(|g| faces_away(c, g, ring)) {
                 return true;
             }
         }
     }
     // Second rule: a far side of a face of each (triangles: the side
-    // opposite the center; other polygons: every side not touching it).
-    // Sides are reported to `visit` in order, without a list per face:
-    // this check runs at every pop of the queue.
-    let far = |v: u32,
-               other: u32,
-               &(f, p, q, n): &(u32, u32, u32, usize),
-               visit: &mut dyn FnMut(u32, u32) -> bool|
-     -> bool {
-        let face = c.face(f);
-        if face.contains(&other) {
-            return false;
-        }
-        if n == 3 {
-            return visit(p.min(q), p.max(q));
-        }
-        for k in 0..n {
-            let (a, b) = (face[k], face[(k + 1) % n]);
-            if a != v && b != v && visit(a.min(b), a.max(b)) {
-                return true;
-            }
-        }
-        false
-    };
-    // `j`'s far sides once, not once per face of `i`.
-    let mut far_j: smallvec::SmallVec<[(u32, u32); 16]> = smallvec::SmallVec::new();
-    for cj in &sj {
-        far(j, i, cj, &mut |a, b| {
-            far_j.push((a, b));
-            false
-        });
-    }
-    for ci in &si {
-        let found = far(i, j, ci, &mut |a, b| {
-            if !far_j.contains(&(a, b)) {
-                return false;
-            }
-            let cap = (pi + pj + c.pos[a as usize] + c.pos[b as usize]) / 4.0;
-            faces_away(c, ci.0, cap)
-        });
-        if found {
-            return true;
-        }
-    }
-    false
+    // opposite the center; other polygons: every side not touching it),
+    // judged at the face of `i`.
+    let mut found = false;
+    for_far_sides(c, s, l, &mut |f, a, b| {
+        let cap = (pi + pj + c.pos[a as usize] + c.pos[b as usize]) / 4.0;
+        found = faces_with_far_side(c, l, s, a, b)
+            .any(|g| faces_away(c, if s == i { f } else { g }, cap));
+        found
+    });
+    found
 }
 
 /// The fewest triangles a closed part can keep its topology with (a
@@ -654,14 +689,13 @@ mod tests {
             &[0, 3, 6, 9, 12],
             &[0, 1, 2, 0, 2, 3, 0, 3, 4, 0, 4, 1],
         );
-        let star: Vec<u32> = c.vert_faces[0].to_vec();
         // Collapsing 0 onto 1 at 1: faces 0-2-3 and 0-3-4 stay convex-ish.
-        assert_eq!(flipped_face(&c, &star, 0, 1, DVec3::X, 0.0), None);
+        assert_eq!(flipped_face(&c, 0, 1, DVec3::X, 0.0), None);
         // Moving 0 past vertex 3 on the far side flips face (0, 2, 3):
         // (-3,0), (0,1), (-1,0) winds clockwise.
         // (The collapse removes faces 0 and 3, which hold edge 0-1.)
         assert_eq!(
-            flipped_face(&c, &star, 0, 1, DVec3::new(-3.0, 0.0, 0.0), 0.0),
+            flipped_face(&c, 0, 1, DVec3::new(-3.0, 0.0, 0.0), 0.0),
             Some(1)
         );
     }
@@ -677,14 +711,13 @@ mod tests {
             &[0, 3, 6, 9, 12],
             &[0, 1, 2, 0, 2, 3, 0, 3, 4, 0, 4, 1],
         );
-        let star: Vec<u32> = c.vert_faces[0].to_vec();
-        assert_eq!(flattens_a_face(&c, &star, 0, 1, DVec3::X), None);
+        assert_eq!(flattens_a_face(&c, 0, 1, DVec3::X), None);
         // Face 1, (0, 2, 3), is the first that flattens: it is the witness.
-        assert_eq!(flattens_a_face(&c, &star, 0, 1, -DVec3::X), Some(1));
+        assert_eq!(flattens_a_face(&c, 0, 1, -DVec3::X), Some(1));
         // Onto the line through 2 and 3, between them: face (0, 2, 3) has
         // its three corners on one line.
         assert_eq!(
-            flattens_a_face(&c, &star, 0, 1, DVec3::new(-0.5, 0.5, 0.0)),
+            flattens_a_face(&c, 0, 1, DVec3::new(-0.5, 0.5, 0.0)),
             Some(1)
         );
     }
@@ -699,5 +732,148 @@ mod tests {
         assert_eq!(removed_triangles(&c, &star, 0, 1), 2);
         assert_eq!(surviving_cycle(&[0, 1, 2, 0, 4]), vec![0, 1, 2]);
         assert_eq!(surviving_cycle(&[5, 5, 6, 7, 5]), vec![5, 6, 7]);
+    }
+
+    /// A complex with something for every rule: a bumpy grid of triangles
+    /// and quads, some turned over, a fin of two triangles on an inner
+    /// edge (non-manifold), a fan of 40 around the grid's corner, and a
+    /// closed triangular tube (rings of three).
+    fn rich_complex() -> Complex {
+        let n = 8u32;
+        let mut pos = Vec::new();
+        for y in 0..n {
+            for x in 0..n {
+                let z = 0.25 * (((x * 5 + y * 3) % 4) as f64 - 1.5);
+                pos.push(DVec3::new(x as f64, y as f64, z));
+            }
+        }
+        let (mut offsets, mut idx) = (vec![0u32], Vec::new());
+        let mut face = |idx: &mut Vec<u32>, f: &[u32]| {
+            idx.extend_from_slice(f);
+            offsets.push(idx.len() as u32);
+        };
+        for y in 0..n - 1 {
+            for x in 0..n - 1 {
+                let v = y * n + x;
+                let (a, b, c, d) = (v, v + 1, v + 1 + n, v + n);
+                match (x * 7 + y * 3) % 5 {
+                    0 => face(&mut idx, &[a, b, c, d]),
+                    1 => {
+                        face(&mut idx, &[a, c, b]);
+                        face(&mut idx, &[a, d, c]);
+                    }
+                    _ => {
+                        face(&mut idx, &[a, b, c]);
+                        face(&mut idx, &[a, c, d]);
+                    }
+                }
+            }
+        }
+        // A fin on the inner edge 9-10.
+        let fin = pos.len() as u32;
+        pos.push(DVec3::new(1.5, 1.0, 1.0));
+        pos.push(DVec3::new(1.5, 0.5, 1.5));
+        face(&mut idx, &[9, 10, fin]);
+        face(&mut idx, &[10, fin + 1, fin]);
+        // A fan of 40 around the grid's corner 0, outside the grid.
+        let hub = 0u32;
+        let rim = pos.len() as u32;
+        for k in 0..=40 {
+            let t = std::f64::consts::PI * (1.0 + 0.5 * k as f64 / 40.0);
+            pos.push(DVec3::new(t.cos() * 3.0, t.sin() * 3.0, 0.0));
+        }
+        for k in 0..40 {
+            face(&mut idx, &[hub, rim + k + 1, rim + k]);
+        }
+        // A closed tube of rings of three, capped.
+        let tube = pos.len() as u32;
+        for r in 0..5 {
+            for k in 0..3 {
+                let t = 2.0 * std::f64::consts::PI * k as f64 / 3.0;
+                pos.push(DVec3::new(20.0 + 0.1 * t.cos(), 0.1 * t.sin(), r as f64));
+            }
+        }
+        for r in 0..4 {
+            for k in 0..3 {
+                let (a, b) = (tube + 3 * r + k, tube + 3 * r + (k + 1) % 3);
+                face(&mut idx, &[a, b, b + 3]);
+                face(&mut idx, &[a, b + 3, a + 3]);
+            }
+        }
+        face(&mut idx, &[tube + 2, tube + 1, tube]);
+        face(&mut idx, &[tube + 12, tube + 13, tube + 14]);
+        Complex::new(pos, &offsets, &idx).0
+    }
+
+    #[test]
+    fn local_guards_agree_with_reading_whole_stars() {
+        // Every guard reads only the faces it must (the smaller star, the
+        // faces that move); the versions reading both whole stars are the
+        // reference. Same verdicts and the same witness faces on every
+        // edge, both ways round, for positions at either end, between them,
+        // lifted off, and on other vertices (where faces flatten), through
+        // random collapses that shrink and merge the stars.
+        use crate::terms::guards_oracle as whole;
+        let mut c = rich_complex();
+        let mut seed = 0x9e37_79b9_7f4a_7c15u64;
+        let mut next = || {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            seed
+        };
+        let (mut star, mut changed) = (Vec::new(), Vec::new());
+        let (mut checked, mut refused, mut flipped, mut flat, mut pinched) = (0, 0, 0, 0, 0);
+        for _round in 0..40 {
+            for e in 0..c.edges.len() {
+                if !c.edges[e].alive() {
+                    continue;
+                }
+                let [a, b] = c.edges[e].ends;
+                for (i, j) in [(a, b), (b, a)] {
+                    let want = whole::keeps_topology(&c, i, j);
+                    assert_eq!(keeps_topology(&c, i, j), want, "link {i}-{j}");
+                    refused += usize::from(!want);
+                    let want = whole::pinches(&c, i, j);
+                    assert_eq!(pinches(&c, i, j), want, "pinch {i}-{j}");
+                    pinched += usize::from(want);
+                    c.star_faces(i, j, &mut star);
+                    let (pi, pj) = (c.pos[i as usize], c.pos[j as usize]);
+                    let other = c.pos[(next() % c.pos.len() as u64) as usize];
+                    let mid = 0.5 * (pi + pj);
+                    for x in [pi, pj, mid, mid + DVec3::new(0.3, -0.2, 0.7), other] {
+                        for min_cos in [0.0, 0.7] {
+                            let want = whole::flipped_face(&c, &star, i, j, x, min_cos);
+                            assert_eq!(flipped_face(&c, i, j, x, min_cos), want, "flip {i}-{j}");
+                            flipped += usize::from(want.is_some());
+                        }
+                        let want = whole::flattens_a_face(&c, &star, i, j, x);
+                        assert_eq!(flattens_a_face(&c, i, j, x), want, "flat {i}-{j}");
+                        flat += usize::from(want.is_some());
+                        checked += 1;
+                    }
+                }
+            }
+            // Collapse a few random edges (guards aside: any complex will do).
+            for _ in 0..6 {
+                let e = (next() % c.edges.len() as u64) as u32;
+                if !c.edges[e as usize].alive() {
+                    continue;
+                }
+                let [i, j] = c.edges[e as usize].ends;
+                let x = match next() % 3 {
+                    0 => c.pos[i as usize],
+                    1 => c.pos[j as usize],
+                    _ => 0.5 * (c.pos[i as usize] + c.pos[j as usize]),
+                };
+                c.collapse(e, i, x, false, &mut changed);
+            }
+        }
+        // The cases were all there to disagree on.
+        assert!(checked > 10_000, "{checked}");
+        assert!(
+            refused > 100 && flipped > 100 && flat > 100 && pinched > 10,
+            "link {refused}, flip {flipped}, flat {flat}, pinch {pinched}"
+        );
     }
 }

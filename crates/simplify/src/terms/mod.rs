@@ -20,6 +20,8 @@ pub(crate) mod cost;
 pub(crate) mod crease_area;
 pub(crate) mod gluing;
 pub(crate) mod guards;
+#[cfg(test)]
+mod guards_oracle;
 pub(crate) mod posed;
 pub(crate) mod quadric;
 pub(crate) mod stored;
