@@ -121,6 +121,11 @@ pub struct Report {
     /// must grow with the input's size and not faster (a loop that takes
     /// the same refused collapses again and again shows here first).
     pub evaluations: usize,
+    /// Faces read by the flip and flatten tests, the guards' share of the
+    /// loop's work, which must grow with the input's size like
+    /// `evaluations` (a vertex of high valence refused again and again
+    /// shows here).
+    pub faces_tested: usize,
     /// Input polygons of more than [`crate::MAX_POLYGON_CORNERS`] corners,
     /// split into smaller pieces before simplifying (their pieces are
     /// output faces of the same input face).

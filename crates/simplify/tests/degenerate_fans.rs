@@ -31,6 +31,22 @@ fn rim_fan(n: usize, decimals: i32) -> Mesh {
     Mesh::from_polygons(positions, Faces::from_triangles(&idx))
 }
 
+/// A unit disc written as one fan around its center (triangles
+/// (0, k, k + 1) over `n` rim vertices), flat: every edge of the center
+/// costs nothing, and with f32 corners (as every reader stores them) the
+/// rim's turns next to a rim vertex are below rounding, so moving the
+/// center there flattens or folds a sliver next to it.
+fn center_fan(n: usize) -> Mesh {
+    let mut positions = vec![[0.0f32; 3]];
+    positions.extend((0..n).map(|k| {
+        let a = std::f64::consts::TAU * k as f64 / n as f64;
+        [a.cos() as f32, a.sin() as f32, 0.0]
+    }));
+    let n = n as u32;
+    let idx: Vec<u32> = (0..n).flat_map(|k| [0, 1 + k, 1 + (k + 1) % n]).collect();
+    Mesh::from_polygons(positions, Faces::from_triangles(&idx))
+}
+
 /// A grid of `w` × `h` cells, each two triangles, stretched so that a cell
 /// is `aspect` times wider than high and jittered by rounding: rows of
 /// nearly collinear slivers.
@@ -59,6 +75,10 @@ fn sliver_grid(w: usize, h: usize, aspect: f64, decimals: i32) -> Mesh {
     Mesh::from_polygons(positions, Faces::from_triangles(&idx))
 }
 
+/// The faces a collapse's face tests read on an ordinary mesh: those
+/// around both endpoints, each of valence six.
+const FACES_PER_TRY: f64 = 12.0;
+
 /// Simplifies `mesh` to 10% with `options`' other settings and checks that
 /// the target is reached and the loop's work stays within `per_triangle`
 /// evaluations per input triangle times log₂ of the input's triangles.
@@ -81,6 +101,16 @@ fn reaches_target_within(mesh: &Mesh, mut options: Options, per_triangle: f64) -
         "{} evaluations for {t} triangles (bound {bound:.0})",
         rep.evaluations
     );
+    // The face tests read the faces a collapse moves, a dozen on an
+    // ordinary mesh (two vertices of valence six): so many per evaluation
+    // the bound allows. A vertex of high valence must not read all of its
+    // faces at every try.
+    let faces_bound = FACES_PER_TRY * bound;
+    assert!(
+        (rep.faces_tested as f64) <= faces_bound,
+        "{} faces tested for {t} triangles (bound {faces_bound:.0})",
+        rep.faces_tested
+    );
     rep
 }
 
@@ -96,6 +126,19 @@ fn a_rounded_rim_fan_reaches_its_target_in_bounded_work() {
     // Written with 12 decimals (no fold-overs), and at 7,000.
     reaches_target_within(&rim_fan(20_000, 12), Options::default(), 1.0);
     reaches_target_within(&rim_fan(7_000, 6), Options::default(), 1.0);
+}
+
+#[test]
+fn a_flat_center_fan_reaches_its_target_in_bounded_work() {
+    // 85,000 triangles around one vertex never finished: the center was
+    // tried towards each rim vertex in turn, and each try read the
+    // center's faces from the first up to the sliver next to that rim
+    // vertex (half of them on average) before refusing.
+    reaches_target_within(&center_fan(20_000), Options::default(), 1.0);
+    let rep = reaches_target_within(&center_fan(85_000), Options::default(), 1.0);
+    // The refusals this is about were there.
+    assert!(rep.rejected.flat_border > 100, "{rep:?}");
+    assert!(rep.rejected.normal_flip > 100, "{rep:?}");
 }
 
 #[test]

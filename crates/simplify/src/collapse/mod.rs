@@ -27,8 +27,8 @@ use crate::terms::cost::{
     Evaluation, Scratch,
 };
 use crate::terms::guards::{
-    flattens_a_face, flipped_face, keeps_topology, pinch_prices, pinches, removed_triangles,
-    PinchPrices,
+    degraded_face, keeps_topology, pinch_prices, pinches, removed_triangles, Degrades, FaceScans,
+    FaceTests, PinchPrices,
 };
 use crate::terms::stored::{Isotropic, StoredQuadric};
 use crate::terms::symmetry::{edge_symmetry_weights, EdgeNormals, SymmetryInput, SymmetryOptions};
@@ -41,8 +41,10 @@ pub(crate) mod heap;
 pub(crate) mod history;
 pub(crate) mod ordering;
 mod partition;
+mod refused_around;
 mod witness_waits;
 
+use refused_around::RefusedAround;
 use witness_waits::WitnessWaits;
 
 /// Near the target, the exact number of triangles a collapse removes is
@@ -62,7 +64,12 @@ enum Verdict {
 }
 
 /// Clears edge `e`'s refusal, from whichever list holds it.
-fn unrefuse(edge: &mut Edge, e: u32, refused_around: &mut [u32], witness_waits: &mut WitnessWaits) {
+fn unrefuse(
+    edge: &mut Edge,
+    e: u32,
+    refused_around: &mut RefusedAround,
+    witness_waits: &mut WitnessWaits,
+) {
     if !edge.refused() {
         return;
     }
@@ -71,10 +78,7 @@ fn unrefuse(edge: &mut Edge, e: u32, refused_around: &mut [u32], witness_waits: 
         // Not counted around its ends: out of retries one ring out.
         return;
     }
-    for v in edge.ends {
-        let n = &mut refused_around[v as usize];
-        *n = n.saturating_sub(1);
-    }
+    refused_around.remove(edge.ends);
 }
 
 /// λ_joint · d per edge (Knodt Eq. 2–3) when the input is skinned and the
@@ -254,12 +258,16 @@ pub(crate) struct Run<'o> {
     /// left the queue is put back to be evaluated again soon.
     last_cost: f64,
     /// Refused edges around each vertex, so that finding them near a
-    /// collapse costs nothing in the usual case of none. Edges refused for a
-    /// face are not counted: they wait in `witness_waits`.
-    refused_around: Vec<u32>,
+    /// collapse costs nothing in the usual case of none (see
+    /// `refused_around`). Edges refused for a face are counted only while
+    /// they have retries one ring out left: they wait in `witness_waits`.
+    refused_around: RefusedAround,
     /// Edges refused for a face that would flip or flatten, each waiting on
     /// that face (see `witness_waits`).
     witness_waits: WitnessWaits,
+    /// Where in each vertex's face list the face tests start, and the
+    /// faces they read (see `guards::first_moved_failing`).
+    face_scans: FaceScans,
     /// Vertices on a boundary edge (kept only when a term needs them).
     border: Vec<bool>,
     /// Which vertices are at a sharp crease (see `init_queue`).
@@ -408,8 +416,9 @@ impl<'o> Run<'o> {
             tie_epsilon: 0.0,
             virtual_pairs,
             last_cost: 0.0,
-            refused_around: vec![0; nv],
+            refused_around: RefusedAround::new(nv),
             witness_waits: WitnessWaits::default(),
+            face_scans: FaceScans::new(nv),
             border: Vec::new(),
             crease: Vec::new(),
             locked,
@@ -477,8 +486,9 @@ impl<'o> Run<'o> {
             tie_epsilon: parent.tie_epsilon,
             virtual_pairs: Vec::new(),
             last_cost: 0.0,
-            refused_around: vec![0; nv],
+            refused_around: RefusedAround::new(nv),
             witness_waits: WitnessWaits::default(),
+            face_scans: FaceScans::new(nv),
             border: Vec::new(),
             crease: Vec::new(),
             locked,
@@ -775,8 +785,7 @@ impl<'o> Run<'o> {
                     if !edge.refused() {
                         edge.set_refused(true);
                         if self.witness_waits.wait(e, face) {
-                            self.refused_around[a as usize] += 1;
-                            self.refused_around[b as usize] += 1;
+                            self.refused_around.add(e, [a, b]);
                         }
                     }
                     continue;
@@ -785,8 +794,7 @@ impl<'o> Run<'o> {
                     let edge = &mut self.p.complex.edges[e as usize];
                     if !edge.refused() {
                         edge.set_refused(true);
-                        self.refused_around[a as usize] += 1;
-                        self.refused_around[b as usize] += 1;
+                        self.refused_around.add(e, [a, b]);
                     }
                     continue;
                 }
@@ -1008,15 +1016,18 @@ impl<'o> Run<'o> {
         // Nor may a face of a flat region flatten to a line on its border
         // (three corners on a straight border run): the flip guard cannot
         // judge a face without area, so it could fold over later.
-        if ev.holds_flat_border {
-            if let Some(face) = flattens_a_face(c, i, j, x) {
-                self.report.rejected.flat_border += 1;
-                return Verdict::Waits(face);
-            }
-        }
-        if let Some(mc) = min_cos {
-            if let Some(face) = flipped_face(c, i, j, x, mc) {
-                self.report.rejected.normal_flip += 1;
+        let tests = FaceTests {
+            flatten: ev.holds_flat_border,
+            min_cos,
+        };
+        if tests.flatten || tests.min_cos.is_some() {
+            let degraded = degraded_face(c, i, j, x, tests, &mut self.face_scans);
+            self.report.faces_tested = self.face_scans.tested;
+            if let Some((face, why)) = degraded {
+                match why {
+                    Degrades::Flattens => self.report.rejected.flat_border += 1,
+                    Degrades::Flips => self.report.rejected.normal_flip += 1,
+                }
                 return Verdict::Waits(face);
             }
         }
@@ -1064,8 +1075,7 @@ impl<'o> Run<'o> {
         // hints for finding refused edges near a collapse; an edge whose
         // ends moved under it may be counted at the old end, so they never
         // go below zero (a debug build caught the wrap).
-        let moved = std::mem::take(&mut self.refused_around[j as usize]);
-        self.refused_around[i as usize] += moved;
+        self.refused_around.merge(i, j);
         for &k in &c.killed {
             unrefuse(
                 &mut c.edges[k as usize],
@@ -1143,13 +1153,9 @@ impl<'o> Run<'o> {
         let changed_cost = todo.len();
         for &ei in &c.vert_edges[i as usize] {
             let k = c.other(ei, i);
-            if self.refused_around[k as usize] > 0 {
-                for &ek in &c.vert_edges[k as usize] {
-                    if c.edges[ek as usize].refused() && self.witness_waits.near_retry(ek) {
-                        todo.push(ek);
-                    }
-                }
-            }
+            let waits = &self.witness_waits;
+            self.refused_around
+                .collect(c, k, |ek| waits.near_retry(ek), &mut todo);
         }
         // (An edge between two neighbours of `i` is found from both.)
         todo[changed_cost..].sort_unstable();
@@ -1198,7 +1204,7 @@ impl<'o> Run<'o> {
     /// refit, assembling, a chunk's write-back) fits under its peak.
     pub(crate) fn release_adjacency(&mut self) {
         self.queue = CollapseQueue::default();
-        self.refused_around = Vec::new();
+        self.refused_around = RefusedAround::default();
         self.witness_waits = WitnessWaits::default();
         self.p.complex.clear_adjacency();
     }

@@ -10,6 +10,7 @@ use std::sync::atomic::Ordering::Relaxed;
 use glam::DVec3;
 use rayon::prelude::*;
 
+use super::refused_around::RefusedAround;
 use super::{PerVertex, Run};
 use crate::prepare::complex::{Complex, FaceSlots, NONE};
 use crate::prepare::Prepared;
@@ -568,9 +569,9 @@ fn one_pass(run: &mut Run, shift: DVec3, handoff: usize, progress: &dyn Fn(f64))
     let nv = slots.slot.len();
     let mut slots = slots;
     slots.slot = Vec::new();
-    debug_assert!(run.refused_around.iter().all(|&n| n == 0));
+    debug_assert!(run.refused_around.is_clear());
     debug_assert!(run.witness_waits.is_empty());
-    run.refused_around = Vec::new();
+    run.refused_around = RefusedAround::default();
     // Rounds: every chunk makes its collapses up to the cap, which then
     // doubles (or jumps to the cheapest collapse left). Within a round the
     // order is each chunk's greedy order; across rounds, the global one.
@@ -620,7 +621,7 @@ fn one_pass(run: &mut Run, shift: DVec3, handoff: usize, progress: &dyn Fn(f64))
         }
     }
     slots.slot = write_back(run, parts, corners, listed, regular.then_some(face_count));
-    run.refused_around = vec![0; nv];
+    run.refused_around = RefusedAround::new(nv);
     slots.move_back(&mut quadrics);
     slots.move_back(&mut reg);
     for (v, q, r, p) in aside {
@@ -718,6 +719,7 @@ fn add_report(to: &mut Report, from: &Report) {
     to.collapses += from.collapses;
     to.parallel_collapses += from.collapses;
     to.evaluations += from.evaluations;
+    to.faces_tested += from.faces_tested;
     to.error = to.error.max(from.error);
     let (t, f) = (&mut to.rejected, &from.rejected);
     t.normal_flip += f.normal_flip;
