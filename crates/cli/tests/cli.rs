@@ -599,3 +599,38 @@ fn hidden_twins_are_dropped_unless_kept_and_the_json_counts_them() {
     let v: serde_json::Value = serde_json::from_str(&json).unwrap();
     assert_eq!(v["meshes"][0]["hidden_twins"], 1152, "{json}");
 }
+
+#[test]
+fn simplify_json_reports_the_loops_work_and_its_refusals() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = torus_obj(dir.path());
+    let json = |extra: &[&str]| {
+        let out = dir.path().join("out.obj");
+        let mut args = vec!["simplify", s(&input), "-o", s(&out), "--json"];
+        args.extend_from_slice(extra);
+        let o = wildlod(&args);
+        assert!(o.status.success(), "{}", stderr(&o));
+        let v: serde_json::Value = serde_json::from_str(&stdout(&o)).unwrap();
+        v["meshes"][0].clone()
+    };
+    let count = |m: &serde_json::Value, key: &str| m[key].as_u64().unwrap_or(0);
+    // Every collapse made was evaluated at least once and had its faces
+    // tested.
+    let m = json(&["--ratio", "0.2"]);
+    assert!(count(&m, "collapses") > 0, "{m}");
+    assert!(count(&m, "evaluations") >= count(&m, "collapses"), "{m}");
+    assert!(count(&m, "faces_tested") >= count(&m, "collapses"), "{m}");
+    // A turn limit of one degree refuses every collapse of the curved
+    // torus: the report says why the target was missed.
+    let m = json(&["--ratio", "0.2", "--max-normal-turn", "1"]);
+    assert_eq!(m["stop"], "no_collapsible_edges", "{m}");
+    assert_eq!(count(&m, "collapses"), 0, "{m}");
+    assert!(count(&m["rejected"], "normal_flip") > 0, "{m}");
+    // An error limit refuses what would exceed it, and stops there.
+    let m = json(&["--error", "0.001"]);
+    assert_eq!(m["stop"], "error_limit", "{m}");
+    assert!(count(&m["rejected"], "error_limit") > 0, "{m}");
+    for key in ["flat_border", "topology", "locked_border", "overshoot"] {
+        assert!(m["rejected"][key].is_u64(), "{key}: {m}");
+    }
+}

@@ -28,6 +28,15 @@ pub struct MeshJson {
     pub stop: Option<String>,
     /// Collapses done.
     pub collapses: usize,
+    /// Collapse costs evaluated: the loop's work, which grows with the
+    /// input's size (see `wildlod_simplify::Report::evaluations`).
+    pub evaluations: usize,
+    /// Faces the flip and flatten tests read (see
+    /// `wildlod_simplify::Report::faces_tested`).
+    pub faces_tested: usize,
+    /// Collapses the guards refused, by guard: why a target may be missed
+    /// or a run slow.
+    pub rejected: RejectedJson,
     /// Polygons of more than `wildlod_simplify::MAX_POLYGON_CORNERS`
     /// corners simplified and written as pieces.
     pub split_polygons: usize,
@@ -66,6 +75,9 @@ impl MeshJson {
             error: r.report.error,
             stop: r.report.stop.map(|s| stop_key(s).to_string()),
             collapses: r.report.collapses,
+            evaluations: r.report.evaluations,
+            faces_tested: r.report.faces_tested,
+            rejected: RejectedJson::new(&r.report.rejected),
             split_polygons: r.report.split_polygons,
             hidden_twins: r.report.hidden_twins,
             twin_slack: r.report.twin_slack,
@@ -79,6 +91,38 @@ impl MeshJson {
                 geometry_chamfer: s.geometry_chamfer,
             }),
             seconds: r.seconds,
+        }
+    }
+}
+
+/// `rejected` of a mesh in a report: see
+/// [`wildlod_simplify::Rejections`].
+#[derive(Clone, Copy, Debug, serde::Serialize)]
+pub struct RejectedJson {
+    /// A surviving face would have turned past the normal limit.
+    pub normal_flip: usize,
+    /// A face of a flat region would have flattened onto its border.
+    pub flat_border: usize,
+    /// The link condition failed (`--keep-topology`).
+    pub topology: usize,
+    /// A border vertex would have moved (`--lock-borders`).
+    pub locked_border: usize,
+    /// The collapse would have gone past the target.
+    pub overshoot: usize,
+    /// The collapse's error exceeded `--error`.
+    pub error_limit: usize,
+}
+
+impl RejectedJson {
+    /// The counts of `r`.
+    pub fn new(r: &wildlod_simplify::Rejections) -> Self {
+        RejectedJson {
+            normal_flip: r.normal_flip,
+            flat_border: r.flat_border,
+            topology: r.topology,
+            locked_border: r.locked_border,
+            overshoot: r.overshoot,
+            error_limit: r.error_limit,
         }
     }
 }

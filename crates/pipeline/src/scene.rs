@@ -211,6 +211,8 @@ pub fn whole_report(r: &SceneReport) -> Report {
         split_polygons: r.groups.iter().map(|g| g.report.split_polygons).sum(),
         hidden_twins: r.groups.iter().map(|g| g.report.hidden_twins).sum(),
         collapses: r.groups.iter().map(|g| g.report.collapses).sum(),
+        evaluations: r.groups.iter().map(|g| g.report.evaluations).sum(),
+        faces_tested: r.groups.iter().map(|g| g.report.faces_tested).sum(),
         stray_normals: r.groups.iter().map(|g| g.report.stray_normals).sum(),
         outliers: r
             .groups

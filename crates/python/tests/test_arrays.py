@@ -12,7 +12,7 @@ from conftest import grid, torus
 
 REPORT_KEYS = {"name", "mesh", "input_triangles", "target_triangles", "output_triangles",
                "error", "stop", "collapses", "split_polygons", "hidden_twins", "twin_slack", "seconds",
-               "outliers", "steering", "uv_damage"}
+               "outliers", "steering", "uv_damage", "evaluations", "faces_tested", "rejected"}
 
 
 def check_faces(out, sizes=None):
