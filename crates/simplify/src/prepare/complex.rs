@@ -14,6 +14,7 @@ use rayon::prelude::*;
 use smallvec::SmallVec;
 use std::collections::HashMap;
 
+use crate::prepare::neighbour_moments::NeighbourMoments;
 use crate::prepare::star_lists::StarLists;
 
 /// Above this many faces, a vertex's boundary neighbours are found edge by
@@ -21,7 +22,14 @@ use crate::prepare::star_lists::StarLists;
 const HIGH_VALENCE: usize = 32;
 
 /// The crease neighbours kept for each vertex of high valence.
-type CreaseLists = HashMap<u32, SmallVec<[u32; 4]>>;
+type CreaseLists = HashMap<u32, CreaseList>;
+
+/// A vertex's kept crease neighbours and their positions' moments.
+#[derive(Clone, Debug, Default)]
+struct CreaseList {
+    sides: SmallVec<[u32; 4]>,
+    moments: NeighbourMoments,
+}
 
 /// Marks a dead face (`face_len == 0`) or an unused scratch entry.
 pub(crate) const NONE: u32 = u32::MAX;
@@ -87,6 +95,9 @@ pub(crate) struct Complex {
     crease_lists: Option<(f64, CreaseLists)>,
     /// Scratch of `collapse`: the sides at listed vertices it may change.
     crease_sides: Vec<(u32, u32)>,
+    /// Where the collapse's `i` and `j` were, for the crease moments (see
+    /// `crease_sides_after`).
+    crease_moved: [DVec3; 2],
     /// Scratch of `collapse`.
     touched: Vec<u32>,
     j_corners: Vec<u32>,
@@ -289,6 +300,7 @@ impl Complex {
             high_valence: HIGH_VALENCE,
             crease_lists: None,
             crease_sides: Vec::new(),
+            crease_moved: [DVec3::ZERO; 2],
             touched: Vec::new(),
             j_corners: Vec::new(),
             j_star: Vec::new(),
@@ -441,6 +453,7 @@ impl Complex {
             high_valence: HIGH_VALENCE,
             crease_lists: None,
             crease_sides: Vec::new(),
+            crease_moved: [DVec3::ZERO; 2],
             touched: Vec::new(),
             j_corners: Vec::new(),
             j_star: Vec::new(),
@@ -686,12 +699,33 @@ impl Complex {
         if let Some((kept, lists)) = &self.crease_lists {
             if *kept == cos {
                 if let Some(list) = lists.get(&v) {
-                    out.extend_from_slice(list);
+                    out.extend_from_slice(&list.sides);
                     return;
                 }
             }
         }
         self.scan_crease_neighbors(v, cos, out);
+    }
+
+    /// The number of `v`'s crease neighbours and their positions' moments,
+    /// when `v` keeps a list for the crease angle whose cosine is `cos`
+    /// (see [`Complex::keep_crease_lists`]).
+    pub fn crease_moments(&self, v: u32, cos: f64) -> Option<(usize, &NeighbourMoments)> {
+        let (kept, lists) = self.crease_lists.as_ref()?;
+        if *kept != cos {
+            return None;
+        }
+        lists.get(&v).map(|l| (l.sides.len(), &l.moments))
+    }
+
+    /// A kept list of `v`'s crease neighbours, found from its faces.
+    fn crease_list(&self, v: u32, cos: f64) -> CreaseList {
+        let mut out = Vec::new();
+        self.scan_crease_neighbors(v, cos, &mut out);
+        CreaseList {
+            moments: NeighbourMoments::of(out.iter().map(|&k| self.pos[k as usize])),
+            sides: out.into_iter().collect(),
+        }
     }
 
     /// [`Complex::crease_neighbors`] found from `v`'s faces.
@@ -764,19 +798,16 @@ impl Complex {
         let big: Vec<u32> = (0..self.vert_faces.len() as u32)
             .filter(|&v| self.vert_faces[v as usize].len() > self.high_valence)
             .collect();
-        let mut lists = HashMap::new();
-        let mut out = Vec::new();
-        for v in big {
-            out.clear();
-            self.scan_crease_neighbors(v, cos, &mut out);
-            lists.insert(v, out.iter().copied().collect());
-        }
+        let lists = big
+            .into_iter()
+            .map(|v| (v, self.crease_list(v, cos)))
+            .collect();
         self.crease_lists = Some((cos, lists));
     }
 
     /// Whether side `v`–`w` is a crease (see [`Complex::crease_neighbors`]):
     /// from the faces of the smaller star of the two.
-    fn side_is_crease(&self, v: u32, w: u32, cos: f64) -> bool {
+    pub(crate) fn side_is_crease(&self, v: u32, w: u32, cos: f64) -> bool {
         let small = if self.vert_faces[w as usize].len() < self.vert_faces[v as usize].len() {
             w
         } else {
@@ -819,8 +850,9 @@ impl Complex {
     /// `j` into `i`: the sides at listed vertices (other than `i`, `j`) in
     /// the faces of either, with `j` read as `i`. They are the sides whose
     /// faces change: every face of `i` moves with it.
-    fn crease_sides_before(&mut self, i: u32, j: u32) {
+    fn crease_sides_before(&mut self, i: u32, j: u32, i_was: DVec3) {
         self.crease_sides.clear();
+        self.crease_moved = [i_was, self.pos[j as usize]];
         let Some((_, lists)) = &self.crease_lists else {
             return;
         };
@@ -858,14 +890,30 @@ impl Complex {
         };
         lists.remove(&j);
         let sides = std::mem::take(&mut self.crease_sides);
+        // Where `i` and `j` were: a listed neighbour leaves the moments
+        // from where it was added.
+        let [i_was, j_was] = self.crease_moved;
+        let was = |w: u32, pos: &[DVec3]| match w {
+            _ if w == i => i_was,
+            _ if w == j => j_was,
+            _ => pos[w as usize],
+        };
         for &(v, w) in &sides {
             let crease = w != j && self.side_is_crease(v, w, cos);
             if let Some(list) = lists.get_mut(&v) {
-                let at = list.iter().position(|&x| x == w);
+                let at = list.sides.iter().position(|&x| x == w);
                 match (crease, at) {
-                    (true, None) => list.push(w),
+                    (true, None) => {
+                        list.sides.push(w);
+                        list.moments.add(self.pos[w as usize]);
+                    }
                     (false, Some(p)) => {
-                        list.remove(p);
+                        list.sides.remove(p);
+                        list.moments.remove(was(w, &self.pos));
+                    }
+                    (true, Some(_)) if w == i => {
+                        list.moments.remove(i_was);
+                        list.moments.add(self.pos[i as usize]);
                     }
                     _ => {}
                 }
@@ -873,9 +921,7 @@ impl Complex {
         }
         self.crease_sides = sides;
         if lists.contains_key(&i) || self.vert_faces[i as usize].len() > self.high_valence {
-            let mut out = Vec::new();
-            self.scan_crease_neighbors(i, cos, &mut out);
-            lists.insert(i, out.into_iter().collect());
+            lists.insert(i, self.crease_list(i, cos));
         }
         self.crease_lists = Some((cos, lists));
     }
@@ -1153,9 +1199,9 @@ impl Complex {
         let (i, j) = if keep == a { (a, b) } else { (b, a) };
         let mut out = CollapseOutcome::default();
         self.killed.clear();
-        self.pos[i as usize] = x;
+        let i_was = std::mem::replace(&mut self.pos[i as usize], x);
         let border_before = self.border_sides_before(i, j);
-        self.crease_sides_before(i, j);
+        self.crease_sides_before(i, j, i_was);
 
         // Faces: move j's faces to i. Only a face that held both endpoints
         // can now repeat a vertex; the others just change a corner.
@@ -1525,7 +1571,19 @@ impl Complex {
             }
             if let Some((cos, lists)) = &self.crease_lists {
                 if let Some(list) = lists.get(&v) {
-                    let mut kept = list.to_vec();
+                    let fresh = self.crease_list(v, *cos).moments;
+                    let m = &list.moments;
+                    let close =
+                        |a: f64, b: f64| (a - b).abs() <= 1e-9 * (1.0 + a.abs().max(b.abs()));
+                    let same = close(m.count, fresh.count)
+                        && (0..3).all(|k| close(m.sum[k], fresh.sum[k]))
+                        && (0..6).all(|k| close(m.outer[k], fresh.outer[k]));
+                    if !same {
+                        return Err(format!(
+                            "vertex {v} keeps crease moments {m:?}, has {fresh:?}"
+                        ));
+                    }
+                    let mut kept = list.sides.to_vec();
                     kept.sort_unstable();
                     let mut found = Vec::new();
                     self.scan_crease_neighbors(v, *cos, &mut found);

@@ -14,6 +14,7 @@ pub(crate) mod complex;
 pub(crate) mod flat_stars;
 pub(crate) mod geometry;
 pub(crate) mod large_polygons;
+pub(crate) mod neighbour_moments;
 pub(crate) mod star_lists;
 pub(crate) mod twins;
 
