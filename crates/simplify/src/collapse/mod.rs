@@ -923,12 +923,16 @@ impl<'o> Run<'o> {
     }
 
     /// Measures again the planes of `e`'s ends where their counts went
-    /// stale (see `FlatStars`), so that every edge evaluated there reads
-    /// the counts instead of scanning the stars.
+    /// stale or were not kept (see `FlatStars`), so that every edge
+    /// evaluated there reads the counts instead of scanning the stars.
     fn refresh_flat(&mut self, e: u32) {
-        let [a, b] = self.p.complex.edges[e as usize].ends;
-        self.flat.refresh(&self.p.complex, a);
-        self.flat.refresh(&self.p.complex, b);
+        let c = &self.p.complex;
+        let [a, b] = c.edges[e as usize].ends;
+        // The rule asks only about edges with an end on a border.
+        if c.on_boundary(a) || c.on_boundary(b) {
+            self.flat.refresh(c, a);
+            self.flat.refresh(c, b);
+        }
     }
 
     /// The sides opposite `a`–`b` in the quads it is a side of.
