@@ -378,7 +378,7 @@ const FACES_AIR: f64 = 0.2;
 /// than air: false only when the face clearly turns towards the center,
 /// as a hole's wall does; a solid strand's faces turn away from it, and a
 /// flat strip's (or a twin-faced sheet's) neither way.
-pub(super) fn faces_away(c: &Complex, f: u32, center: DVec3) -> bool {
+fn faces_away(c: &Complex, f: u32, center: DVec3) -> bool {
     let p: smallvec::SmallVec<[DVec3; 8]> = c.face(f).iter().map(|&v| c.pos[v as usize]).collect();
     let centroid = p.iter().copied().sum::<DVec3>() / p.len().max(1) as f64;
     let n = polygon_normal(&p);
@@ -399,8 +399,21 @@ pub(super) fn faces_away(c: &Complex, f: u32, center: DVec3) -> bool {
 /// flatten a thin part into edges no face uses, which the output cannot
 /// show. False when `i`–`j` is no face's side.
 pub(crate) fn pinches(c: &Complex, i: u32, j: u32) -> bool {
-    // Checked once per collapse the loop pops, so, like the link
-    // condition, read from the smaller star and its neighbours' stars.
+    // Checked once per collapse the loop pops. Two ordinary stars are read
+    // fastest whole, once each; where one is large (a fan's centre), from
+    // the smaller star and its neighbours' stars, like the link condition.
+    let larger = c.vert_faces[i as usize]
+        .len()
+        .max(c.vert_faces[j as usize].len());
+    if larger > c.high_valence {
+        pinches_local(c, i, j)
+    } else {
+        pinches_whole(c, i, j)
+    }
+}
+
+/// [`pinches`] from the smaller star and its neighbours' stars.
+fn pinches_local(c: &Complex, i: u32, j: u32) -> bool {
     if c.edge_face_count(i, j) == 0 {
         return false;
     }
@@ -440,6 +453,95 @@ pub(crate) fn pinches(c: &Complex, i: u32, j: u32) -> bool {
         found
     });
     found
+}
+
+/// [`pinches`] from both whole stars, each read once.
+fn pinches_whole(c: &Complex, i: u32, j: u32) -> bool {
+    // Checked once per collapse the loop pops, so from one pass over each
+    // star: each face's neighbours of the star's center (`prev`, `next`),
+    // which for a triangle are also its far side.
+    let corners = |v: u32| {
+        let mut out: smallvec::SmallVec<[(u32, u32, u32, usize); 12]> = smallvec::SmallVec::new();
+        for &f in &c.vert_faces[v as usize] {
+            let face = c.face(f);
+            let n = face.len();
+            if let Some(k) = face.iter().position(|&w| w == v) {
+                out.push((f, face[(k + n - 1) % n], face[(k + 1) % n], n));
+            }
+        }
+        out
+    };
+    let si = corners(i);
+    if !si.iter().any(|&(_, p, q, _)| p == j || q == j) {
+        return false;
+    }
+    let sj = corners(j);
+    let (pi, pj) = (c.pos[i as usize], c.pos[j as usize]);
+    let neighbour_of_i = |w: u32| si.iter().any(|&(_, p, q, _)| p == w || q == w);
+    // First rule: a common neighbour `w` with no triangle (i, j, w).
+    for &(_, p, q, _) in &sj {
+        for w in [p, q] {
+            if w == i || !neighbour_of_i(w) {
+                continue;
+            }
+            let closed = si
+                .iter()
+                .any(|&(_, a, b, n)| n == 3 && ((a == j && b == w) || (a == w && b == j)));
+            if closed {
+                continue;
+            }
+            let ring = (pi + pj + c.pos[w as usize]) / 3.0;
+            let on_edge = si.iter().find(|&&(_, a, b, _)| a == j || b == j);
+            if on_edge.is_some_and(|&(g, ..)| faces_away(c, g, ring)) {
+                return true;
+            }
+        }
+    }
+    // Second rule: a far side of a face of each (triangles: the side
+    // opposite the center; other polygons: every side not touching it).
+    // Sides are reported to `visit` in order, without a list per face:
+    // this check runs at every pop of the queue.
+    let far = |v: u32,
+               other: u32,
+               &(f, p, q, n): &(u32, u32, u32, usize),
+               visit: &mut dyn FnMut(u32, u32) -> bool|
+     -> bool {
+        let face = c.face(f);
+        if face.contains(&other) {
+            return false;
+        }
+        if n == 3 {
+            return visit(p.min(q), p.max(q));
+        }
+        for k in 0..n {
+            let (a, b) = (face[k], face[(k + 1) % n]);
+            if a != v && b != v && visit(a.min(b), a.max(b)) {
+                return true;
+            }
+        }
+        false
+    };
+    // `j`'s far sides once, not once per face of `i`.
+    let mut far_j: smallvec::SmallVec<[(u32, u32); 16]> = smallvec::SmallVec::new();
+    for cj in &sj {
+        far(j, i, cj, &mut |a, b| {
+            far_j.push((a, b));
+            false
+        });
+    }
+    for ci in &si {
+        let found = far(i, j, ci, &mut |a, b| {
+            if !far_j.contains(&(a, b)) {
+                return false;
+            }
+            let cap = (pi + pj + c.pos[a as usize] + c.pos[b as usize]) / 4.0;
+            faces_away(c, ci.0, cap)
+        });
+        if found {
+            return true;
+        }
+    }
+    false
 }
 
 /// The fewest triangles a closed part can keep its topology with (a
@@ -972,7 +1074,8 @@ mod tests {
                     let want = whole::keeps_topology(&c, i, j);
                     assert_eq!(keeps_topology(&c, i, j), want, "link {i}-{j}");
                     refused += usize::from(!want);
-                    let want = whole::pinches(&c, i, j);
+                    let want = pinches_whole(&c, i, j);
+                    assert_eq!(pinches_local(&c, i, j), want, "pinch {i}-{j}");
                     assert_eq!(pinches(&c, i, j), want, "pinch {i}-{j}");
                     pinched += usize::from(want);
                     c.star_faces(i, j, &mut star);

@@ -1,11 +1,12 @@
 //! The guards as first written, each reading the whole star of both
 //! endpoints: the reference the local versions in `guards` must agree with
 //! (same verdicts, same witness faces), checked on random complexes in
-//! `guards::tests`. Test-only.
+//! `guards::tests`. Test-only. (The pinch test's whole-star version is in
+//! `guards` itself: it is the faster one for ordinary stars.)
 
 use glam::DVec3;
 
-use super::guards::{faces_away, vanishes};
+use super::guards::vanishes;
 use crate::prepare::complex::Complex;
 use crate::prepare::geometry::polygon_normal;
 
@@ -155,92 +156,4 @@ fn shares_a_far_side(c: &Complex, i: u32, j: u32) -> bool {
     far_sides(c, j, i)
         .iter()
         .any(|s| si.binary_search(s).is_ok())
-}
-
-pub(super) fn pinches(c: &Complex, i: u32, j: u32) -> bool {
-    // Checked once per collapse the loop pops, so from one pass over each
-    // star: each face's neighbours of the star's center (`prev`, `next`),
-    // which for a triangle are also its far side.
-    let corners = |v: u32| {
-        let mut out: smallvec::SmallVec<[(u32, u32, u32, usize); 12]> = smallvec::SmallVec::new();
-        for &f in &c.vert_faces[v as usize] {
-            let face = c.face(f);
-            let n = face.len();
-            if let Some(k) = face.iter().position(|&w| w == v) {
-                out.push((f, face[(k + n - 1) % n], face[(k + 1) % n], n));
-            }
-        }
-        out
-    };
-    let si = corners(i);
-    if !si.iter().any(|&(_, p, q, _)| p == j || q == j) {
-        return false;
-    }
-    let sj = corners(j);
-    let (pi, pj) = (c.pos[i as usize], c.pos[j as usize]);
-    let neighbour_of_i = |w: u32| si.iter().any(|&(_, p, q, _)| p == w || q == w);
-    // First rule: a common neighbour `w` with no triangle (i, j, w).
-    for &(_, p, q, _) in &sj {
-        for w in [p, q] {
-            if w == i || !neighbour_of_i(w) {
-                continue;
-            }
-            let closed = si
-                .iter()
-                .any(|&(_, a, b, n)| n == 3 && ((a == j && b == w) || (a == w && b == j)));
-            if closed {
-                continue;
-            }
-            let ring = (pi + pj + c.pos[w as usize]) / 3.0;
-            let on_edge = si.iter().find(|&&(_, a, b, _)| a == j || b == j);
-            if on_edge.is_some_and(|&(g, ..)| faces_away(c, g, ring)) {
-                return true;
-            }
-        }
-    }
-    // Second rule: a far side of a face of each (triangles: the side
-    // opposite the center; other polygons: every side not touching it).
-    // Sides are reported to `visit` in order, without a list per face:
-    // this check runs at every pop of the queue.
-    let far = |v: u32,
-               other: u32,
-               &(f, p, q, n): &(u32, u32, u32, usize),
-               visit: &mut dyn FnMut(u32, u32) -> bool|
-     -> bool {
-        let face = c.face(f);
-        if face.contains(&other) {
-            return false;
-        }
-        if n == 3 {
-            return visit(p.min(q), p.max(q));
-        }
-        for k in 0..n {
-            let (a, b) = (face[k], face[(k + 1) % n]);
-            if a != v && b != v && visit(a.min(b), a.max(b)) {
-                return true;
-            }
-        }
-        false
-    };
-    // `j`'s far sides once, not once per face of `i`.
-    let mut far_j: smallvec::SmallVec<[(u32, u32); 16]> = smallvec::SmallVec::new();
-    for cj in &sj {
-        far(j, i, cj, &mut |a, b| {
-            far_j.push((a, b));
-            false
-        });
-    }
-    for ci in &si {
-        let found = far(i, j, ci, &mut |a, b| {
-            if !far_j.contains(&(a, b)) {
-                return false;
-            }
-            let cap = (pi + pj + c.pos[a as usize] + c.pos[b as usize]) / 4.0;
-            faces_away(c, ci.0, cap)
-        });
-        if found {
-            return true;
-        }
-    }
-    false
 }
