@@ -2,7 +2,9 @@
 //! mesh of about 20,000 triangles with a continuous UV layout and a 2048²
 //! base colour image, and a scan-like mesh of about 10,000 triangles (a
 //! jittered bumpy sphere) whose every quad is its own UV island in a 4096²
-//! image, as photogrammetry atlases are. Made in code, so that no corpus
+//! image, as photogrammetry atlases are, and a noisy terrain (a height
+//! field whose every height carries a survey's noise, planar UVs). Made in
+//! code, so that no corpus
 //! file is copied into the repository; `--bin bake-inputs` writes them as
 //! GLB for the whole-process timings.
 
@@ -103,6 +105,56 @@ pub fn scan_like(n: usize, size: u32) -> BakeInput {
     let image = pattern(size, 8);
     BakeInput {
         scene: scene(m, "scan"),
+        image,
+    }
+}
+
+/// An open height field of `n × n` vertices (`2 (n − 1)²` triangles, 100 ×
+/// 100 units, hills of a few units) whose every height is jittered by up to
+/// a cell size either way (a terrain survey's or a scan's noise: its LOD
+/// keeps the spikes, and a fifth of the LOD's faces tilt by more than 45°),
+/// with planar UVs over a `size`² image.
+pub fn noisy_terrain(n: usize, size: u32) -> BakeInput {
+    let n = n.max(2);
+    let cell = 100.0 / (n - 1) as f32;
+    let mut state = 0x9e37_79b9_7f4a_7c15u64;
+    let mut positions = Vec::with_capacity(n * n);
+    let mut uv = Vec::with_capacity(2 * n * n);
+    for j in 0..n {
+        for i in 0..n {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            let r = (state >> 40) as f32 / (1u64 << 24) as f32 - 0.5;
+            let (x, z) = (i as f32 * cell, j as f32 * cell);
+            let y = 4.0 * (0.07 * x).sin() * (0.05 * z + 0.3).cos()
+                + 2.0 * (0.13 * x + 0.11 * z).sin()
+                + 2.0 * cell * r;
+            positions.push([x, y, z]);
+            uv.extend_from_slice(&[x / 100.0, z / 100.0]);
+        }
+    }
+    let id = |i: usize, j: usize| (j * n + i) as u32;
+    let mut indices = Vec::with_capacity(6 * (n - 1) * (n - 1));
+    for j in 0..n - 1 {
+        for i in 0..n - 1 {
+            // Wound to face +y.
+            indices.extend_from_slice(&[id(i, j), id(i + 1, j + 1), id(i + 1, j)]);
+            indices.extend_from_slice(&[id(i, j), id(i, j + 1), id(i + 1, j + 1)]);
+        }
+    }
+    let mut m = Mesh::from_triangles(positions, &indices);
+    // UVs per corner, from the corner's vertex.
+    let corner_uv: Vec<f32> = m
+        .faces
+        .indices
+        .iter()
+        .flat_map(|&v| [uv[2 * v as usize], uv[2 * v as usize + 1]])
+        .collect();
+    set_uv(&mut m, corner_uv);
+    let image = pattern(size, 16);
+    BakeInput {
+        scene: scene(m, "terrain"),
         image,
     }
 }

@@ -2,14 +2,15 @@
 //! (`wildlod_bench::bake_inputs`) as GLB with embedded PNG images:
 //! `textured20k.glb` (20,000 triangles, 2048² base colour) and
 //! `scan10k.glb` (10,092 triangles, 4096² base colour, one UV island per
-//! quad). Time them with
+//! quad) and `terrain1m.glb` (998,002 triangles of a noisy height field,
+//! 1024² base colour). Time them with
 //! `/usr/bin/time -v target/release/wildlod simplify DIR/textured20k.glb -o OUT.glb --ratio 0.1 --bake --texture-size 2048`
 //! and `... DIR/scan10k.glb -o OUT.glb --ratio 0.01 --bake`.
 
 use std::path::PathBuf;
 
 use anyhow::Context;
-use wildlod_bench::bake_inputs::{scan_like, textured_torus, BakeInput};
+use wildlod_bench::bake_inputs::{noisy_terrain, scan_like, textured_torus, BakeInput};
 use wildlod_io::{encode_image, Document, ImageEncoding, WriteOptions};
 use wildlod_mesh::ImageSource;
 
@@ -22,6 +23,7 @@ fn main() -> anyhow::Result<()> {
     for (name, input) in [
         ("textured20k.glb", textured_torus(100, 100, 2048)),
         ("scan10k.glb", scan_like(29, 4096)),
+        ("terrain1m.glb", noisy_terrain(708, 1024)),
     ] {
         let BakeInput { mut scene, image } = input;
         let bytes = encode_image(&image, ImageEncoding::Png, name)?;
