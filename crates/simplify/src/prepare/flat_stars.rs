@@ -35,8 +35,10 @@ impl StarPlane {
     /// with area sets the plane).
     pub(crate) fn of(c: &Complex, v: u32) -> StarPlane {
         match count(c, v) {
-            (_, 0, _) => StarPlane::NoArea,
-            (n, _, 0) => StarPlane::Flat(n),
+            Counts { area: 0, .. } => StarPlane::NoArea,
+            Counts {
+                reference, off: 0, ..
+            } => StarPlane::Flat(reference),
             _ => StarPlane::Curved,
         }
     }
@@ -64,11 +66,30 @@ impl StarPlane {
 /// edge to a border is taken from the queue. Counting every
 /// vertex through every collapse cost a closed scan (the dragon) a fifth
 /// of its run.
+///
+/// A counted vertex has a slot in dense arrays: a closed mesh keeps none,
+/// and a scan with a few holes a slot index a vertex, where the counts of
+/// every vertex cost the dragon 18 MB. Collapses skip every face with no
+/// counted corner without computing its plane.
 #[derive(Clone, Debug, Default)]
 pub(crate) struct FlatStars {
-    reference: Vec<DVec3>,
-    area: Vec<u32>,
-    off: Vec<u32>,
+    /// Whether the run keeps counts (else every question is measured on
+    /// the spot).
+    kept: bool,
+    /// Per vertex, its slot or [`UNCOUNTED`]; empty until the first vertex
+    /// is counted.
+    slot: Vec<u32>,
+    /// Per slot: the reference normal, faces with area, faces off its
+    /// plane.
+    counts: Vec<Counts>,
+}
+
+/// The counts of one vertex.
+#[derive(Clone, Copy, Debug)]
+struct Counts {
+    reference: DVec3,
+    area: u32,
+    off: u32,
 }
 
 impl FlatStars {
@@ -76,33 +97,62 @@ impl FlatStars {
     /// reads only its own faces); the others not.
     pub(crate) fn measure(c: &Complex) -> FlatStars {
         use rayon::prelude::*;
-        let counted: Vec<(DVec3, u32, u32)> = (0..c.pos.len() as u32)
+        let counted: Vec<(u32, Counts)> = (0..c.pos.len() as u32)
             .into_par_iter()
-            .map(|v| {
-                if near_border(c, v) {
-                    count(c, v)
-                } else {
-                    (DVec3::ZERO, UNTRACKED, 0)
-                }
-            })
+            .filter(|&v| near_border(c, v))
+            .map(|v| (v, count(c, v)))
             .collect();
-        FlatStars {
-            reference: counted.iter().map(|t| t.0).collect(),
-            area: counted.iter().map(|t| t.1).collect(),
-            off: counted.iter().map(|t| t.2).collect(),
+        let mut stars = FlatStars {
+            kept: true,
+            ..FlatStars::default()
+        };
+        for (v, counts) in counted {
+            stars.set(c, v, counts);
         }
+        stars
+    }
+
+    /// The slot of `v`, if it is counted.
+    #[inline]
+    fn slot(&self, v: u32) -> Option<usize> {
+        match self.slot.get(v as usize) {
+            Some(&k) if k != UNCOUNTED => Some(k as usize),
+            _ => None,
+        }
+    }
+
+    /// Starts or renews `v`'s counts.
+    fn set(&mut self, c: &Complex, v: u32, counts: Counts) {
+        if let Some(k) = self.slot(v) {
+            self.counts[k] = counts;
+            return;
+        }
+        if self.slot.is_empty() {
+            self.slot = vec![UNCOUNTED; c.pos.len()];
+        }
+        self.slot[v as usize] = self.counts.len() as u32;
+        self.counts.push(counts);
+    }
+
+    /// Whether no corner of face `f` is counted (its plane is then not
+    /// needed).
+    #[inline]
+    fn uncounted(&self, c: &Complex, f: u32) -> bool {
+        c.face(f).iter().all(|&v| self.slot(v).is_none())
     }
 
     /// What the counts say about `v`: `None` when its reference is stale
     /// or it is not counted (or nothing was measured).
     #[inline]
     fn known(&self, v: u32) -> Option<StarPlane> {
-        let v = v as usize;
-        let (area, off) = (*self.area.get(v)?, self.off[v]);
+        let Counts {
+            reference,
+            area,
+            off,
+        } = self.counts[self.slot(v)?];
         match () {
-            _ if area == UNTRACKED => None,
             _ if area == 0 => Some(StarPlane::NoArea),
-            _ if off == 0 => Some(StarPlane::Flat(self.reference[v])),
+            _ if off == 0 => Some(StarPlane::Flat(reference)),
             _ if off < area => Some(StarPlane::Curved),
             _ => None,
         }
@@ -125,20 +175,22 @@ impl FlatStars {
     /// changes them (the faces around its two ends), with the positions
     /// they were counted at.
     pub(crate) fn before_collapse(&mut self, c: &Complex, faces: &[u32]) {
-        if self.area.is_empty() {
+        if self.counts.is_empty() {
             return;
         }
         for &f in faces {
+            if self.uncounted(c, f) {
+                continue;
+            }
             let Some((n, _, _)) = face_plane(c, f) else {
                 continue;
             };
             for &v in c.face(f) {
-                let v = v as usize;
-                if self.area[v] == UNTRACKED {
-                    continue;
+                if let Some(k) = self.slot(v) {
+                    let x = &mut self.counts[k];
+                    x.area -= 1;
+                    x.off -= u32::from(!coplanar(x.reference, n));
                 }
-                self.area[v] -= 1;
-                self.off[v] -= u32::from(!coplanar(self.reference[v], n));
             }
         }
     }
@@ -147,24 +199,26 @@ impl FlatStars {
     /// the collapse (a dead face has no corners left), and starts counting
     /// the vertices it put on a border.
     pub(crate) fn after_collapse(&mut self, c: &Complex, faces: &[u32]) {
-        if self.area.is_empty() {
+        if !self.kept {
             return;
         }
         for &f in faces {
+            if self.counts.is_empty() || self.uncounted(c, f) {
+                continue;
+            }
             let Some((n, _, _)) = face_plane(c, f) else {
                 continue;
             };
             for &v in c.face(f) {
-                let v = v as usize;
-                if self.area[v] == UNTRACKED {
-                    continue;
+                if let Some(k) = self.slot(v) {
+                    let x = &mut self.counts[k];
+                    if x.area == 0 {
+                        x.reference = n;
+                        x.off = 0;
+                    }
+                    x.area += 1;
+                    x.off += u32::from(!coplanar(x.reference, n));
                 }
-                if self.area[v] == 0 {
-                    self.reference[v] = n;
-                    self.off[v] = 0;
-                }
-                self.area[v] += 1;
-                self.off[v] += u32::from(!coplanar(self.reference[v], n));
             }
         }
         // Then counted from scratch (after the faces went back, which
@@ -175,9 +229,8 @@ impl FlatStars {
         // neighbour at each collapse along its border.
         for &f in faces {
             for &v in c.face(f) {
-                let v = v as usize;
-                if self.area[v] == UNTRACKED && c.on_boundary(v as u32) {
-                    (self.reference[v], self.area[v], self.off[v]) = count(c, v as u32);
+                if self.slot(v).is_none() && c.on_boundary(v) {
+                    self.set(c, v, count(c, v));
                 }
             }
         }
@@ -187,17 +240,15 @@ impl FlatStars {
     /// now on if it was not counted), so that every edge evaluated there
     /// until the next change reads the counts.
     pub(crate) fn refresh(&mut self, c: &Complex, v: u32) {
-        if self.area.is_empty() || self.known(v).is_some() {
+        if !self.kept || self.known(v).is_some() {
             return;
         }
-        let (r, a, o) = count(c, v);
-        let v = v as usize;
-        (self.reference[v], self.area[v], self.off[v]) = (r, a, o);
+        self.set(c, v, count(c, v));
     }
 }
 
-/// The area count of a vertex not counted (yet).
-const UNTRACKED: u32 = u32::MAX;
+/// The slot of a vertex not counted (yet).
+const UNCOUNTED: u32 = u32::MAX;
 
 /// Whether `v` is on a border or next to a vertex that is.
 fn near_border(c: &Complex, v: u32) -> bool {
@@ -209,7 +260,7 @@ fn near_border(c: &Complex, v: u32) -> bool {
 
 /// Reference normal (the first face with area's), faces with area, and
 /// faces off the reference's plane around `v`.
-fn count(c: &Complex, v: u32) -> (DVec3, u32, u32) {
+fn count(c: &Complex, v: u32) -> Counts {
     let (mut reference, mut area, mut off) = (DVec3::ZERO, 0, 0);
     for &f in c.vert_faces[v as usize].iter() {
         let Some((n, _, _)) = face_plane(c, f) else {
@@ -221,7 +272,11 @@ fn count(c: &Complex, v: u32) -> (DVec3, u32, u32) {
         area += 1;
         off += u32::from(!coplanar(reference, n));
     }
-    (reference, area, off)
+    Counts {
+        reference,
+        area,
+        off,
+    }
 }
 
 #[cfg(test)]
@@ -372,10 +427,10 @@ mod tests {
             for v in 0..c.pos.len() as u32 {
                 let fresh = StarPlane::of(&c, v);
                 stale += usize::from(stars.known(v).is_none());
-                untracked += usize::from(stars.area[v as usize] == UNTRACKED);
+                untracked += usize::from(stars.slot(v).is_none());
                 // Counted where the rule asks: every border vertex.
                 if c.on_boundary(v) {
-                    assert_ne!(stars.area[v as usize], UNTRACKED, "border vertex {v}");
+                    assert!(stars.slot(v).is_some(), "border vertex {v}");
                 }
                 assert!(
                     same(stars.get(&c, v), fresh),
