@@ -24,8 +24,9 @@ pub struct AtlasOptions {
     /// bilinear filtering (and the first mip levels) of one chart never
     /// reads another's texels. Default 4: safe at mip levels 0 and 1.
     pub padding: u32,
-    /// Largest angle, in degrees, between a triangle's normal and its
-    /// chart's first triangle (and mean normal). Orthographic projection
+    /// Largest angle, in degrees, between a triangle's normal and the
+    /// direction its chart is projected along (the mean normal of the
+    /// region grown around the chart's seed). Orthographic projection
     /// stretches a triangle by at most 1/cos of this angle. Default 50°.
     pub max_chart_angle: f64,
     /// Only a packing that fits usefully ([`Atlas::fits`]) is wanted: when
