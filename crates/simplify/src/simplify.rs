@@ -9,7 +9,7 @@
 use glam::DVec3;
 use wildlod_mesh::Faces;
 
-use crate::assemble::fidelity::fidelity;
+use crate::assemble::fidelity::Reference;
 use crate::assemble::{assemble, Simplified};
 use crate::collapse::Run;
 use crate::error::Error;
@@ -156,9 +156,14 @@ pub fn simplify_with_attributes_and_progress(
     let steered = simplify_once(positions, faces, attributes, options, budget, &|f| {
         progress(0.4 + 0.6 * f)
     })?;
-    let input = (positions, faces);
-    let g = fidelity(input, (&geometry.positions, &geometry.faces));
-    let s = fidelity(input, (&steered.positions, &steered.faces));
+    // The input is sampled and indexed once for both results.
+    let (g, s) = {
+        let reference = Reference::new((positions, faces));
+        (
+            reference.fidelity((&geometry.positions, &geometry.faces)),
+            reference.fidelity((&steered.positions, &steered.faces)),
+        )
+    };
     let diagonal = diagonal(positions, faces);
     let a = &options.attributes;
     let within = |steered: f64, plain: f64, invisible: f64| {

@@ -131,23 +131,46 @@ impl Surface {
     }
 }
 
+/// An input sampled and indexed once, to measure any number of its
+/// results against.
+pub(crate) struct Reference {
+    surface: Surface,
+    /// The result's larger triangles are sampled on a grid this fine.
+    spacing: f64,
+}
+
+impl Reference {
+    /// The input as faces over positions, sampled at its own density.
+    pub(crate) fn new(input: (&[[f32; 3]], &Faces)) -> Reference {
+        let surface = Surface::new(input.0, input.1, 0.0);
+        let spacing = surface.mean_triangle_side();
+        Reference { surface, spacing }
+    }
+
+    /// The sampled distances between the input and `output`, a result of
+    /// simplifying it.
+    pub(crate) fn fidelity(&self, output: (&[[f32; 3]], &Faces)) -> Fidelity {
+        // The result's larger triangles are sampled on a grid as fine as
+        // the input's mean triangle, so a feature cut off inside one is
+        // seen.
+        let a = &self.surface;
+        let b = Surface::new(output.0, output.1, self.spacing);
+        if b.samples.is_empty() || a.samples.is_empty() {
+            return Fidelity::default();
+        }
+        let (h1, c1) = a.to(&b);
+        let (h2, c2) = b.to(a);
+        Fidelity {
+            hausdorff: h1.max(h2),
+            chamfer: 0.5 * (c1 + c2),
+        }
+    }
+}
+
 /// The sampled distances between an input and a result of simplifying it.
-pub(crate) fn fidelity(input: (&[[f32; 3]], &Faces), output: (&[[f32; 3]], &Faces)) -> Fidelity {
-    // The input is sampled at its own density; the result's larger
-    // triangles on a grid as fine as the input's mean triangle, so a
-    // feature cut off inside one is seen.
-    let a = Surface::new(input.0, input.1, 0.0);
-    let spacing = a.mean_triangle_side();
-    let b = Surface::new(output.0, output.1, spacing);
-    if b.samples.is_empty() || a.samples.is_empty() {
-        return Fidelity::default();
-    }
-    let (h1, c1) = a.to(&b);
-    let (h2, c2) = b.to(&a);
-    Fidelity {
-        hausdorff: h1.max(h2),
-        chamfer: 0.5 * (c1 + c2),
-    }
+#[cfg(test)]
+fn fidelity(input: (&[[f32; 3]], &Faces), output: (&[[f32; 3]], &Faces)) -> Fidelity {
+    Reference::new(input).fidelity(output)
 }
 
 #[cfg(test)]
