@@ -134,15 +134,7 @@ pub fn noisy_terrain(n: usize, size: u32) -> BakeInput {
             uv.extend_from_slice(&[x / 100.0, z / 100.0]);
         }
     }
-    let id = |i: usize, j: usize| (j * n + i) as u32;
-    let mut indices = Vec::with_capacity(6 * (n - 1) * (n - 1));
-    for j in 0..n - 1 {
-        for i in 0..n - 1 {
-            // Wound to face +y.
-            indices.extend_from_slice(&[id(i, j), id(i + 1, j + 1), id(i + 1, j)]);
-            indices.extend_from_slice(&[id(i, j), id(i, j + 1), id(i + 1, j + 1)]);
-        }
-    }
+    let indices = wildlod_testkit::height_field_triangles(n);
     let mut m = Mesh::from_triangles(positions, &indices);
     // UVs per corner, from the corner's vertex.
     let corner_uv: Vec<f32> = m

@@ -14,7 +14,8 @@ pub mod scenes;
 
 pub use scenes::{
     bent_tube, border_segments, city_block, distance_to_segments, double_sided_sheet,
-    filleted_block, flat_tiling, house, outlier_terrain, terrain_outliers, uv_fold_mesh,
+    filleted_block, flat_tiling, height_field_triangles, house, outlier_terrain, terrain_outliers,
+    uv_fold_mesh,
 };
 
 /// The corpus root: `$WILDLOD_CORPUS` if set, else `../shared/corpus` beside

@@ -1542,16 +1542,7 @@ pub fn outlier_terrain(n: usize, outliers: usize) -> Scene {
     for v in terrain_outliers(n, outliers) {
         positions[v as usize][1] = OUTLIER_HEIGHT;
     }
-    let id = |i: usize, j: usize| (j * n + i) as u32;
-    let mut indices = Vec::with_capacity(6 * (n - 1) * (n - 1));
-    for j in 0..n - 1 {
-        for i in 0..n - 1 {
-            // Wound to face +y.
-            indices.extend_from_slice(&[id(i, j), id(i + 1, j + 1), id(i + 1, j)]);
-            indices.extend_from_slice(&[id(i, j), id(i, j + 1), id(i + 1, j + 1)]);
-        }
-    }
-    let mut mesh = Mesh::from_triangles(positions, &indices);
+    let mut mesh = Mesh::from_triangles(positions, &height_field_triangles(n));
     mesh.name = "terrain".into();
     mesh.parts[0] = Part {
         name: "terrain".into(),
@@ -1562,6 +1553,21 @@ pub fn outlier_terrain(n: usize, outliers: usize) -> Scene {
         vec![material("ground", [0.35, 0.42, 0.25])],
         Vec::new(),
     )
+}
+
+/// The triangles of a height field of `n × n` vertices in rows of `n`
+/// (vertex `j · n + i` at column `i`, row `j`; x along columns, z along
+/// rows): two a cell, `2 (n − 1)²` in all, wound to face +y.
+pub fn height_field_triangles(n: usize) -> Vec<u32> {
+    let id = |i: usize, j: usize| (j * n + i) as u32;
+    let mut indices = Vec::with_capacity(6 * n.saturating_sub(1).pow(2));
+    for j in 0..n.saturating_sub(1) {
+        for i in 0..n - 1 {
+            indices.extend_from_slice(&[id(i, j), id(i + 1, j + 1), id(i + 1, j)]);
+            indices.extend_from_slice(&[id(i, j), id(i, j + 1), id(i + 1, j + 1)]);
+        }
+    }
+    indices
 }
 
 /// The vertices [`outlier_terrain`] moves far away: `outliers` distinct
