@@ -175,21 +175,34 @@ impl FlatStars {
     /// changes them (the faces around its two ends), with the positions
     /// they were counted at.
     pub(crate) fn before_collapse(&mut self, c: &Complex, faces: &[u32]) {
+        self.each_counted_corner(c, faces, |x, n| {
+            x.area -= 1;
+            x.off -= u32::from(!coplanar(x.reference, n));
+        });
+    }
+
+    /// Calls `f(counts, face normal)` for every counted corner of every
+    /// face of `faces` with area; a face with no counted corner is skipped
+    /// before its plane is computed.
+    fn each_counted_corner(
+        &mut self,
+        c: &Complex,
+        faces: &[u32],
+        mut f: impl FnMut(&mut Counts, DVec3),
+    ) {
         if self.counts.is_empty() {
             return;
         }
-        for &f in faces {
-            if self.uncounted(c, f) {
+        for &face in faces {
+            if self.uncounted(c, face) {
                 continue;
             }
-            let Some((n, _, _)) = face_plane(c, f) else {
+            let Some((n, _, _)) = face_plane(c, face) else {
                 continue;
             };
-            for &v in c.face(f) {
+            for &v in c.face(face) {
                 if let Some(k) = self.slot(v) {
-                    let x = &mut self.counts[k];
-                    x.area -= 1;
-                    x.off -= u32::from(!coplanar(x.reference, n));
+                    f(&mut self.counts[k], n);
                 }
             }
         }
@@ -202,25 +215,14 @@ impl FlatStars {
         if !self.kept {
             return;
         }
-        for &f in faces {
-            if self.counts.is_empty() || self.uncounted(c, f) {
-                continue;
+        self.each_counted_corner(c, faces, |x, n| {
+            if x.area == 0 {
+                x.reference = n;
+                x.off = 0;
             }
-            let Some((n, _, _)) = face_plane(c, f) else {
-                continue;
-            };
-            for &v in c.face(f) {
-                if let Some(k) = self.slot(v) {
-                    let x = &mut self.counts[k];
-                    if x.area == 0 {
-                        x.reference = n;
-                        x.off = 0;
-                    }
-                    x.area += 1;
-                    x.off += u32::from(!coplanar(x.reference, n));
-                }
-            }
-        }
+            x.area += 1;
+            x.off += u32::from(!coplanar(x.reference, n));
+        });
         // Then counted from scratch (after the faces went back, which
         // skipped them): the vertices the collapse put on a border, which
         // changes only at the corners of its faces. Their neighbours are
