@@ -16,8 +16,9 @@
 //! - `density.rs`: the input's texel density over each output triangle,
 //!   through the mapping, so that charts get texels where the input has
 //!   its detail ([`build_atlas_weighted`]).
-//! - [`rasterize`] (`raster.rs`): which texels a bake computes (charts plus
-//!   the bilinear margin) and where each one is on the surface.
+//! - [`rasterize`] and [`Rasterizer`] (`raster.rs`): which texels a bake
+//!   computes (charts plus the bilinear margin) and where each one is on
+//!   the surface, a band of rows at a time.
 //! - `channels.rs`: every PBR channel at an input point, normals re-expressed
 //!   in the output's MikkTSpace frame.
 //! - `texture_detail.rs`: how far an input texture may be downsampled
@@ -58,6 +59,6 @@ pub use channels::Channel;
 pub use input::BakeInput;
 pub use interface::{AtlasReport, BakeError, BakeOptions, BakeReport, Baked, BakedImage};
 pub use mapping::{SuccessiveMap, SurfacePoint};
-pub use raster::{closest_on_triangle_2d, rasterize, Coverage, NO_TRIANGLE};
+pub use raster::{closest_on_triangle_2d, rasterize, Coverage, Rasterizer, NO_TRIANGLE};
 pub use scene_bake::{bake_meshes, BakedMesh, SceneBakeError, SceneBaked, SceneMesh};
 pub use texture_detail::VISIBLE_BLUR;

@@ -14,13 +14,17 @@
 /// No triangle owns the texel.
 pub const NO_TRIANGLE: u32 = u32::MAX;
 
-/// Texel ownership of one atlas.
+/// Texel ownership of rows of one atlas (all of them from [`rasterize`],
+/// a band from [`Rasterizer::rows`]).
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Coverage {
-    /// Width and height in texels.
+    /// Width and height of the atlas in texels.
     pub size: u32,
-    /// Owning triangle of every texel (row-major, top row first), or
-    /// [`NO_TRIANGLE`].
+    /// The first row covered; the rows are `first_row..first_row +
+    /// triangle.len() / size`.
+    pub first_row: u32,
+    /// Owning triangle of every texel of the rows (row-major, top row
+    /// first), or [`NO_TRIANGLE`].
     pub triangle: Vec<u32>,
     /// Barycentrics of the texel's surface point on its triangle.
     pub bary: Vec<[f32; 3]>,
@@ -50,91 +54,149 @@ impl Coverage {
 const BAND_ROWS: usize = 32;
 
 /// Assigns texels to the triangles with corners `corner_uvs` (three per
-/// triangle, in texels), up to `margin` texels outside them.
-///
-/// Bands of rows are assigned in parallel, each from the triangles whose
-/// box (grown by the margin) reaches it; the winner of a texel depends only
-/// on distances and indices, so the result is the same on any number of
-/// threads.
+/// triangle, in texels), up to `margin` texels outside them, over the
+/// whole atlas ([`Rasterizer::rows`] over every row).
 pub fn rasterize(corner_uvs: &[[f32; 2]], size: u32, margin: f32) -> Coverage {
-    use rayon::prelude::*;
-    let n = size as usize * size as usize;
-    let mut c = Coverage {
-        size,
-        triangle: vec![NO_TRIANGLE; n],
-        bary: vec![[0.0; 3]; n],
-        distance: vec![f32::INFINITY; n],
-    };
-    if n == 0 {
-        return c;
-    }
-    let s = size as f32;
-    let w = size as usize;
-    // Each triangle's texel box: columns x0..x1, rows y0..y1.
-    let boxes: Vec<Option<[usize; 4]>> = corner_uvs
-        .chunks_exact(3)
-        .map(|q| {
-            if q.iter().any(|p| !(p[0].is_finite() && p[1].is_finite())) {
-                return None;
-            }
-            let lo_x = q.iter().map(|p| p[0]).fold(f32::INFINITY, f32::min) - margin;
-            let hi_x = q.iter().map(|p| p[0]).fold(f32::NEG_INFINITY, f32::max) + margin;
-            let lo_y = q.iter().map(|p| p[1]).fold(f32::INFINITY, f32::min) - margin;
-            let hi_y = q.iter().map(|p| p[1]).fold(f32::NEG_INFINITY, f32::max) + margin;
-            // Texel x has its center at x + 0.5.
-            let x0 = (lo_x - 0.5).ceil().clamp(0.0, s) as usize;
-            let x1 = ((hi_x - 0.5).floor() + 1.0).clamp(0.0, s) as usize;
-            let y0 = (lo_y - 0.5).ceil().clamp(0.0, s) as usize;
-            let y1 = ((hi_y - 0.5).floor() + 1.0).clamp(0.0, s) as usize;
-            (x0 < x1 && y0 < y1).then_some([x0, x1, y0, y1])
-        })
-        .collect();
-    // Triangles by band, in ascending order.
-    let bands = w.div_ceil(BAND_ROWS);
-    let mut in_band: Vec<Vec<u32>> = vec![Vec::new(); bands];
-    for (t, b) in boxes.iter().enumerate() {
-        if let Some([_, _, y0, y1]) = *b {
-            for list in &mut in_band[y0 / BAND_ROWS..=(y1 - 1) / BAND_ROWS] {
-                list.push(t as u32);
+    Rasterizer::new(corner_uvs, size, margin).rows(0..size)
+}
+
+/// Texel ownership computed a band of rows at a time: a bake keeps only
+/// the band it works on (20 bytes a texel: 320 MiB for a whole 4096²
+/// atlas).
+///
+/// Each band is assigned from the triangles whose box (grown by the
+/// margin) reaches it, in parallel over bands of 32 rows; the winner of a
+/// texel depends only on distances and indices, so the result is the same
+/// on any number of threads and for any split into bands.
+#[derive(Clone, Debug)]
+pub struct Rasterizer<'a> {
+    corner_uvs: &'a [[f32; 2]],
+    size: u32,
+    margin: f32,
+    /// Each triangle's texel box: columns x0..x1, rows y0..y1.
+    boxes: Vec<Option<[usize; 4]>>,
+    /// The triangles reaching each band of `BAND_ROWS` rows, ascending.
+    in_band: Vec<Vec<u32>>,
+}
+
+impl<'a> Rasterizer<'a> {
+    /// Prepares the assignment of a `size`² atlas to the triangles with
+    /// corners `corner_uvs` (three per triangle, in texels), up to `margin`
+    /// texels outside them.
+    pub fn new(corner_uvs: &'a [[f32; 2]], size: u32, margin: f32) -> Self {
+        let s = size as f32;
+        let boxes: Vec<Option<[usize; 4]>> = corner_uvs
+            .chunks_exact(3)
+            .map(|q| {
+                if q.iter().any(|p| !(p[0].is_finite() && p[1].is_finite())) {
+                    return None;
+                }
+                let lo_x = q.iter().map(|p| p[0]).fold(f32::INFINITY, f32::min) - margin;
+                let hi_x = q.iter().map(|p| p[0]).fold(f32::NEG_INFINITY, f32::max) + margin;
+                let lo_y = q.iter().map(|p| p[1]).fold(f32::INFINITY, f32::min) - margin;
+                let hi_y = q.iter().map(|p| p[1]).fold(f32::NEG_INFINITY, f32::max) + margin;
+                // Texel x has its center at x + 0.5.
+                let x0 = (lo_x - 0.5).ceil().clamp(0.0, s) as usize;
+                let x1 = ((hi_x - 0.5).floor() + 1.0).clamp(0.0, s) as usize;
+                let y0 = (lo_y - 0.5).ceil().clamp(0.0, s) as usize;
+                let y1 = ((hi_y - 0.5).floor() + 1.0).clamp(0.0, s) as usize;
+                (x0 < x1 && y0 < y1).then_some([x0, x1, y0, y1])
+            })
+            .collect();
+        let mut in_band: Vec<Vec<u32>> = vec![Vec::new(); (size as usize).div_ceil(BAND_ROWS)];
+        for (t, b) in boxes.iter().enumerate() {
+            if let Some([_, _, y0, y1]) = *b {
+                for list in &mut in_band[y0 / BAND_ROWS..=(y1 - 1) / BAND_ROWS] {
+                    list.push(t as u32);
+                }
             }
         }
+        Rasterizer {
+            corner_uvs,
+            size,
+            margin,
+            boxes,
+            in_band,
+        }
     }
-    let rows = BAND_ROWS * w;
-    c.triangle
-        .par_chunks_mut(rows)
-        .zip(c.bary.par_chunks_mut(rows))
-        .zip(c.distance.par_chunks_mut(rows))
-        .zip(in_band.par_iter())
-        .enumerate()
-        .for_each(|(band, (((owner, bary), distance), tris))| {
-            let first_row = band * BAND_ROWS;
-            let last_row = first_row + owner.len() / w;
-            for &t in tris {
-                let Some([x0, x1, y0, y1]) = boxes[t as usize] else {
-                    continue;
-                };
-                let uv = &corner_uvs[3 * t as usize..3 * t as usize + 3];
-                let q = [uv[0], uv[1], uv[2]];
-                for y in y0.max(first_row)..y1.min(last_row) {
-                    for x in x0..x1 {
-                        let p = [x as f32 + 0.5, y as f32 + 0.5];
-                        let (d, b) = closest_on_triangle_2d(p, q);
-                        if d > margin {
-                            continue;
-                        }
-                        let i = (y - first_row) * w + x;
-                        let cur = distance[i];
-                        // Lower distance wins; ties keep the lower triangle.
-                        if d < cur || (d == cur && t < owner[i]) {
-                            distance[i] = d;
-                            owner[i] = t;
-                            bary[i] = b;
-                        }
+
+    /// The ownership of rows `rows` (clamped to the atlas).
+    pub fn rows(&self, rows: std::ops::Range<u32>) -> Coverage {
+        use rayon::prelude::*;
+        let w = self.size as usize;
+        let (y0, y1) = (rows.start.min(self.size), rows.end.min(self.size));
+        let n = (y1.saturating_sub(y0)) as usize * w;
+        let mut c = Coverage {
+            size: self.size,
+            first_row: y0,
+            triangle: vec![NO_TRIANGLE; n],
+            bary: vec![[0.0; 3]; n],
+            distance: vec![f32::INFINITY; n],
+        };
+        if n == 0 {
+            return c;
+        }
+        // Pieces of the rows, each within one band of `in_band`.
+        let mut pieces = Vec::new();
+        let mut y = y0 as usize;
+        while y < y1 as usize {
+            let end = ((y / BAND_ROWS + 1) * BAND_ROWS).min(y1 as usize);
+            pieces.push(y..end);
+            y = end;
+        }
+        let mut owner: &mut [u32] = &mut c.triangle;
+        let mut bary: &mut [[f32; 3]] = &mut c.bary;
+        let mut distance: &mut [f32] = &mut c.distance;
+        let mut work = Vec::with_capacity(pieces.len());
+        for r in pieces {
+            let k = r.len() * w;
+            let (o, ro) = std::mem::take(&mut owner).split_at_mut(k);
+            let (b, rb) = std::mem::take(&mut bary).split_at_mut(k);
+            let (d, rd) = std::mem::take(&mut distance).split_at_mut(k);
+            (owner, bary, distance) = (ro, rb, rd);
+            work.push((r, o, b, d));
+        }
+        work.into_par_iter().for_each(|(r, owner, bary, distance)| {
+            self.assign(r, owner, bary, distance);
+        });
+        c
+    }
+
+    /// Assigns rows `r` (within one band) into the slices, which start at
+    /// row `r.start`.
+    fn assign(
+        &self,
+        r: std::ops::Range<usize>,
+        owner: &mut [u32],
+        bary: &mut [[f32; 3]],
+        distance: &mut [f32],
+    ) {
+        let w = self.size as usize;
+        for &t in &self.in_band[r.start / BAND_ROWS] {
+            let Some([x0, x1, y0, y1]) = self.boxes[t as usize] else {
+                continue;
+            };
+            let uv = &self.corner_uvs[3 * t as usize..3 * t as usize + 3];
+            let q = [uv[0], uv[1], uv[2]];
+            for y in y0.max(r.start)..y1.min(r.end) {
+                for x in x0..x1 {
+                    let p = [x as f32 + 0.5, y as f32 + 0.5];
+                    let (d, b) = closest_on_triangle_2d(p, q);
+                    if d > self.margin {
+                        continue;
+                    }
+                    let i = (y - r.start) * w + x;
+                    let cur = distance[i];
+                    // Lower distance wins; ties keep the lower triangle.
+                    if d < cur || (d == cur && t < owner[i]) {
+                        distance[i] = d;
+                        owner[i] = t;
+                        bary[i] = b;
                     }
                 }
             }
-        });
-    c
+        }
+    }
 }
 
 /// Distance from `p` to triangle `q` and barycentrics of the closest point
@@ -226,6 +288,38 @@ mod tests {
             owned > 3000,
             "the triangles cover much of the atlas: {owned}"
         );
+    }
+
+    #[test]
+    fn rows_in_any_bands_equal_the_whole_atlas() {
+        // Bands not aligned with the 32-row pieces, one past the end and
+        // one empty: stitched together they are the whole coverage.
+        let uv: Vec<[f32; 2]> = (0..60)
+            .flat_map(|k| {
+                let (cx, cy) = ((k * 37 % 97) as f32, (k * 53 % 101) as f32);
+                [[cx, cy], [cx + 9.0, cy + 2.0], [cx + 3.0, cy + 11.0]]
+            })
+            .collect();
+        let size = 100u32;
+        let whole = rasterize(&uv, size, 1.5);
+        let r = Rasterizer::new(&uv, size, 1.5);
+        let mut stitched = Coverage {
+            size,
+            ..Coverage::default()
+        };
+        for rows in [0..7, 7..7, 7..45, 45..77, 77..130] {
+            let band = r.rows(rows.clone());
+            assert_eq!(band.first_row, rows.start.min(size));
+            assert_eq!(
+                band.triangle.len(),
+                (rows.end.min(size) - rows.start.min(size)) as usize * 100
+            );
+            stitched.triangle.extend(band.triangle);
+            stitched.bary.extend(band.bary);
+            stitched.distance.extend(band.distance);
+        }
+        assert!(whole.owned() > 2000, "{}", whole.owned());
+        assert_eq!(stitched, whole);
     }
 
     #[test]

@@ -27,7 +27,7 @@ use crate::input::BakeInput;
 use crate::interface::{AtlasReport, BakeError, BakeOptions, BakeReport, BakedImage};
 use crate::mapping::{SuccessiveMap, SurfacePoint};
 use crate::prepare::{ensure_normals, input_tangents, prepare, set_uvs, Prepared};
-use crate::raster::{rasterize, Coverage, NO_TRIANGLE};
+use crate::raster::{Coverage, Rasterizer, NO_TRIANGLE};
 use crate::shared_layout::{lay_out, shared_groups, SharedAtlas, SharedGroup};
 
 /// Margin, in texels, within which texels around a chart get their own
@@ -35,8 +35,8 @@ use crate::shared_layout::{lay_out, shared_groups, SharedAtlas, SharedGroup};
 /// 1.42, see `raster.rs`).
 const BILINEAR_MARGIN: f32 = 1.5;
 
-/// Rows baked at a time: bounds the scratch memory to a band, whatever the
-/// atlas size.
+/// Rows baked at a time: bounds the scratch memory (texel ownership,
+/// surface points) to a band, whatever the atlas size.
 const BAND_ROWS: u32 = 64;
 
 /// Side of the square tiles a band is mapped in (texels of a triangle in a
@@ -447,7 +447,7 @@ impl GroupBake<'_, '_> {
         let atlas = &self.layout.atlas;
         let size = atlas.size;
         // Owners are indices into the group's members: (mesh, triangle).
-        let coverage = rasterize(&atlas.corner_uvs, size, BILINEAR_MARGIN);
+        let raster = Rasterizer::new(&atlas.corner_uvs, size, BILINEAR_MARGIN);
         // Each texel averages the input texels its footprint covers.
         let footprints: Vec<Option<Footprint>> = self
             .group
@@ -466,14 +466,17 @@ impl GroupBake<'_, '_> {
             chans.contains(&Channel::MetallicRoughness) && chans.contains(&Channel::Occlusion);
         let w = size as usize;
         let mut pixels: Vec<Vec<[u8; 4]>> = vec![vec![[0u8; 4]; w * w]; chans.len()];
+        let mut mapped = vec![false; w * w];
+        let mut texels_mapped = 0;
         let mut y0 = 0u32;
         while y0 < size {
             let y1 = (y0 + BAND_ROWS).min(size);
-            let surface = self.map_band(&coverage, w, y0 as usize..y1 as usize);
-            // One texel: every channel evaluated at its input point, each
-            // texture averaged over the texel's footprint.
+            let coverage = raster.rows(y0..y1);
+            let surface = self.map_band(&coverage);
+            // One texel of the band: every channel evaluated at its input
+            // point, each texture averaged over the texel's footprint.
             let texel = |i: usize| -> Option<[[u8; 4]; 5]> {
-                let hit = surface[i - y0 as usize * w].as_ref()?;
+                let hit = surface[i].as_ref()?;
                 let owner = coverage.triangle[i] as usize;
                 let (m, t) = self.group.members[owner];
                 let (m, t) = (m as usize, t as usize);
@@ -498,29 +501,28 @@ impl GroupBake<'_, '_> {
                 }
                 Some(out)
             };
-            let band: Vec<Vec<[[u8; 4]; 5]>> = (y0..y1)
+            let band: Vec<Vec<[[u8; 4]; 5]>> = (0..(y1 - y0) as usize)
                 .into_par_iter()
-                .map(|y| {
+                .map(|r| {
                     (0..w)
-                        .map(|x| texel(y as usize * w + x).unwrap_or_default())
+                        .map(|x| texel(r * w + x).unwrap_or_default())
                         .collect()
                 })
                 .collect();
+            let at = y0 as usize * w;
             for (r, row) in band.into_iter().enumerate() {
-                let y = y0 as usize + r;
                 for (x, values) in row.into_iter().enumerate() {
                     for (ci, px) in pixels.iter_mut().enumerate() {
-                        px[y * w + x] = values[ci];
+                        px[at + r * w + x] = values[ci];
                     }
                 }
             }
+            for (m, &t) in mapped[at..].iter_mut().zip(&coverage.triangle) {
+                *m = t != NO_TRIANGLE;
+            }
+            texels_mapped += coverage.owned();
             y0 = y1;
         }
-        let mapped: Vec<bool> = coverage
-            .triangle
-            .iter()
-            .map(|&t| t != NO_TRIANGLE)
-            .collect();
         let fill = nearest_owned(size, size, &mapped);
         let seconds = t0.elapsed().as_secs_f64();
         let first = self.group.meshes.first().map(|x| x.0);
@@ -592,23 +594,20 @@ impl GroupBake<'_, '_> {
             size,
             stats: self.layout.stats,
             layout_seconds: self.layout.layout_seconds,
-            texels_mapped: coverage.owned(),
+            texels_mapped,
             seconds,
         };
         (material, images, report)
     }
 
-    /// The input surface point of every owned texel of rows `rows`, each
-    /// through its own mesh's history; a triangle's texels of a tile
-    /// together (they share most of their walk).
-    fn map_band(
-        &self,
-        coverage: &Coverage,
-        width: usize,
-        rows: std::ops::Range<usize>,
-    ) -> Vec<Option<SurfacePoint>> {
-        let first = rows.start * width;
-        let mut out = vec![None; rows.len() * width];
+    /// The input surface point of every owned texel of a band's
+    /// `coverage` (indexed as it is), each through its own mesh's history;
+    /// a triangle's texels of a tile together (they share most of their
+    /// walk).
+    fn map_band(&self, coverage: &Coverage) -> Vec<Option<SurfacePoint>> {
+        let width = coverage.size as usize;
+        let rows = 0..coverage.triangle.len() / width.max(1);
+        let mut out = vec![None; coverage.triangle.len()];
         let tiles: Vec<(usize, usize)> = rows
             .clone()
             .step_by(TILE)
@@ -666,7 +665,7 @@ impl GroupBake<'_, '_> {
             })
             .collect();
         for (i, hit) in mapped.into_iter().flatten() {
-            out[i - first] = Some(hit);
+            out[i] = Some(hit);
         }
         out
     }

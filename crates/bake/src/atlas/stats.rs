@@ -4,9 +4,12 @@
 
 use glam::DVec3;
 
-use crate::raster::rasterize;
+use crate::raster::Rasterizer;
 
 use super::Atlas;
+
+/// Rows of the atlas counted at a time.
+const STATS_ROWS: u32 = 256;
 
 /// Distortion and atlas use of a layout.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -61,12 +64,17 @@ pub fn atlas_stats(positions: &[[f32; 3]], triangles: &[[u32; 3]], atlas: &Atlas
         acc[2] += a3 * 0.5 * (a + c);
         angle += a3 * if small > 0.0 { big / small } else { 1e6 };
     }
-    let coverage = rasterize(&atlas.corner_uvs, atlas.size, 0.0);
+    // Counted a band at a time: the whole map would be 20 bytes a texel.
+    let raster = Rasterizer::new(&atlas.corner_uvs, atlas.size, 0.0);
+    let inside: usize = (0..atlas.size)
+        .step_by(STATS_ROWS as usize)
+        .map(|y| raster.rows(y..y + STATS_ROWS).inside())
+        .sum();
     let texels = atlas.size as f64 * atlas.size as f64;
     AtlasStats {
         charts: atlas.chart_count,
         utilization: if texels > 0.0 {
-            coverage.inside() as f64 / texels
+            inside as f64 / texels
         } else {
             0.0
         },
