@@ -18,6 +18,7 @@ mod passthrough;
 mod read;
 mod rewrite;
 mod scene_json;
+mod texture_transform;
 mod trs;
 mod uri;
 mod write;

@@ -19,6 +19,7 @@ use super::attribute_keys::{morph_key, semantic_key};
 use super::load::{self, Loaded};
 use super::passthrough::{MeshSource, Passthrough, SourceBuffer};
 use super::rewrite;
+use super::texture_transform;
 use super::trs::trs_matrix;
 use super::uri::{self, UriKind};
 use crate::ErrorKind;
@@ -29,7 +30,7 @@ pub(crate) fn read(
     data: &[u8],
     warnings: &mut Vec<String>,
 ) -> Result<(Scene, Passthrough), ErrorKind> {
-    let loaded = load::load(path, data, warnings)?;
+    let mut loaded = load::load(path, data, warnings)?;
     let dir = load::absolute(path.parent().unwrap_or(Path::new("")));
     let dir = if dir.as_os_str().is_empty() {
         load::absolute(Path::new("."))
@@ -89,6 +90,8 @@ pub(crate) fn read(
     let mut external = loaded.external.clone();
     scene.textures = read_textures(&d, &dir, &mut external, warnings)?;
     let quantization = declares(&loaded.json, load::QUANTIZATION);
+    // UV maps of the materials go into the UVs (and out of the document).
+    texture_transform::apply_texture_transforms(&mut scene, &mut loaded.json);
     let read_scene = Scene {
         meshes: Vec::new(),
         ..scene.clone()
