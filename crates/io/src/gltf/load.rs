@@ -10,15 +10,13 @@ use gltf_json::Root;
 use serde_json::Value;
 
 use super::glb;
+use super::meshopt_decode;
 use super::uri::{self, UriKind};
 use crate::ErrorKind;
 
 /// Extensions whose data we cannot decode: the geometry is compressed.
-const COMPRESSION: &[&str] = &[
-    "KHR_draco_mesh_compression",
-    "EXT_meshopt_compression",
-    "KHR_meshopt_compression",
-];
+/// (Meshopt compression is decoded, `meshopt_decode.rs`.)
+const COMPRESSION: &[&str] = &["KHR_draco_mesh_compression"];
 
 /// Extensions that only change meaning of data we keep as is (materials,
 /// textures, node data): required or not, passing them through is right.
@@ -94,10 +92,20 @@ pub(crate) fn load(
     let dir = path.parent().unwrap_or(Path::new("")).to_path_buf();
     let mut buffers = Vec::with_capacity(root.buffers.len());
     let mut external = Vec::new();
+    let compressed = meshopt_decode::compressed_bytes(&json);
     for (i, b) in root.buffers.iter().enumerate() {
         let name = format!("buffer {i}");
         let declared = b.byte_length.0;
+        let fallback = json
+            .pointer(&format!("/buffers/{i}"))
+            .is_some_and(meshopt_decode::is_fallback);
         let bytes: Vec<u8> = match b.uri.as_deref() {
+            // Filled by the compressed views below.
+            None if fallback && !(i == 0 && bin.is_some()) => {
+                let size = meshopt_decode::fallback_size(declared, compressed)
+                    .map_err(|m| ErrorKind::malformed(name.clone(), m))?;
+                vec![0; size]
+            }
             None => match (i, bin) {
                 (0, Some(bin)) => bin.to_vec(),
                 (0, None) if is_glb => {
@@ -158,6 +166,14 @@ pub(crate) fn load(
         bytes.truncate(declared as usize);
         buffers.push(bytes);
     }
+    let (json, root) = if meshopt_decode::declared(&json) {
+        let mut json = json;
+        meshopt_decode::decode_views(&mut json, &mut buffers)?;
+        let root = typed(&json, "glTF", &mut Vec::new())?;
+        (json, root)
+    } else {
+        (json, root)
+    };
     Ok(Loaded {
         json,
         root,
@@ -228,7 +244,6 @@ fn check_extensions(json: &Value, warnings: &mut Vec<String>) -> Result<(), Erro
             .unwrap_or_default()
     };
     let required = names("extensionsRequired");
-    let used = names("extensionsUsed");
     for ext in &required {
         if COMPRESSION.contains(&ext.as_str()) {
             return Err(ErrorKind::Unsupported(format!(
@@ -238,19 +253,10 @@ fn check_extensions(json: &Value, warnings: &mut Vec<String>) -> Result<(), Erro
             )));
         }
     }
-    // Meshopt without being required still has fallback buffers filled
-    // with zeros or absent: the uncompressed data is not really there.
-    for ext in &used {
-        if ext.ends_with("meshopt_compression") {
-            return Err(ErrorKind::Unsupported(format!(
-                "the file uses {ext}: its buffer views are compressed, which wildlod cannot \
-                 decode; decompress it first (for example `gltf-transform copy`)"
-            )));
-        }
-    }
     for ext in &required {
-        let known =
-            ext == QUANTIZATION || PASSTHROUGH_SAFE_PREFIXES.iter().any(|p| ext.starts_with(p));
+        let known = meshopt_decode::MESHOPT.contains(&ext.as_str())
+            || ext == QUANTIZATION
+            || PASSTHROUGH_SAFE_PREFIXES.iter().any(|p| ext.starts_with(p));
         if !known {
             warnings.push(format!(
                 "the file requires extension {ext}, which wildlod does not interpret; it is \

@@ -14,6 +14,7 @@ mod glb;
 mod images;
 mod load;
 mod lod;
+mod meshopt_decode;
 mod passthrough;
 mod read;
 mod rewrite;

@@ -285,6 +285,8 @@ pub fn assert_same_scene(name: &str, a: &Scene, b: &Scene) {
 pub struct Builder {
     pub json: Value,
     pub bin: Vec<u8>,
+    /// Buffers after buffer 0 (the binary chunk), as JSON.
+    pub extra_buffers: Vec<Value>,
 }
 
 impl Builder {
@@ -293,6 +295,7 @@ impl Builder {
         Builder {
             json: serde_json::json!({"asset": {"version": "2.0"}}),
             bin: Vec::new(),
+            extra_buffers: Vec::new(),
         }
     }
 
@@ -408,6 +411,9 @@ impl Builder {
                 b["uri"] = u.into();
             }
             j["buffers"] = serde_json::json!([b]);
+        }
+        if let Some(list) = j["buffers"].as_array_mut() {
+            list.extend(self.extra_buffers.iter().cloned());
         }
         j
     }
