@@ -176,6 +176,77 @@ fn missing_texture_is_a_warning_naming_it_and_the_rest_bakes() {
 }
 
 #[test]
+fn a_webp_texture_bakes_as_the_same_png_does() {
+    // EXT_texture_webp's images decode (lossless here): the re-baked
+    // atlas is the one the PNG of the same pixels gives.
+    let dir = tempfile::tempdir().unwrap();
+    let mut baked = Vec::new();
+    for ext in ["png", "webp"] {
+        let img = dir.path().join(format!("paint.{ext}"));
+        write_image(&img);
+        let input = torus_gltf(dir.path(), &img, "gltf");
+        let out = dir.path().join(format!("lod_{ext}.glb"));
+        let o = wildlod(&[
+            "simplify",
+            s(&input),
+            "-o",
+            s(&out),
+            "--ratio",
+            "0.1",
+            "--bake",
+            "--texture-size",
+            "64",
+        ]);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let err = String::from_utf8_lossy(&o.stderr).into_owned();
+        assert!(!err.contains("warning"), "{ext}: {err}");
+        let doc = wildlod_io::read(&out).unwrap();
+        let t = doc.scene.materials[0].base_color_texture.expect("baked");
+        let source = &doc.scene.textures[t.texture as usize].source;
+        baked.push(wildlod_io::decode_image_rgba8(source).unwrap().pixels);
+    }
+    assert_eq!(baked[0], baked[1]);
+}
+
+#[test]
+fn auto_keeps_the_uvs_of_a_texture_it_cannot_decode_and_says_why() {
+    // A KTX2 image (KHR_texture_basisu): wildlod does not decode it, so
+    // `auto` cannot measure the keep-UV result. It keeps the UVs (a
+    // re-bake would sample nothing) and says why, in the summary and in
+    // `--json`, rather than calling the error "below the visible".
+    let dir = tempfile::tempdir().unwrap();
+    let ktx = dir.path().join("paint.ktx2");
+    let mut bytes = b"\xABKTX 20\xBB\r\n\x1A\n".to_vec();
+    bytes.resize(80, 0);
+    std::fs::write(&ktx, bytes).unwrap();
+    let input = torus_gltf(dir.path(), &ktx, "gltf");
+    let out = dir.path().join("lod.glb");
+    let o = wildlod(&[
+        "simplify",
+        s(&input),
+        "-o",
+        s(&out),
+        "--ratio",
+        "0.01",
+        "--json",
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let text = String::from_utf8_lossy(&o.stdout).into_owned();
+    let json: serde_json::Value =
+        serde_json::from_str(text.get(text.find('{').unwrap_or(0)..).unwrap_or(""))
+            .unwrap_or_else(|e| panic!("{e}: {text}"));
+    let t = &json["textures"];
+    assert_eq!(t["chosen"], "keep", "{t}");
+    assert!(t["keep_uv_excess"].is_null(), "{t}");
+    let why = t["unmeasured"].as_str().unwrap_or_else(|| panic!("{t}"));
+    assert!(
+        why.contains("do not decode") && why.contains("paint.ktx2"),
+        "{why}"
+    );
+    assert!(!text.contains("below the visible"), "{text}");
+}
+
+#[test]
 fn jpeg_inputs_give_jpeg_outputs_at_the_requested_quality() {
     let dir = tempfile::tempdir().unwrap();
     let jpg = dir.path().join("paint.jpg");

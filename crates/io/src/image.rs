@@ -1,4 +1,4 @@
-//! Decoding texture images (PNG, JPEG) for metrics and re-baking.
+//! Decoding texture images (PNG, JPEG, WebP) for metrics and re-baking.
 
 use std::path::Path;
 
@@ -16,7 +16,7 @@ use crate::{Error, ErrorKind};
 ///
 /// # Errors
 /// An error naming the file (or "embedded image") when it cannot be read or
-/// is not a PNG or JPEG image.
+/// is not a PNG, JPEG or WebP image.
 pub fn decode_image(source: &ImageSource) -> Result<Image, Error> {
     match source {
         ImageSource::Path(p) => {
@@ -59,7 +59,7 @@ fn decode_rgba8(bytes: &[u8]) -> Result<Rgba8Image, String> {
         .with_guessed_format()
         .map_err(|e| e.to_string())?;
     if reader.format().is_none() {
-        return Err("not a PNG or JPEG image".into());
+        return Err("not a PNG, JPEG or WebP image".into());
     }
     let rgba = reader.decode().map_err(|e| e.to_string())?.into_rgba8();
     let (width, height) = rgba.dimensions();
@@ -151,7 +151,7 @@ fn decode_bytes(bytes: &[u8]) -> Result<Image, String> {
         .with_guessed_format()
         .map_err(|e| e.to_string())?;
     if reader.format().is_none() {
-        return Err("not a PNG or JPEG image".into());
+        return Err("not a PNG, JPEG or WebP image".into());
     }
     let decoded = reader.decode().map_err(|e| e.to_string())?;
     let rgba = decoded.to_rgba32f();
@@ -194,6 +194,38 @@ mod tests {
         assert_eq!(img.pixels[0], [1.0, 0.0, 128.0 / 255.0, 1.0]);
         // 51/255 = 0.2 exactly in sRGB terms: no linearization happened.
         assert_eq!(img.pixels[1], [0.0, 0.2, 0.0, 0.0]);
+    }
+
+    #[test]
+    fn webp_textures_decode_like_png() {
+        // Lossless WebP (EXT_texture_webp's images): the same pixels as
+        // the PNG of them, for metrics and for re-baking.
+        let pixels = [
+            [255, 0, 128, 255],
+            [0, 51, 0, 255],
+            [9, 8, 7, 255],
+            [1, 2, 3, 255],
+        ];
+        let raw: Vec<u8> = pixels.iter().flatten().copied().collect();
+        let mut webp = Vec::new();
+        image::codecs::webp::WebPEncoder::new_lossless(&mut webp)
+            .encode(&raw, 2, 2, image::ExtendedColorType::Rgba8)
+            .expect("encode webp");
+        let source = ImageSource::Embedded {
+            bytes: webp,
+            mime_type: "image/webp".into(),
+        };
+        let img = decode_image_rgba8(&source).expect("decodes");
+        assert_eq!((img.width, img.height), (2, 2));
+        assert_eq!(img.pixels, pixels.to_vec());
+        let png_source = ImageSource::Embedded {
+            bytes: png(&pixels, 2),
+            mime_type: "image/png".into(),
+        };
+        assert_eq!(
+            decode_image(&source).expect("decodes").pixels,
+            decode_image(&png_source).expect("decodes").pixels
+        );
     }
 
     #[test]

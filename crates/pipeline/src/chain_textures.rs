@@ -16,7 +16,9 @@ use wildlod_io::Document;
 use wildlod_simplify::Options;
 
 use crate::targets::drawn_targets;
-use crate::textures::{choose, has_base_color_texture, texture_excess, worth_rebaking};
+use crate::textures::{
+    choose, has_base_color_texture, texture_excess, unmeasured_reason, worth_rebaking,
+};
 use crate::{
     load_images, rebake_scene, Error, Level, LevelMaterials, TextureChoice, TextureMode,
     TextureSettings,
@@ -41,7 +43,7 @@ pub fn rebake_levels(
     if mode != TextureMode::Bake && !has_base_color_texture(&doc.scene) {
         return Ok(warnings);
     }
-    let (input_images, _) = load_images(doc, input);
+    let (input_images, image_warnings) = load_images(doc, input);
     let instances = doc.scene.instance_counts();
     let mut baking = mode == TextureMode::Bake;
     // Why `auto` stopped trying re-bakes (one could not be made: the
@@ -54,6 +56,7 @@ pub fn rebake_levels(
             keep_uv_excess: None,
             rebaked_excess: None,
             rebake_failed: None,
+            unmeasured: None,
         };
         if mode == TextureMode::Keep || gave_up.is_some() {
             choice.rebake_failed = gave_up.clone();
@@ -63,6 +66,9 @@ pub fn rebake_levels(
         if !baking {
             let kept = level.scene(&doc.scene);
             choice.keep_uv_excess = texture_excess(&doc.scene, &input_images, &kept, &input_images);
+            if choice.keep_uv_excess.is_none() {
+                choice.unmeasured = Some(unmeasured_reason(&image_warnings));
+            }
             if !worth_rebaking(choice.keep_uv_excess) {
                 level.textures = Some(choice);
                 continue;

@@ -73,6 +73,31 @@ pub struct TextureChoice {
     /// kept); absent otherwise.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub rebake_failed: Option<String>,
+    /// Why `auto` could not measure the keep-UV result (its images do not
+    /// decode, say), so kept the UVs unmeasured; absent otherwise.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub unmeasured: Option<String>,
+}
+
+/// Why a keep-UV result's texture error is `None`, from the warnings of
+/// loading the input's images.
+pub(crate) fn unmeasured_reason(image_warnings: &[String]) -> String {
+    if image_warnings.is_empty() {
+        "nothing textured to compare".to_string()
+    } else {
+        // One line per distinct problem (an image many textures share
+        // fails once).
+        let mut distinct: Vec<&str> = Vec::new();
+        for w in image_warnings {
+            if !distinct.contains(&w.as_str()) {
+                distinct.push(w);
+            }
+        }
+        format!(
+            "the input's textures do not decode ({})",
+            distinct.join("; ")
+        )
+    }
 }
 
 /// How a file's textures are treated: the mode (`--textures`) and how to
@@ -124,13 +149,14 @@ pub fn treat_textures<T>(
         keep_uv_excess: None,
         rebaked_excess: None,
         rebake_failed: None,
+        unmeasured: None,
     };
     match mode {
         TextureMode::Bake => Ok((rebake()?, textured.then(|| fixed(TextureMode::Bake)))),
         TextureMode::Keep => Ok((keep()?, textured.then(|| fixed(TextureMode::Keep)))),
         TextureMode::Auto if !textured => Ok((keep()?, None)),
         TextureMode::Auto => {
-            let (input_images, _) = load_images(doc, input);
+            let (input_images, image_warnings) = load_images(doc, input);
             let kept = keep()?;
             let keep_uv_excess = texture_excess(
                 &doc.scene,
@@ -144,6 +170,9 @@ pub fn treat_textures<T>(
                 keep_uv_excess,
                 rebaked_excess: None,
                 rebake_failed: None,
+                unmeasured: keep_uv_excess
+                    .is_none()
+                    .then(|| unmeasured_reason(&image_warnings)),
             };
             if !worth_rebaking(keep_uv_excess) {
                 return Ok((kept, Some(choice)));

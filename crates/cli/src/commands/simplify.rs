@@ -328,11 +328,16 @@ fn texture_line(c: &TextureChoice) -> String {
                 excess(c.keep_uv_excess),
                 excess(c.rebaked_excess)
             ),
-            (None, None) => format!(
-                "textures: UVs kept (texture error over the input's own {}, below the visible {})",
-                excess(c.keep_uv_excess),
-                wildlod_pipeline::VISIBLE_TEXTURE_EXCESS
-            ),
+            (None, None) => match (&c.keep_uv_excess, &c.unmeasured) {
+                (None, Some(why)) => {
+                    format!("textures: UVs kept (their texture error was not measured: {why})")
+                }
+                _ => format!(
+                    "textures: UVs kept (texture error over the input's own {}, below the visible {})",
+                    excess(c.keep_uv_excess),
+                    wildlod_pipeline::VISIBLE_TEXTURE_EXCESS
+                ),
+            },
         },
         (_, TextureMode::Bake) => "textures: re-baked (--textures bake)".to_string(),
         _ => "textures: UVs kept (--textures keep)".to_string(),
