@@ -17,7 +17,7 @@ use wildlod_mesh::Semantic;
 
 use crate::input::BakeInput;
 use crate::mapping::SuccessiveMap;
-use crate::texture_detail::VISIBLE_BLUR;
+use crate::texture_detail::{ImageAnalyses, VISIBLE_BLUR};
 
 /// Samples over a group's whole surface, at least: a chart's mean density
 /// needs a few samples per input UV island it covers, not one per output
@@ -58,8 +58,11 @@ fn uniform(face_density: &[Option<f64>]) -> bool {
 /// to their 2 × 2 block's mean, over [`FULL_DETAIL`] (capped at 1). A logo,
 /// text or a face keeps its density; a flat or smooth region gets the
 /// typical one.
-pub(crate) fn input_face_densities(input: &BakeInput) -> Vec<Option<f64>> {
-    let raw = raw_face_densities(input);
+pub(crate) fn input_face_densities(
+    input: &BakeInput,
+    analyses: &ImageAnalyses,
+) -> Vec<Option<f64>> {
+    let raw = raw_face_densities(input, analyses);
     // Typical density: area-weighted geometric mean.
     let (mut ls, mut wsum) = (0.0, 0.0);
     for &(d, _, a) in raw.iter().flatten() {
@@ -118,8 +121,9 @@ const FULL_DETAIL: f64 = VISIBLE_BLUR;
 
 /// Per face: its own density, its detail over [`FULL_DETAIL`] (1 where no
 /// block could be read) and its 3D area.
-fn raw_face_densities(input: &BakeInput) -> Vec<Option<(f64, f64, f64)>> {
+fn raw_face_densities(input: &BakeInput, analyses: &ImageAnalyses) -> Vec<Option<(f64, f64, f64)>> {
     let mesh = input.mesh;
+    // Images the shared analyses do not hold (another image list).
     let mut details: std::collections::HashMap<u32, (usize, usize, Vec<f32>)> =
         std::collections::HashMap::new();
     (0..mesh.faces.len())
@@ -131,9 +135,12 @@ fn raw_face_densities(input: &BakeInput) -> Vec<Option<(f64, f64, f64)>> {
                 .and_then(|m| input.materials.get(m as usize))?;
             let r = m.base_color_texture.or_else(|| m.texture_refs().next())?;
             let img = input.images.get(r.texture as usize)?.as_ref()?;
-            let (bw, bh, detail) = &*details
-                .entry(r.texture)
-                .or_insert_with(|| block_detail(img));
+            let (bw, bh, detail) = match analyses.get(input.images, r.texture as usize) {
+                Some(a) => a.detail(block_detail),
+                None => &*details
+                    .entry(r.texture)
+                    .or_insert_with(|| block_detail(img)),
+            };
             let (mut dsum, mut dn) = (0.0f64, 0usize);
             let uv = mesh.attribute(&Semantic::TexCoord(r.tex_coord))?;
             let start = mesh.faces.offsets[f] as usize;
@@ -345,7 +352,8 @@ mod tests {
             textures: &textures,
             images: &images,
         };
-        let raw = raw_face_densities(&input);
+        let analyses = ImageAnalyses::new(&images);
+        let raw = raw_face_densities(&input, &analyses);
         let own: Vec<f64> = raw.iter().map(|r| r.expect("textured").0).collect();
         // 512 texels on ½ unit², twice; 32 on ½.
         assert!((own[0] - 1024.0).abs() < 1e-6 && (own[1] - 1024.0).abs() < 1e-6);
@@ -355,7 +363,10 @@ mod tests {
             detail[0] >= 1.0 && detail[1] == 0.0 && detail[2] == 0.0,
             "{detail:?}"
         );
-        let eff: Vec<f64> = input_face_densities(&input).into_iter().flatten().collect();
+        let eff: Vec<f64> = input_face_densities(&input, &analyses)
+            .into_iter()
+            .flatten()
+            .collect();
         // Typical: the geometric mean of 1024, 1024 and 64 (equal areas).
         let typical = (1024f64 * 1024.0 * 64.0).cbrt();
         assert!((eff[0] - 1024.0).abs() < 1e-6, "{eff:?}");

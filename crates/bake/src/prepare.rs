@@ -17,7 +17,7 @@ use wildlod_simplify::{
 use crate::channels::corner_normals;
 use crate::input::BakeInput;
 use crate::interface::{BakeError, BakeOptions};
-use crate::texture_detail::{content_scale, uv_coverage};
+use crate::texture_detail::ImageAnalyses;
 
 /// Faces meeting at a larger angle keep separate normals at their shared
 /// vertices: the usual "auto smooth" angle of modelling tools.
@@ -69,6 +69,7 @@ pub(crate) fn prepare<'a>(
     simplify: &Options,
     options: &BakeOptions,
     world_scale: f64,
+    analyses: &ImageAnalyses,
 ) -> Result<Prepared<'a>, BakeError> {
     let t0 = Instant::now();
     let mesh = input.mesh;
@@ -181,7 +182,7 @@ pub(crate) fn prepare<'a>(
             }
         }
     }
-    let scale = level_scale(&input, &s.report, options);
+    let scale = level_scale(&input, &s.report, options, analyses);
     let tri_origin = tri_face
         .iter()
         .map(|&f| s.face_origin[f as usize])
@@ -417,7 +418,12 @@ pub(crate) fn input_tangents(mesh: &Mesh, set: u32) -> Option<Vec<[f32; 4]>> {
 /// smaller than the most detailed base colour image the mesh uses allows
 /// ([`content_scale`]); 1 with the option off. Per mesh: the shared
 /// atlas weighs each mesh's charts by its own (`shared_layout.rs`).
-fn level_scale(input: &BakeInput, report: &Report, options: &BakeOptions) -> f64 {
+fn level_scale(
+    input: &BakeInput,
+    report: &Report,
+    options: &BakeOptions,
+    analyses: &ImageAnalyses,
+) -> f64 {
     let level = report.output_triangles as f64 / report.input_triangles.max(1) as f64;
     // An asked-for size needs no scale (and no pass over the images).
     if options.texture_size.is_some()
@@ -459,11 +465,7 @@ fn level_scale(input: &BakeInput, report: &Report, options: &BakeOptions) -> f64
         }
     }
     uvs.iter()
-        .filter_map(|(t, tris)| {
-            let img = input.images.get(*t as usize).and_then(Option::as_ref)?;
-            let used = uv_coverage(img.width, img.height, tris);
-            Some(content_scale(img, &used, min_scale))
-        })
+        .filter_map(|(t, tris)| analyses.content_scale(input.images, *t as usize, tris, min_scale))
         .fold(min_scale, f64::max)
 }
 

@@ -29,6 +29,7 @@ use crate::mapping::{SuccessiveMap, SurfacePoint};
 use crate::prepare::{ensure_normals, input_tangents, prepare, set_uvs, Prepared};
 use crate::raster::{Coverage, Rasterizer, NO_TRIANGLE};
 use crate::shared_layout::{lay_out, shared_groups, SharedAtlas, SharedGroup};
+use crate::texture_detail::ImageAnalyses;
 
 /// Margin, in texels, within which texels around a chart get their own
 /// surface point: everything bilinear filtering at level 0 reads (√2 ≈
@@ -125,10 +126,11 @@ pub fn bake_meshes(
     meshes: &[SceneMesh],
     options: &BakeOptions,
 ) -> Result<SceneBaked, SceneBakeError> {
-    // Phase 1, per mesh.
+    // Phase 1, per mesh; what is read of the images, once for all.
+    let analyses = ImageAnalyses::new(meshes.first().map_or(&[][..], |m| m.input.images));
     let prepared: Vec<Result<Prepared, BakeError>> = meshes
         .par_iter()
-        .map(|m| prepare(m.input, &m.simplify, options, m.world_scale))
+        .map(|m| prepare(m.input, &m.simplify, options, m.world_scale, &analyses))
         .collect();
     let mut ready = Vec::with_capacity(prepared.len());
     for (mesh, p) in prepared.into_iter().enumerate() {
@@ -161,7 +163,7 @@ pub fn bake_meshes(
             if k {
                 Vec::new()
             } else {
-                input_face_densities(&p.input)
+                input_face_densities(&p.input, &analyses)
             }
         })
         .collect();

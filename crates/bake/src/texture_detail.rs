@@ -22,59 +22,211 @@ pub const VISIBLE_BLUR: f64 = 0.01;
 /// (all when empty) and the mean of its `k × k` block (blocks clipped at
 /// the border), for `k` = 2, 4, 8, … up to `max_k`: entry `j` is for
 /// `k = 2^(j+1)`.
+#[cfg(test)]
 pub(crate) fn block_blur(img: &Rgba8Image, used: &[bool], max_k: u32) -> Vec<f64> {
-    let (w, h) = (img.width as usize, img.height as usize);
-    if w == 0 || h == 0 {
-        return Vec::new();
+    ImageAnalysis::new(img).blur(used, max_k)
+}
+
+/// The sums of one image's `k × k` blocks (clipped at the border).
+struct BlockLevel {
+    bw: usize,
+    sums: Vec<[f64; 3]>,
+    counts: Vec<u32>,
+}
+
+/// What a bake reads of one input image's content, computed once however
+/// many meshes use it (a scene of many meshes sharing a texture computed
+/// it once per mesh: quadratic). Levels are computed as first asked for,
+/// from any thread.
+pub(crate) struct ImageAnalysis<'a> {
+    img: &'a Rgba8Image,
+    /// Block sums for `k = 2^(j+1)`.
+    levels: Vec<std::sync::OnceLock<BlockLevel>>,
+    /// Per 2 × 2 block, the mean distance of its texels to its mean
+    /// (`density.rs`).
+    detail: std::sync::OnceLock<(usize, usize, Vec<f32>)>,
+}
+
+impl<'a> ImageAnalysis<'a> {
+    pub(crate) fn new(img: &'a Rgba8Image) -> Self {
+        let (w, h) = (img.width as usize, img.height as usize);
+        let mut count = 0;
+        let mut k = 2usize;
+        while k / 2 < w || k / 2 < h {
+            count += 1;
+            k = k.saturating_mul(2);
+        }
+        ImageAnalysis {
+            img,
+            levels: (0..count).map(|_| std::sync::OnceLock::new()).collect(),
+            detail: std::sync::OnceLock::new(),
+        }
     }
-    let texel = |i: usize| {
-        let p = img.pixels[i];
+
+    fn texel(&self, i: usize) -> [f64; 3] {
+        let p = self.img.pixels[i];
         [p[0], p[1], p[2]].map(|c| f64::from(c) / 255.0)
-    };
-    let mut out = Vec::new();
-    let mut k = 2usize;
-    while k as u32 <= max_k.max(2) && (k / 2 < w || k / 2 < h) {
-        let (bw, bh) = (w.div_ceil(k), h.div_ceil(k));
-        let mut sums = vec![[0.0f64; 3]; bw * bh];
-        let mut counts = vec![0u32; bw * bh];
-        for y in 0..h {
-            for x in 0..w {
-                let b = (y / k) * bw + x / k;
-                let t = texel(y * w + x);
-                for c in 0..3 {
-                    sums[b][c] += t[c];
-                }
-                counts[b] += 1;
-            }
-        }
-        let (mut total, mut n_used) = (0.0, 0usize);
-        for y in 0..h {
-            for x in 0..w {
-                if !used.is_empty() && !used[y * w + x] {
-                    continue;
-                }
-                n_used += 1;
-                let b = (y / k) * bw + x / k;
-                let n = f64::from(counts[b]);
-                let t = texel(y * w + x);
-                let d2: f64 = (0..3).map(|c| (t[c] - sums[b][c] / n).powi(2)).sum();
-                total += d2.sqrt();
-            }
-        }
-        out.push(if n_used == 0 {
-            0.0
-        } else {
-            total / n_used as f64
-        });
-        k *= 2;
     }
-    out
+
+    fn level(&self, j: usize) -> &BlockLevel {
+        self.levels[j].get_or_init(|| {
+            let (w, h) = (self.img.width as usize, self.img.height as usize);
+            let k = 2usize << j;
+            let (bw, bh) = (w.div_ceil(k), h.div_ceil(k));
+            let mut sums = vec![[0.0f64; 3]; bw * bh];
+            let mut counts = vec![0u32; bw * bh];
+            for y in 0..h {
+                for x in 0..w {
+                    let b = (y / k) * bw + x / k;
+                    let t = self.texel(y * w + x);
+                    for c in 0..3 {
+                        sums[b][c] += t[c];
+                    }
+                    counts[b] += 1;
+                }
+            }
+            BlockLevel { bw, sums, counts }
+        })
+    }
+
+    /// [`block_blur`] of the image over `used` (all texels when empty).
+    pub(crate) fn blur(&self, used: &[bool], max_k: u32) -> Vec<f64> {
+        let (w, h) = (self.img.width as usize, self.img.height as usize);
+        if w == 0 || h == 0 {
+            return Vec::new();
+        }
+        let mut out = Vec::new();
+        let mut k = 2usize;
+        let mut j = 0;
+        while k as u32 <= max_k.max(2) && (k / 2 < w || k / 2 < h) {
+            let level = self.level(j);
+            let (mut total, mut n_used) = (0.0, 0usize);
+            for y in 0..h {
+                for x in 0..w {
+                    if !used.is_empty() && !used[y * w + x] {
+                        continue;
+                    }
+                    n_used += 1;
+                    let b = (y / k) * level.bw + x / k;
+                    let n = f64::from(level.counts[b]);
+                    let t = self.texel(y * w + x);
+                    let d2: f64 = (0..3).map(|c| (t[c] - level.sums[b][c] / n).powi(2)).sum();
+                    total += d2.sqrt();
+                }
+            }
+            out.push(if n_used == 0 {
+                0.0
+            } else {
+                total / n_used as f64
+            });
+            k *= 2;
+            j += 1;
+        }
+        out
+    }
+
+    /// [`content_scale`] of the image.
+    pub(crate) fn content_scale(&self, used: &[bool], min_scale: f64) -> f64 {
+        content_scale_of(|max_k| self.blur(used, max_k), min_scale)
+    }
+
+    /// The image's 2 × 2 block detail (see `density.rs`), computed once.
+    pub(crate) fn detail(
+        &self,
+        f: impl FnOnce(&Rgba8Image) -> (usize, usize, Vec<f32>),
+    ) -> &(usize, usize, Vec<f32>) {
+        self.detail.get_or_init(|| f(self.img))
+    }
+}
+
+/// One [`ImageAnalysis`] per image of a bake's input (`None` where the
+/// image did not decode), shared by all the meshes that read them.
+pub(crate) struct ImageAnalyses<'a> {
+    images: &'a [Option<Rgba8Image>],
+    per: Vec<Option<ImageAnalysis<'a>>>,
+    /// Content scales already found, by image, level scale and the UV
+    /// triangles read (meshes with the same UVs, such as copies of one
+    /// object or surfaces tiling one texture, share the answer).
+    scales: std::sync::Mutex<ScaleCache>,
+}
+
+/// Key: image, `min_scale`'s bits, the UV triangles' bits.
+type ScaleCache = std::collections::HashMap<(usize, u64, Vec<[[u32; 2]; 3]>), f64>;
+
+impl<'a> ImageAnalyses<'a> {
+    pub(crate) fn new(images: &'a [Option<Rgba8Image>]) -> Self {
+        ImageAnalyses {
+            images,
+            per: images
+                .iter()
+                .map(|i| i.as_ref().map(ImageAnalysis::new))
+                .collect(),
+            scales: std::sync::Mutex::new(ScaleCache::new()),
+        }
+    }
+
+    /// [`content_scale`] of image `t` of `images` over the texels the UV
+    /// triangles `tris` cover ([`uv_coverage`]), found once per distinct
+    /// triangles.
+    pub(crate) fn content_scale(
+        &self,
+        images: &[Option<Rgba8Image>],
+        t: usize,
+        tris: &[[[f32; 2]; 3]],
+        min_scale: f64,
+    ) -> Option<f64> {
+        let img = images.get(t)?.as_ref()?;
+        let compute = |a: &ImageAnalysis| {
+            let used = uv_coverage(img.width, img.height, tris);
+            a.content_scale(&used, min_scale)
+        };
+        let Some(a) = self.get(images, t) else {
+            return Some(compute(&ImageAnalysis::new(img)));
+        };
+        let key = (
+            t,
+            min_scale.to_bits(),
+            tris.iter()
+                .map(|q| q.map(|p| p.map(f32::to_bits)))
+                .collect::<Vec<_>>(),
+        );
+        if let Some(&v) = self.scales.lock().ok()?.get(&key) {
+            return Some(v);
+        }
+        // Computed outside the lock: meshes in parallel do not wait on
+        // each other (two may compute one answer, which is the same).
+        let v = compute(a);
+        if let Ok(mut m) = self.scales.lock() {
+            m.insert(key, v);
+        }
+        Some(v)
+    }
+
+    /// The analysis of image `t` of `images`, when `images` is the slice
+    /// these analyses were made for (a mesh reading other images gets a
+    /// fresh one).
+    pub(crate) fn get(
+        &self,
+        images: &[Option<Rgba8Image>],
+        t: usize,
+    ) -> Option<&ImageAnalysis<'a>> {
+        if !std::ptr::eq(self.images, images) {
+            return None;
+        }
+        self.per.get(t)?.as_ref()
+    }
 }
 
 /// The smallest linear scale, `1` or `1/k` for a power of two `k`, at least
 /// `min_scale`, at which `img` keeps its content within [`VISIBLE_BLUR`]
 /// over the texels `used` marks (see [`block_blur`]).
+#[cfg(test)]
 pub(crate) fn content_scale(img: &Rgba8Image, used: &[bool], min_scale: f64) -> f64 {
+    ImageAnalysis::new(img).content_scale(used, min_scale)
+}
+
+/// [`content_scale`] from the image's blur up to a block size.
+fn content_scale_of(blur: impl FnOnce(u32) -> Vec<f64>, min_scale: f64) -> f64 {
     if !(min_scale > 0.0 && min_scale < 1.0) {
         return 1.0;
     }
@@ -83,7 +235,7 @@ pub(crate) fn content_scale(img: &Rgba8Image, used: &[bool], min_scale: f64) -> 
     // the way.
     let max_k = ((1.0 / min_scale).ceil().min(f64::from(1u32 << 30)) as u32).next_power_of_two();
     let mut scale = 1.0;
-    for (j, blur) in block_blur(img, used, max_k).into_iter().enumerate() {
+    for (j, blur) in blur(max_k).into_iter().enumerate() {
         if blur > VISIBLE_BLUR {
             break;
         }
@@ -242,5 +394,35 @@ mod tests {
         );
         assert!(all.iter().all(|&u| u));
         assert_eq!(content_scale(&half, &all, 0.1), 1.0);
+    }
+
+    #[test]
+    fn shared_analyses_answer_each_mesh_for_its_own_uvs() {
+        // One image read by meshes with different UVs: the smooth half and
+        // the checker half get their own scales, asked in any order and
+        // again (the second time from the cache), as the uncached
+        // function gives them.
+        let half = image(64, 64, |x, y| {
+            if x < 32 {
+                [(x / 2) as u8, (y / 2) as u8, 128, 255]
+            } else {
+                let v = if (x + y) % 2 == 0 { 0 } else { 255 };
+                [v, v, v, 255]
+            }
+        });
+        let images = [Some(half)];
+        let shared = ImageAnalyses::new(&images);
+        let left = [[[0.0, 0.0], [0.49, 0.0], [0.0, 1.0]]];
+        let right = [[[0.55, 0.0], [1.0, 0.0], [1.0, 1.0]]];
+        let img = images[0].as_ref().expect("image");
+        for tris in [&left[..], &right[..], &left[..], &right[..]] {
+            let direct = content_scale(img, &uv_coverage(64, 64, tris), 0.1);
+            assert_eq!(shared.content_scale(&images, 0, tris, 0.1), Some(direct));
+        }
+        assert_eq!(shared.content_scale(&images, 0, &left, 0.1), Some(0.125));
+        assert_eq!(shared.content_scale(&images, 0, &right, 0.1), Some(1.0));
+        // Another image list is not the shared one: computed afresh.
+        let other = images.clone();
+        assert_eq!(shared.content_scale(&other, 0, &right, 0.1), Some(1.0));
     }
 }
