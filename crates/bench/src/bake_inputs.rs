@@ -3,7 +3,8 @@
 //! base colour image, and a scan-like mesh of about 10,000 triangles (a
 //! jittered bumpy sphere) whose every quad is its own UV island in a 4096²
 //! image, as photogrammetry atlases are, and a noisy terrain (a height
-//! field whose every height carries a survey's noise, planar UVs). Made in
+//! field whose every height carries a survey's noise, planar UVs), and a
+//! scene of thousands of small textured meshes. Made in
 //! code, so that no corpus
 //! file is copied into the repository; `--bin bake-inputs` writes them as
 //! GLB for the whole-process timings.
@@ -162,6 +163,82 @@ fn set_uv(m: &mut Mesh, uv: Vec<f32>) {
         indices: (0..n).collect(),
         format: ComponentFormat::F32,
     });
+}
+
+/// `n` meshes, each a box of 12 triangles with its own proportions and
+/// place (a kit-bashed scene, an assembly of parts), every face mapped to
+/// one cell of a 3 × 2 grid of a `size`² image they all share: the scene
+/// of many meshes a whole-file budget and a scene-wide bake must stay
+/// linear on.
+pub fn many_boxes(n: usize, size: u32) -> BakeInput {
+    let grid = (n as f64).sqrt().ceil().max(1.0) as usize;
+    // (normal, u axis, v axis) of the six faces.
+    let sides: [([f32; 3], [f32; 3], [f32; 3]); 6] = [
+        ([0.0, 0.0, 1.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]),
+        ([0.0, 0.0, -1.0], [-1.0, 0.0, 0.0], [0.0, 1.0, 0.0]),
+        ([1.0, 0.0, 0.0], [0.0, 0.0, -1.0], [0.0, 1.0, 0.0]),
+        ([-1.0, 0.0, 0.0], [0.0, 0.0, 1.0], [0.0, 1.0, 0.0]),
+        ([0.0, 1.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, -1.0]),
+        ([0.0, -1.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 1.0]),
+    ];
+    let mut scene = Scene::default();
+    for k in 0..n {
+        // Deterministic proportions between 0.2 and 1.
+        let f = |a: usize| 0.2 + 0.8 * (((k * 7 + a * 13) * 2654435761) % 1000) as f32 / 1000.0;
+        let size3 = [f(0), f(1), f(2)];
+        let (mut positions, mut uv, mut indices) = (Vec::new(), Vec::new(), Vec::new());
+        for (s, (nrm, u, v)) in sides.iter().enumerate() {
+            let base = positions.len() as u32;
+            for (a, b) in [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)] {
+                let p: [f32; 3] =
+                    std::array::from_fn(|i| (nrm[i] + a * u[i] + b * v[i]) * size3[i]);
+                positions.push(p);
+                uv.extend_from_slice(&[
+                    ((s % 3) as f32 + (a + 1.0) / 2.0) / 3.0,
+                    ((s / 3) as f32 + (b + 1.0) / 2.0) / 2.0,
+                ]);
+            }
+            indices.extend_from_slice(&[base, base + 1, base + 2, base, base + 2, base + 3]);
+        }
+        let mut m = Mesh::from_triangles(positions, &indices);
+        m.name = format!("box {k}");
+        // One UV per vertex (the corners of a side share its four).
+        m.attributes.push(Attribute {
+            semantic: Semantic::TexCoord(0),
+            components: 2,
+            values: uv,
+            indices,
+            format: ComponentFormat::F32,
+        });
+        m.parts[0].material = Some(0);
+        scene.meshes.push(m);
+        let mut matrix = wildlod_mesh::IDENTITY;
+        matrix[12] = 2.5 * (k % grid) as f32;
+        matrix[14] = 2.5 * (k / grid) as f32;
+        scene.nodes.push(wildlod_mesh::Node {
+            name: format!("box {k}"),
+            matrix,
+            mesh: Some(k as u32),
+            ..Default::default()
+        });
+        scene.roots.push(k as u32);
+    }
+    scene.materials.push(Material {
+        base_color_texture: Some(TextureRef {
+            texture: 0,
+            tex_coord: 0,
+        }),
+        ..Material::default()
+    });
+    scene.textures.push(Texture {
+        name: "boxes".into(),
+        source: ImageSource::Path("boxes.png".into()),
+        sampler: Default::default(),
+    });
+    BakeInput {
+        scene,
+        image: pattern(size, 16),
+    }
 }
 
 /// A checker of `cell`-texel squares with colour gradients.

@@ -3,14 +3,15 @@
 //! `textured20k.glb` (20,000 triangles, 2048² base colour) and
 //! `scan10k.glb` (10,092 triangles, 4096² base colour, one UV island per
 //! quad) and `terrain1m.glb` (998,002 triangles of a noisy height field,
-//! 1024² base colour). Time them with
+//! 1024² base colour) and `boxes8k.glb` (8,000 meshes of 12 triangles
+//! sharing a 512² base colour). Time them with
 //! `/usr/bin/time -v target/release/wildlod simplify DIR/textured20k.glb -o OUT.glb --ratio 0.1 --bake --texture-size 2048`
 //! and `... DIR/scan10k.glb -o OUT.glb --ratio 0.01 --bake`.
 
 use std::path::PathBuf;
 
 use anyhow::Context;
-use wildlod_bench::bake_inputs::{noisy_terrain, scan_like, textured_torus, BakeInput};
+use wildlod_bench::bake_inputs::{many_boxes, noisy_terrain, scan_like, textured_torus, BakeInput};
 use wildlod_io::{encode_image, Document, ImageEncoding, WriteOptions};
 use wildlod_mesh::ImageSource;
 
@@ -24,6 +25,7 @@ fn main() -> anyhow::Result<()> {
         ("textured20k.glb", textured_torus(100, 100, 2048)),
         ("scan10k.glb", scan_like(29, 4096)),
         ("terrain1m.glb", noisy_terrain(708, 1024)),
+        ("boxes8k.glb", many_boxes(8000, 512)),
     ] {
         let BakeInput { mut scene, image } = input;
         let bytes = encode_image(&image, ImageEncoding::Png, name)?;
@@ -32,7 +34,7 @@ fn main() -> anyhow::Result<()> {
             mime_type: "image/png".into(),
         };
         let path = dir.join(name);
-        let triangles = scene.meshes[0].triangle_count();
+        let triangles: usize = scene.meshes.iter().map(|m| m.triangle_count()).sum();
         wildlod_io::write(
             &Document::from_scene(scene),
             &path,
