@@ -350,6 +350,19 @@ mod tests {
         assert!((block_blur(&corner, &used, 2)[0] - dark).abs() < 1e-12);
     }
 
+    /// A 64² image: a slow gradient on the left half, a checker of single
+    /// texels on the right.
+    fn half_smooth_half_checker() -> Rgba8Image {
+        image(64, 64, |x, y| {
+            if x < 32 {
+                [(x / 2) as u8, (y / 2) as u8, 128, 255]
+            } else {
+                let v = if (x + y) % 2 == 0 { 0 } else { 255 };
+                [v, v, v, 255]
+            }
+        })
+    }
+
     #[test]
     fn smooth_textures_shrink_to_the_level_and_detailed_ones_do_not() {
         // A slow gradient: any block's texels are within a level or two of
@@ -370,14 +383,7 @@ mod tests {
         assert_eq!(content_scale(&checker, &[], 1.0), 1.0);
         // Half smooth, half checker: the checker half decides if a surface
         // uses it, not if only the smooth half is mapped.
-        let half = image(64, 64, |x, y| {
-            if x < 32 {
-                [(x / 2) as u8, (y / 2) as u8, 128, 255]
-            } else {
-                let v = if (x + y) % 2 == 0 { 0 } else { 255 };
-                [v, v, v, 255]
-            }
-        });
+        let half = half_smooth_half_checker();
         let left = uv_coverage(64, 64, &[[[0.0, 0.0], [0.49, 0.0], [0.0, 1.0]]]);
         assert!(
             left[0] && !left[63],
@@ -402,14 +408,7 @@ mod tests {
         // the checker half get their own scales, asked in any order and
         // again (the second time from the cache), as the uncached
         // function gives them.
-        let half = image(64, 64, |x, y| {
-            if x < 32 {
-                [(x / 2) as u8, (y / 2) as u8, 128, 255]
-            } else {
-                let v = if (x + y) % 2 == 0 { 0 } else { 255 };
-                [v, v, v, 255]
-            }
-        });
+        let half = half_smooth_half_checker();
         let images = [Some(half)];
         let shared = ImageAnalyses::new(&images);
         let left = [[[0.0, 0.0], [0.49, 0.0], [0.0, 1.0]]];

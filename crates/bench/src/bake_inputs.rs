@@ -155,12 +155,17 @@ pub fn noisy_terrain(n: usize, size: u32) -> BakeInput {
 /// Per-corner `TEXCOORD_0`.
 fn set_uv(m: &mut Mesh, uv: Vec<f32>) {
     let n = uv.len() as u32 / 2;
+    set_uv_indexed(m, uv, (0..n).collect());
+}
+
+/// Sets UV set 0 to the pairs `uv`, corner `c` reading pair `indices[c]`.
+fn set_uv_indexed(m: &mut Mesh, uv: Vec<f32>, indices: Vec<u32>) {
     m.attributes.retain(|a| a.semantic != Semantic::TexCoord(0));
     m.attributes.push(Attribute {
         semantic: Semantic::TexCoord(0),
         components: 2,
         values: uv,
-        indices: (0..n).collect(),
+        indices,
         format: ComponentFormat::F32,
     });
 }
@@ -203,13 +208,7 @@ pub fn many_boxes(n: usize, size: u32) -> BakeInput {
         let mut m = Mesh::from_triangles(positions, &indices);
         m.name = format!("box {k}");
         // One UV per vertex (the corners of a side share its four).
-        m.attributes.push(Attribute {
-            semantic: Semantic::TexCoord(0),
-            components: 2,
-            values: uv,
-            indices,
-            format: ComponentFormat::F32,
-        });
+        set_uv_indexed(&mut m, uv, indices);
         m.parts[0].material = Some(0);
         scene.meshes.push(m);
         let mut matrix = wildlod_mesh::IDENTITY;
@@ -223,18 +222,7 @@ pub fn many_boxes(n: usize, size: u32) -> BakeInput {
         });
         scene.roots.push(k as u32);
     }
-    scene.materials.push(Material {
-        base_color_texture: Some(TextureRef {
-            texture: 0,
-            tex_coord: 0,
-        }),
-        ..Material::default()
-    });
-    scene.textures.push(Texture {
-        name: "boxes".into(),
-        source: ImageSource::Path("boxes.png".into()),
-        sampler: Default::default(),
-    });
+    add_textured_material(&mut scene, "boxes");
     BakeInput {
         scene,
         image: pattern(size, 16),
@@ -267,6 +255,13 @@ fn pattern(size: u32, cell: usize) -> Rgba8Image {
 fn scene(mut m: Mesh, name: &str) -> Scene {
     m.parts[0].material = Some(0);
     let mut scene = Scene::from_mesh(m);
+    add_textured_material(&mut scene, name);
+    scene
+}
+
+/// Adds material 0, whose base colour is texture 0 named `name` (a
+/// placeholder path as its source).
+fn add_textured_material(scene: &mut Scene, name: &str) {
     scene.materials.push(Material {
         base_color_texture: Some(TextureRef {
             texture: 0,
@@ -279,5 +274,4 @@ fn scene(mut m: Mesh, name: &str) -> Scene {
         source: ImageSource::Path(format!("{name}.png").into()),
         sampler: Default::default(),
     });
-    scene
 }
