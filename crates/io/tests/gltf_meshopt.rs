@@ -153,3 +153,17 @@ fn a_corrupt_stream_is_an_error_naming_the_view() {
     let e = read_bytes("c.glb", &b.glb()).expect_err("corrupt");
     assert!(e.to_string().contains("bufferView 2"), "{e}");
 }
+
+#[test]
+fn a_stride_past_the_extensions_limit_is_an_error_naming_the_view() {
+    let mut b = compressed(None);
+    // The view is long enough for it: the decoder's stride limit refuses.
+    b.json["bufferViews"][0]["extensions"]["EXT_meshopt_compression"]["byteStride"] = json!(260);
+    b.json["bufferViews"][0]["byteLength"] = json!(9 * 260);
+    let e = read_bytes("c.glb", &b.glb()).expect_err("stride");
+    let text = e.to_string();
+    assert!(
+        text.contains("bufferView 0") && text.contains("byteStride 260"),
+        "{text}"
+    );
+}

@@ -201,9 +201,7 @@ fn decode(
         ("INDICES", 4) => {
             bytes(&meshopt::decode_index_sequence::<u32>(encoded, count).map_err(failed)?)
         }
-        ("ATTRIBUTES", s) if s % 4 == 0 && (4..=256).contains(&s) => {
-            vertices(encoded, count, s / 4).map_err(failed)?
-        }
+        ("ATTRIBUTES", s) if s % 4 == 0 => vertices(encoded, count, s / 4)?,
         _ => {
             return Err(format!(
                 "mode {mode:?} with byteStride {stride} is not a valid combination"
@@ -292,17 +290,22 @@ impl<const K: usize> Default for Words<K> {
     }
 }
 
-/// Decodes a vertex stream of `words` 4-byte words per element.
-fn vertices(encoded: &[u8], count: usize, words: usize) -> Result<Vec<u8>, meshopt::Error> {
-    fn run<const K: usize>(encoded: &[u8], count: usize) -> Result<Vec<u8>, meshopt::Error> {
-        let v = meshopt::decode_vertex_buffer::<Words<K>>(encoded, count)?;
+/// Decodes a vertex stream of `words` 4-byte words per element (1 to 64:
+/// the extension's strides, 4 to 256 bytes).
+fn vertices(encoded: &[u8], count: usize, words: usize) -> Result<Vec<u8>, String> {
+    fn run<const K: usize>(encoded: &[u8], count: usize) -> Result<Vec<u8>, String> {
+        let v = meshopt::decode_vertex_buffer::<Words<K>>(encoded, count)
+            .map_err(|e| format!("cannot be decoded: {e}"))?;
         Ok(v.iter().flat_map(|w| w.0.native()).collect())
     }
     macro_rules! dispatch {
         ($($k:literal)*) => {
             match words {
                 $($k => run::<$k>(encoded, count),)*
-                _ => unreachable!("strides are checked to be 4..=256 bytes, multiples of 4"),
+                _ => Err(format!(
+                    "byteStride {} is outside the extension's 4 to 256 bytes",
+                    4 * words
+                )),
             }
         };
     }
