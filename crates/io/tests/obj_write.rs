@@ -393,3 +393,56 @@ fn material_library_of_the_source_is_not_replaced() {
     // Writing elsewhere is fine.
     write_ok(&doc, &dir.path().join("c.obj"));
 }
+
+#[test]
+fn map_options_stay_with_their_image_and_go_with_a_new_one() {
+    // `-s` and `-o` (texture scale and offset) and `-clamp` mean something
+    // to renderers that honour them; the scene has no field for them. A
+    // kept-UV output keeps them before the same image; a material whose
+    // image changed (a re-bake) gets none.
+    let dir = tempfile::tempdir().expect("temp dir");
+    let src = dir.path().join("src");
+    std::fs::create_dir(&src).expect("mkdir");
+    std::fs::write(src.join("t.png"), b"\x89PNG\r\n\x1a\n not decoded").expect("image");
+    std::fs::write(
+        src.join("m.mtl"),
+        "newmtl tiled\nKd 1 1 1\nmap_Kd -s 2 2 1 -clamp on t.png\nmap_Bump -bm 0.5 t.png\n",
+    )
+    .expect("mtl");
+    std::fs::write(
+        src.join("a.obj"),
+        "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0 1\nusemtl tiled\nf 1/1 2/2 3/3\n",
+    )
+    .expect("obj");
+    let doc = read(src.join("a.obj")).expect("reads");
+    let out = dir.path().join("kept");
+    std::fs::create_dir(&out).expect("mkdir");
+    write_ok(&doc, &out.join("b.obj"));
+    let mtl = std::fs::read_to_string(out.join("b.mtl")).expect("mtl");
+    assert!(mtl.contains("map_Kd -s 2 2 1 -clamp on t.png"), "{mtl}");
+    assert!(mtl.contains("map_Bump -bm 0.5 t.png"), "{mtl}");
+    // The base colour replaced by another image: its options do not apply.
+    let mut baked = doc.clone();
+    baked.scene.textures.push(wildlod_mesh::Texture {
+        name: "baked".into(),
+        source: ImageSource::Embedded {
+            bytes: b"\x89PNG\r\n\x1a\n baked".to_vec(),
+            mime_type: "image/png".into(),
+        },
+        sampler: Default::default(),
+    });
+    let new = baked.scene.textures.len() as u32 - 1;
+    if let Some(r) = baked.scene.materials[0].base_color_texture.as_mut() {
+        r.texture = new;
+    }
+    let out = dir.path().join("baked");
+    std::fs::create_dir(&out).expect("mkdir");
+    write_ok(&baked, &out.join("b.obj"));
+    let mtl = std::fs::read_to_string(out.join("b.mtl")).expect("mtl");
+    let line = mtl
+        .lines()
+        .find(|l| l.starts_with("map_Kd"))
+        .expect("map_Kd");
+    assert!(!line.contains("-s") && !line.contains("-clamp"), "{mtl}");
+    assert!(mtl.contains("map_Bump -bm 0.5 t.png"), "{mtl}");
+}

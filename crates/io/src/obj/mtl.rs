@@ -204,7 +204,7 @@ fn alpha(def: &Definition, warnings: &mut Vec<String>) -> f32 {
 
 /// The image at `path`, or a file in the same folder whose name differs
 /// only in letter case (assets made on Windows often disagree on case).
-fn existing_image(path: &Path) -> Option<PathBuf> {
+pub(crate) fn existing_image(path: &Path) -> Option<PathBuf> {
     if path.is_file() {
         return Some(path.to_path_buf());
     }
@@ -372,7 +372,7 @@ fn scalar(rest: &[u8]) -> Result<f32, String> {
 
 /// The image file of a map statement, after its options (`-bm 1`,
 /// `-s 1 1 1`…). The rest of the line is the name, spaces included.
-fn map_file(rest: &[u8]) -> &[u8] {
+pub(crate) fn map_file(rest: &[u8]) -> &[u8] {
     let mut s = trim(rest);
     while s.first() == Some(&b'-') {
         let (opt, after) = split_keyword(s);

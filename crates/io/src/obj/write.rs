@@ -15,8 +15,8 @@ use std::path::{Path, PathBuf};
 use wildlod_mesh::transform::transformed;
 use wildlod_mesh::{AlphaMode, Attribute, ImageSource, Material, Mesh, Scene, Semantic, ABSENT};
 
-use super::mtl::library_paths;
 use super::mtl::obj_default;
+use super::mtl::{existing_image, library_paths, map_file};
 use super::text::{split_keyword, trim_start, v_to_text, Lines};
 use crate::{Document, ErrorKind, Format, OutputFiles};
 
@@ -67,11 +67,11 @@ pub(crate) fn write(doc: &Document, path: &Path, files: &mut OutputFiles) -> Res
     let mtl = if materials.order.is_empty() {
         None
     } else {
-        let kept = source_material_lines(doc);
+        let source = source_materials(doc);
         Some(write_mtl(
             scene,
             &materials,
-            &kept,
+            &source,
             &mut images,
             &mut dropped,
         )?)
@@ -140,15 +140,35 @@ const KEPT_MTL_STATEMENTS: &[&str] = &[
     "bsdf",
 ];
 
-/// The [`KEPT_MTL_STATEMENTS`] of each material of the source OBJ, by
+/// What the source OBJ's libraries say that the scene does not hold, by
 /// material name (the first definition of a name wins, as when reading).
-fn source_material_lines(doc: &Document) -> HashMap<String, Vec<String>> {
-    let mut out: HashMap<String, Vec<String>> = HashMap::new();
+#[derive(Default)]
+struct SourceMaterials {
+    /// The [`KEPT_MTL_STATEMENTS`] of each material.
+    lines: HashMap<String, Vec<String>>,
+    /// Per (material, map keyword in lower case): the image the map named
+    /// and the options written before it (`-s 4 4 1`, `-clamp on`…), for
+    /// maps that had options.
+    map_options: HashMap<(String, String), (PathBuf, String)>,
+}
+
+/// The map keywords of each texture slot the writer writes, in the order a
+/// source's options are looked for.
+const MAP_FAMILIES: [&[&str]; 4] = [
+    &["map_kd"],
+    &["map_bump", "bump", "norm"],
+    &["map_ke"],
+    &["map_pr", "map_pm"],
+];
+
+/// The [`SourceMaterials`] of the source OBJ.
+fn source_materials(doc: &Document) -> SourceMaterials {
+    let mut found = SourceMaterials::default();
     let (Some(src), Some(Format::Obj)) = (&doc.source, doc.format) else {
-        return out;
+        return found;
     };
     let Ok(data) = crate::regular::read(src, crate::MAX_FILE_BYTES) else {
-        return out;
+        return found;
     };
     let dir = super::absolute_dir(src);
     let mut libs = Vec::new();
@@ -171,10 +191,10 @@ fn source_material_lines(doc: &Document) -> HashMap<String, Vec<String>> {
             let kw = String::from_utf8_lossy(kw).to_ascii_lowercase();
             if kw == "newmtl" {
                 let name = super::text::name(rest);
-                current = if out.contains_key(&name) {
+                current = if found.lines.contains_key(&name) {
                     None
                 } else {
-                    out.insert(name.clone(), Vec::new());
+                    found.lines.insert(name.clone(), Vec::new());
                     Some(name)
                 };
                 continue;
@@ -183,14 +203,32 @@ fn source_material_lines(doc: &Document) -> HashMap<String, Vec<String>> {
                 if KEPT_MTL_STATEMENTS.contains(&kw.as_str()) {
                     let text = String::from_utf8_lossy(line);
                     let text = one_line(&text);
-                    if let Some(v) = out.get_mut(name) {
+                    if let Some(v) = found.lines.get_mut(name) {
                         v.push(text);
+                    }
+                } else if MAP_FAMILIES.iter().any(|f| f.contains(&kw.as_str())) {
+                    let file = map_file(rest);
+                    let options = trim_start(&rest[..rest.len() - file.len()]);
+                    // The options end where the (possibly quoted) name begins.
+                    let options = String::from_utf8_lossy(options)
+                        .trim_end()
+                        .trim_end_matches('"')
+                        .trim_end()
+                        .to_string();
+                    if !options.is_empty() && !file.is_empty() {
+                        let lib_dir = super::absolute_dir(&lib);
+                        let path = super::resolve_path(&lib_dir, &String::from_utf8_lossy(file));
+                        let path = existing_image(&path).unwrap_or(path);
+                        found
+                            .map_options
+                            .entry((name.clone(), kw.clone()))
+                            .or_insert((path, one_line(&options)));
                     }
                 }
             }
         }
     }
-    out
+    found
 }
 
 /// Content the scene has and OBJ has no place for.
@@ -637,7 +675,7 @@ fn safe_file_part(name: &str, ext: &str) -> String {
 fn write_mtl(
     scene: &Scene,
     materials: &MaterialNames,
-    kept: &HashMap<String, Vec<String>>,
+    source: &SourceMaterials,
     images: &mut Images,
     dropped: &mut BTreeSet<String>,
 ) -> std::io::Result<Vec<u8>> {
@@ -668,7 +706,7 @@ fn write_mtl(
         if mat.metallic != plain.metallic {
             writeln!(out, "Pm {}", mat.metallic)?;
         }
-        for line in kept.get(&mat.name).into_iter().flatten() {
+        for line in source.lines.get(&mat.name).into_iter().flatten() {
             writeln!(out, "{line}")?;
         }
         let maps = [
@@ -679,14 +717,28 @@ fn write_mtl(
             // as one texture.
             (mat.metallic_roughness_texture, &["map_Pr", "map_Pm"][..]),
         ];
-        for (r, keywords) in maps {
+        for ((r, keywords), family) in maps.into_iter().zip(MAP_FAMILIES) {
             let Some(r) = r else { continue };
             if r.tex_coord != 0 {
                 dropped.insert("texture references to UV sets beyond the first".into());
             }
+            // The source's options (texture scale and offset, clamping)
+            // stay with the image they were given for: a kept-UV output
+            // reads it as the input did. A re-baked image has none.
+            let options = match &scene.textures.get(r.texture as usize).map(|t| &t.source) {
+                Some(ImageSource::Path(p)) => family.iter().find_map(|kw| {
+                    source
+                        .map_options
+                        .get(&(mat.name.clone(), kw.to_string()))
+                        .filter(|(q, _)| q == p)
+                        .map(|(_, o)| format!("{o} "))
+                }),
+                _ => None,
+            }
+            .unwrap_or_default();
             if let Some(name) = images.name(scene, r.texture) {
                 for kw in keywords {
-                    writeln!(out, "{kw} {name}")?;
+                    writeln!(out, "{kw} {options}{name}")?;
                 }
             }
         }
