@@ -3,9 +3,8 @@
 
 mod gltf_support;
 
-use gltf_support::{read_bytes, Builder};
+use gltf_support::{read_bytes, write_gltf_and_read_back, Builder};
 use serde_json::{json, Value};
-use wildlod_io::{write, WriteOptions};
 use wildlod_mesh::{Mesh, Semantic};
 
 const UV: [[f32; 2]; 4] = [[0.1, 0.2], [0.9, 0.2], [0.9, 0.8], [0.1, 0.8]];
@@ -84,12 +83,8 @@ fn the_map_moves_the_uvs_of_its_material_only_and_leaves_the_document() {
     );
     // Written back, the map is gone from the material and the extension
     // list, and read again the UVs are the same (applied once, not twice).
-    let dir = tempfile::tempdir().expect("temp dir");
-    let out = dir.path().join("out.gltf");
-    write(&doc, &out, &WriteOptions::default()).expect("writes");
-    let text = std::fs::read_to_string(&out).expect("written");
+    let (text, again) = write_gltf_and_read_back(&doc);
     assert!(!text.contains("KHR_texture_transform"), "{text}");
-    let again = wildlod_io::read(&out).expect("reads back");
     assert_eq!(corner_uvs(&again.scene.meshes[0], 0), uvs);
 }
 
@@ -120,12 +115,9 @@ fn a_slot_reading_the_set_through_another_map_gets_its_own_set() {
     // Faces of the other material have no value in the new set.
     assert!(plain[3..].iter().all(Option::is_none));
     // The written material points its normal map at the new set.
-    let dir = tempfile::tempdir().expect("temp dir");
-    let out = dir.path().join("out.gltf");
-    write(&doc, &out, &WriteOptions::default()).expect("writes");
-    let json: Value = serde_json::from_slice(&std::fs::read(&out).expect("written")).expect("json");
+    let (text, again) = write_gltf_and_read_back(&doc);
+    let json: Value = serde_json::from_str(&text).expect("json");
     assert_eq!(json["materials"][0]["normalTexture"]["texCoord"], json!(1));
-    let again = wildlod_io::read(&out).expect("reads back");
     assert_eq!(corner_uvs(&again.scene.meshes[0], 1)[..3], plain[..3]);
 }
 

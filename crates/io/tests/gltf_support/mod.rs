@@ -483,3 +483,14 @@ pub fn read_bytes(name: &str, bytes: &[u8]) -> Result<wildlod_io::Document, wild
     std::fs::write(&p, bytes).expect("write test file");
     wildlod_io::read(&p)
 }
+
+/// `doc` written as `.gltf` in a fresh directory: the written JSON text
+/// and the document read back from it.
+pub fn write_gltf_and_read_back(doc: &wildlod_io::Document) -> (String, wildlod_io::Document) {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let out = dir.path().join("out.gltf");
+    wildlod_io::write(doc, &out, &wildlod_io::WriteOptions::default()).expect("writes");
+    let text = std::fs::read_to_string(&out).expect("written");
+    let again = wildlod_io::read(&out).expect("reads back");
+    (text, again)
+}
