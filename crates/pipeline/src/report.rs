@@ -59,6 +59,12 @@ pub struct MeshJson {
     /// exporter wrote): left where they were; errors are relative to the
     /// rest's diagonal.
     pub outliers: usize,
+    /// The virtual-edge radius (relative to the diagonal) that separate
+    /// parts were bridged at when the requested `--virtual-radius` would
+    /// have made more virtual edges than the search's budget, which is
+    /// linear in the input (many parts much smaller than the radius); null
+    /// when the requested radius was used.
+    pub virtual_radius_reduced: Option<f64>,
     /// Wall time.
     pub seconds: f64,
 }
@@ -83,6 +89,7 @@ impl MeshJson {
             twin_slack: r.report.twin_slack,
             uv_damage: r.report.uv_damage,
             outliers: r.report.outliers.len(),
+            virtual_radius_reduced: r.report.virtual_radius_reduced,
             steering: r.report.steering.map(|s| SteeringJson {
                 kept: s.kept,
                 hausdorff: s.hausdorff,

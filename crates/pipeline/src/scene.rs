@@ -224,6 +224,11 @@ pub fn whole_report(r: &SceneReport) -> Report {
             .iter()
             .filter_map(|g| g.report.uv_damage)
             .reduce(f64::max),
+        virtual_radius_reduced: r
+            .groups
+            .iter()
+            .filter_map(|g| g.report.virtual_radius_reduced)
+            .reduce(f64::min),
         // The file's steering: kept where every group kept its own.
         steering: r
             .groups

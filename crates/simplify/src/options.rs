@@ -315,6 +315,13 @@ pub struct Guards {
     /// pair. `r` is relative to the bounding-box diagonal; 0 disables them.
     /// Default 0.0025 (so parts within 0.5% of the diagonal may merge),
     /// chosen by measurement on the corpus: see `docs/design.md`.
+    ///
+    /// The search keeps its work and edge count linear in the input: where
+    /// many parts much smaller than `r` sit within reach of hundreds of
+    /// others (a long row of pickets, gravel), bridging every gap under
+    /// `2 r` would grow with the square of the part count, and the radius
+    /// halves until it fits; [`crate::Report::virtual_radius_reduced`] says
+    /// so.
     pub virtual_edge_radius: f64,
     /// Drop the twins that cannot be seen before simplifying. A twin is a
     /// face's reversed copy, how exporters make a sheet double-sided. On a

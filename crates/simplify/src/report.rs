@@ -95,6 +95,13 @@ pub struct Report {
     pub outliers: Vec<u32>,
     /// Virtual edges added between separate components (W §4.1.1).
     pub virtual_edges: usize,
+    /// The virtual-edge radius (relative to the diagonal) parts were
+    /// bridged at, when bridging every gap under the requested
+    /// `virtual_edge_radius` would have exceeded the search's budget, which
+    /// is linear in the input (many parts much smaller than the radius:
+    /// see [`crate::Guards::virtual_edge_radius`]); `None` when the
+    /// requested radius was used.
+    pub virtual_radius_reduced: Option<f64>,
     /// The rank (the loop's cost units: area times squared distance on the
     /// unit-diagonal mesh, with every term) below which 99% of the loop's
     /// collapses were made: the level the run ended at. Collapses of the

@@ -461,6 +461,13 @@ pub fn summary(name: &str, r: &Report, seconds: f64) -> String {
             if r.outliers.len() == 1 { "ex" } else { "ices" },
         ));
     }
+    if let Some(radius) = r.virtual_radius_reduced {
+        s.push_str(&format!(
+            "; parts bridged only across gaps under {:.2e} of the diagonal (many small parts: \
+             the requested --virtual-radius would have made more virtual edges than the budget)",
+            2.0 * radius,
+        ));
+    }
     if r.steering.is_some_and(|s| !s.kept) {
         s.push_str(
             "; attributes would have cost geometry beyond the tolerance: the result of a run \

@@ -1,6 +1,8 @@
 //! Pair queries by simultaneous traversal of two trees (or of one tree with
 //! itself): every primitive pair whose boxes lie within a margin.
 
+use std::ops::ControlFlow;
+
 use rayon::prelude::*;
 
 use super::Bvh;
@@ -95,8 +97,8 @@ impl Walk<'_> {
         }
     }
 
-    /// Reports the primitive pairs of a pair of leaves.
-    fn leaves(&self, v: Visit, f: &mut impl FnMut(u32, u32)) {
+    /// Reports the primitive pairs of a pair of leaves, until `f` breaks.
+    fn leaves(&self, v: Visit, f: &mut impl FnMut(u32, u32) -> ControlFlow<()>) -> ControlFlow<()> {
         let na = &self.left.nodes[v.a as usize];
         let nb = &self.right.nodes[v.b as usize];
         if self.same && v.a == v.b {
@@ -105,11 +107,11 @@ impl Walk<'_> {
                 for j in i + 1..slots.end {
                     if near(self.left.boxes[i].distance2(&self.left.boxes[j]), self.m2) {
                         let (p, q) = (self.left.prims[i], self.left.prims[j]);
-                        f(p.min(q), p.max(q));
+                        f(p.min(q), p.max(q))?;
                     }
                 }
             }
-            return;
+            return ControlFlow::Continue(());
         }
         for i in na.slots() {
             let bi = &self.left.boxes[i];
@@ -117,17 +119,22 @@ impl Walk<'_> {
                 if near(bi.distance2(&self.right.boxes[j]), self.m2) {
                     let (p, q) = (self.left.prims[i], self.right.prims[j]);
                     if self.same {
-                        f(p.min(q), p.max(q));
+                        f(p.min(q), p.max(q))?;
                     } else {
-                        f(p, q);
+                        f(p, q)?;
                     }
                 }
             }
         }
+        ControlFlow::Continue(())
     }
 
-    /// Depth-first traversal from `start`.
-    fn run(&self, start: Visit, f: &mut impl FnMut(u32, u32)) {
+    /// Depth-first traversal from `start`, until `f` breaks.
+    fn run(
+        &self,
+        start: Visit,
+        f: &mut impl FnMut(u32, u32) -> ControlFlow<()>,
+    ) -> ControlFlow<()> {
         let mut stack = vec![start];
         let mut next = Vec::with_capacity(3);
         while let Some(v) = stack.pop() {
@@ -136,9 +143,10 @@ impl Walk<'_> {
                 // Reversed so that the first child is visited first.
                 stack.extend(next.iter().rev());
             } else {
-                self.leaves(v, f);
+                self.leaves(v, f)?;
             }
         }
+        ControlFlow::Continue(())
     }
 
     /// The root visit, if the roots are near enough to matter at all.
@@ -192,7 +200,10 @@ impl Walk<'_> {
             .into_par_iter()
             .map(|v| {
                 let mut out = Vec::new();
-                self.run(v, &mut |i, j| out.extend(f(i, j)));
+                let _ = self.run(v, &mut |i, j| {
+                    out.extend(f(i, j));
+                    ControlFlow::Continue(())
+                });
                 out
             })
             .collect();
@@ -225,14 +236,27 @@ impl Bvh {
     where
         F: FnMut(u32, u32),
     {
+        let _ = self.pairs_within_until(other, margin, |i, j| {
+            f(i, j);
+            ControlFlow::Continue(())
+        });
+    }
+
+    /// [`Bvh::pairs_within`] that stops as soon as `f` breaks, for callers
+    /// with a work budget; returns whether it stopped early.
+    pub fn pairs_within_until<F>(&self, other: &Bvh, margin: f64, mut f: F) -> ControlFlow<()>
+    where
+        F: FnMut(u32, u32) -> ControlFlow<()>,
+    {
         let w = Walk {
             left: self,
             right: other,
             same: false,
             m2: margin2(margin),
         };
-        if let Some(root) = w.root() {
-            w.run(root, &mut f);
+        match w.root() {
+            Some(root) => w.run(root, &mut f),
+            None => ControlFlow::Continue(()),
         }
     }
 
@@ -243,14 +267,27 @@ impl Bvh {
     where
         F: FnMut(u32, u32),
     {
+        let _ = self.self_pairs_within_until(margin, |i, j| {
+            f(i, j);
+            ControlFlow::Continue(())
+        });
+    }
+
+    /// [`Bvh::self_pairs_within`] that stops as soon as `f` breaks, for
+    /// callers with a work budget; returns whether it stopped early.
+    pub fn self_pairs_within_until<F>(&self, margin: f64, mut f: F) -> ControlFlow<()>
+    where
+        F: FnMut(u32, u32) -> ControlFlow<()>,
+    {
         let w = Walk {
             left: self,
             right: self,
             same: true,
             m2: margin2(margin),
         };
-        if let Some(root) = w.root() {
-            w.run(root, &mut f);
+        match w.root() {
+            Some(root) => w.run(root, &mut f),
+            None => ControlFlow::Continue(()),
         }
     }
 

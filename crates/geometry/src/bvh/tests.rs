@@ -171,6 +171,44 @@ fn self_pairs_within_reports_each_unordered_pair_once() {
 }
 
 #[test]
+fn pair_walks_stop_when_the_callback_breaks() {
+    use std::ops::ControlFlow;
+    let boxes = vec![Aabb::new(DVec3::ZERO, DVec3::ONE); 200];
+    let t = Bvh::build(&boxes);
+    // The first 10 pairs in walk order, then a stop.
+    let mut all = Vec::new();
+    t.self_pairs_within(0.0, |i, j| all.push((i, j)));
+    let mut got = Vec::new();
+    let flow = t.self_pairs_within_until(0.0, |i, j| {
+        got.push((i, j));
+        if got.len() == 10 {
+            ControlFlow::Break(())
+        } else {
+            ControlFlow::Continue(())
+        }
+    });
+    assert_eq!(flow, ControlFlow::Break(()));
+    assert_eq!(got, all[..10]);
+    // Two trees: a walk that never breaks reports every pair and continues.
+    let mut n = 0;
+    let flow = t.pairs_within_until(&t, 0.0, |_, _| {
+        n += 1;
+        ControlFlow::Continue(())
+    });
+    assert_eq!((flow, n), (ControlFlow::Continue(()), 200 * 200));
+    let mut n = 0;
+    let flow = t.pairs_within_until(&t, 0.0, |_, _| {
+        n += 1;
+        if n == 7 {
+            ControlFlow::Break(())
+        } else {
+            ControlFlow::Continue(())
+        }
+    });
+    assert_eq!((flow, n), (ControlFlow::Break(()), 7));
+}
+
+#[test]
 fn identical_boxes_pair_up_completely() {
     let boxes = vec![Aabb::new(DVec3::ZERO, DVec3::ONE); 200];
     let t = Bvh::build(&boxes);

@@ -12,7 +12,7 @@
 use glam::DVec3;
 use rayon::prelude::*;
 
-use crate::edges::virtual_edges::{add_virtual_edges, find_virtual_edges};
+use crate::edges::virtual_edges::{add_virtual_edges, find_virtual_edges, VirtualEdges};
 use crate::options::Metric;
 use crate::options::Options;
 use crate::prepare::complex::Edge;
@@ -318,17 +318,20 @@ impl<'o> Run<'o> {
             // Tangent quadrics are per edge.
             p.complex.build_adjacency();
         }
-        let virtual_pairs =
-            if options.guards.virtual_edge_radius > 0.0 && !options.guards.keep_topology {
-                let threshold = 2.0 * options.guards.virtual_edge_radius;
-                if p.complex.has_adjacency() {
-                    add_virtual_edges(&mut p.complex, threshold)
-                } else {
-                    find_virtual_edges(&p.complex, threshold)
-                }
+        let radius = options.guards.virtual_edge_radius;
+        let found = if radius > 0.0 && !options.guards.keep_topology {
+            let threshold = 2.0 * radius;
+            if p.complex.has_adjacency() {
+                add_virtual_edges(&mut p.complex, threshold)
             } else {
-                Vec::new()
-            };
+                find_virtual_edges(&p.complex, threshold)
+            }
+        } else {
+            VirtualEdges::default()
+        };
+        let virtual_radius_reduced =
+            (radius > 0.0 && found.threshold < 2.0 * radius).then_some(0.5 * found.threshold);
+        let virtual_pairs = found.edges;
         let joints = joint_importance(&p, options, &metric);
         let (symmetry, symmetry_truncated) = symmetry_importance(&p, options, &metric);
         let importance = EdgeImportance {
@@ -392,6 +395,7 @@ impl<'o> Run<'o> {
             cleaned_faces: p.cleaned,
             hidden_twins: p.hidden_twins,
             virtual_edges: virtual_pairs.len(),
+            virtual_radius_reduced,
             outliers: p.outlier_inputs.clone(),
             symmetry_truncated,
             ..Report::default()
