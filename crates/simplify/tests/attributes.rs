@@ -11,7 +11,7 @@ use wildlod_mesh::{
     shapes, Attribute, ComponentFormat, Faces, Image, ImageSource, Material, Mesh, Scene, Semantic,
     Skinning, Texture, TextureRef, ABSENT,
 };
-use wildlod_simplify::{simplify_mesh, simplify_polygons, SeamPolicy};
+use wildlod_simplify::{simplify_mesh, simplify_polygons, Options, Partition, SeamPolicy};
 
 /// A linear UV field on the plane z = 0.
 fn field(p: [f32; 3]) -> [f32; 2] {
@@ -192,7 +192,7 @@ fn ignoring_seams_lets_them_move() {
     );
 }
 
-/// A tube along z of `nu × nv` quads (triangulated), stored with its UV
+/// A rippled tube along z of `nu × nv` quads (triangulated), stored with its UV
 /// seam split (the column at u = 0 and u = 1 are different vertices at the
 /// same positions), skinned to joint 0 at the bottom blending into joint 3
 /// at the top.
@@ -206,7 +206,9 @@ fn skinned_tube(nu: usize, nv: usize) -> Mesh {
             // i = nu is the seam copy of i = 0: the same position bits.
             let a = std::f32::consts::TAU * (i % nu) as f32 / nu as f32;
             let z = j as f32 / nv as f32 * 4.0;
-            positions.push([a.cos(), a.sin(), z]);
+            // Ripples, so that collapses have a cost and an order.
+            let r = 1.0 + 0.05 * (5.0 * a).sin() * (3.0 * z).sin();
+            positions.push([r * a.cos(), r * a.sin(), z]);
             uv.extend_from_slice(&[i as f32 / nu as f32, j as f32 / nv as f32]);
             let t = (z / 4.0).clamp(0.0, 1.0);
             joints.extend_from_slice(&[0u16, 3, 7, 0]);
@@ -243,11 +245,30 @@ fn skinned_tube(nu: usize, nv: usize) -> Mesh {
 /// Joints and weight bits of one skin entry, sorted.
 type InfluenceSet = Vec<(u16, u32)>;
 
+/// `o` and the same with the parallel phase forced on a small test mesh
+/// (chunks of 1024 faces).
+fn with_and_without_chunks(o: Options) -> [Options; 2] {
+    let mut chunked = o.clone();
+    chunked.partition = Partition {
+        min_triangles: 0,
+        chunk_faces: 1024,
+        handoff: 0.02,
+    };
+    [o, chunked]
+}
+
 #[test]
 fn skins_keep_one_normalized_influence_set_per_position() {
-    let input = skinned_tube(24, 40);
-    for r in [0.5, 0.1] {
-        let (out, _) = simplify_mesh(&input, &ratio(r)).unwrap();
+    let input = skinned_tube(96, 100);
+    for o in [0.5, 0.1]
+        .into_iter()
+        .flat_map(|r| with_and_without_chunks(ratio(r)))
+    {
+        let (out, rep) = simplify_mesh(&input, &o).unwrap();
+        assert!(
+            o.partition.min_triangles > 0 || rep.parallel_collapses > 0,
+            "{rep:?}"
+        );
         out.validate().unwrap();
         let s = out.skinning.as_ref().unwrap();
         assert_eq!(s.influences, 4);
@@ -293,25 +314,31 @@ fn skins_keep_one_normalized_influence_set_per_position() {
 fn fitted_skin_weights_follow_the_blend_at_the_new_positions() {
     // Along the tube, joint 3 weighs 0.8·z/4 and joint 7 0.2·z/4: a linear
     // blend, which the fit reproduces wherever vertices move.
-    let (out, _) = simplify_mesh(&skinned_tube(24, 40), &ratio(0.2)).unwrap();
-    let s = out.skinning.as_ref().unwrap();
-    for (corner, &v) in out.faces.indices.iter().enumerate() {
-        let t = (out.positions[v as usize][2] / 4.0).clamp(0.0, 1.0);
-        let (js, ws) = s.entry(s.indices[corner]);
-        let w = |j: u16| -> f32 {
-            js.iter()
-                .zip(ws)
-                .filter(|(&k, _)| k == j)
-                .map(|(_, &w)| w)
-                .sum()
-        };
+    for o in with_and_without_chunks(ratio(0.2)) {
+        let (out, rep) = simplify_mesh(&skinned_tube(96, 100), &o).unwrap();
         assert!(
-            (w(0) - (1.0 - t)).abs() < 1e-4,
-            "joint 0 at z {}: {}",
-            4.0 * t,
-            w(0)
+            o.partition.min_triangles > 0 || rep.parallel_collapses > 0,
+            "{rep:?}"
         );
-        assert!((w(3) - 0.8 * t).abs() < 1e-4 && (w(7) - 0.2 * t).abs() < 1e-4);
+        let s = out.skinning.as_ref().unwrap();
+        for (corner, &v) in out.faces.indices.iter().enumerate() {
+            let t = (out.positions[v as usize][2] / 4.0).clamp(0.0, 1.0);
+            let (js, ws) = s.entry(s.indices[corner]);
+            let w = |j: u16| -> f32 {
+                js.iter()
+                    .zip(ws)
+                    .filter(|(&k, _)| k == j)
+                    .map(|(_, &w)| w)
+                    .sum()
+            };
+            assert!(
+                (w(0) - (1.0 - t)).abs() < 1e-4,
+                "joint 0 at z {}: {}",
+                4.0 * t,
+                w(0)
+            );
+            assert!((w(3) - 0.8 * t).abs() < 1e-4 && (w(7) - 0.2 * t).abs() < 1e-4);
+        }
     }
 }
 

@@ -9,7 +9,8 @@ use common::{bumpy_sphere, ratio};
 use wildlod_eval::{compare, CompareOptions, EvalMesh};
 use wildlod_mesh::{shapes, Mesh};
 use wildlod_simplify::{
-    simplify_mesh, simplify_polygons, Options, Partition, Report, StopReason, Target,
+    simplify_mesh, simplify_polygons, simplify_with_attributes, AttributeInput, AttributeStream,
+    Options, Partition, QuadMode, Report, StopReason, StreamKind, Target,
 };
 
 /// Chunks of 2048 faces from any size on.
@@ -295,4 +296,95 @@ fn parts_touching_everywhere_lock_everything_and_match_the_global_loop() {
     assert_eq!(rep.parallel_collapses, 0);
     let (b, _) = simplify_mesh(&mesh, &global(o)).unwrap();
     assert_eq!(a, b);
+}
+
+/// A rippled `n × n` grid of quads (as quads, or as triangles) whose UVs
+/// are two charts: `(x, y)` on the faces left of the middle and
+/// `(x + 10, y)` on the right, a seam between them. UVs linear in the
+/// position are fitted exactly wherever the vertices go.
+fn two_chart_grid(n: usize, triangles: bool) -> (Vec<[f32; 3]>, wildlod_mesh::Faces, Vec<f32>) {
+    let mut m = shapes::quad_grid(n, n);
+    if triangles {
+        m = shapes::triangulate(&m);
+    }
+    for p in &mut m.positions {
+        p[2] = 0.1 * (3.0 * p[0]).sin() * (2.0 * p[1]).cos();
+    }
+    let mut uv = Vec::with_capacity(2 * m.faces.indices.len());
+    for face in m.faces.iter() {
+        let cx: f32 = face
+            .iter()
+            .map(|&v| m.positions[v as usize][0])
+            .sum::<f32>()
+            / face.len() as f32;
+        let offset = if cx > 0.5 { 10.0 } else { 0.0 };
+        for &v in face {
+            let p = m.positions[v as usize];
+            uv.extend_from_slice(&[p[0] + offset, p[1]]);
+        }
+    }
+    (m.positions, m.faces, uv)
+}
+
+/// Wedges cut into the chunks and put back: every output face keeps UVs of
+/// one chart, fitted at its corners' positions, as one global loop's do.
+#[test]
+fn partitioned_runs_carry_attributes_and_their_seams() {
+    for (triangles, mode) in [(true, QuadMode::Auto), (false, QuadMode::Never)] {
+        let (positions, faces, uv) = two_chart_grid(96, triangles);
+        let indices: Vec<u32> = (0..faces.indices.len() as u32).collect();
+        let input = AttributeInput {
+            streams: vec![AttributeStream {
+                components: 2,
+                values: &uv,
+                indices: &indices,
+                weight: 1.0,
+                seams: true,
+                kind: StreamKind::TexCoord,
+            }],
+            ..AttributeInput::default()
+        };
+        for r in [0.1, 0.02] {
+            let mut o = partitioned(ratio(r));
+            o.quad.mode = mode;
+            let out = simplify_with_attributes(&positions, &faces, &input, &o).unwrap();
+            mostly_parallel(&out.report);
+            let fitted = &out.attributes[0];
+            let mut charts = [0usize; 2];
+            // Per output vertex and chart, the UV values its corners use:
+            // one, the wedges of each side of the seam merged.
+            let mut values: Vec<[Option<u32>; 2]> = vec![[None; 2]; out.positions.len()];
+            for (f, face) in out.faces.iter().enumerate() {
+                let start = out.faces.offsets[f] as usize;
+                let mut chart_of = |k: usize| {
+                    let v = face[k] as usize;
+                    let i = fitted.indices[start + k] as usize;
+                    let (u, w) = (fitted.values[2 * i], fitted.values[2 * i + 1]);
+                    let p = out.positions[v];
+                    assert!(
+                        (w - p[1]).abs() < 1e-3,
+                        "quads {}: v {w} at y {}",
+                        !triangles,
+                        p[1]
+                    );
+                    let d = u - p[0];
+                    assert!(
+                        d.abs() < 1e-3 || (d - 10.0).abs() < 1e-3,
+                        "u {u} at x {}",
+                        p[0]
+                    );
+                    let chart = usize::from(d > 5.0);
+                    let seen = values[v][chart].get_or_insert(i as u32);
+                    assert_eq!(*seen, i as u32, "two values at vertex {v}, ratio {r}");
+                    chart
+                };
+                let chart = chart_of(0);
+                for k in 1..face.len() {
+                    assert_eq!(chart_of(k), chart, "a face across the seam, ratio {r}");
+                }
+                charts[chart] += 1;
+            }
+            assert!(charts[0] > 0 && charts[1] > 0, "{charts:?}");
+        }
+    }
 }

@@ -4,7 +4,9 @@
 //! `scan10k.glb` (10,092 triangles, 4096² base colour, one UV island per
 //! quad) and `terrain1m.glb` (998,002 triangles of a noisy height field,
 //! 1024² base colour) and `boxes8k.glb` (8,000 meshes of 12 triangles
-//! sharing a 512² base colour). Time them with
+//! sharing a 512² base colour) and `torus1m.glb` (1,000,000 triangles,
+//! smooth UVs over a 1024² base colour: a large textured mesh for the
+//! parallel phase with attributes). Time them with
 //! `/usr/bin/time -v target/release/wildlod simplify DIR/textured20k.glb -o OUT.glb --ratio 0.1 --bake --texture-size 2048`
 //! and `... DIR/scan10k.glb -o OUT.glb --ratio 0.01 --bake`.
 
@@ -26,6 +28,7 @@ fn main() -> anyhow::Result<()> {
         ("scan10k.glb", scan_like(29, 4096)),
         ("terrain1m.glb", noisy_terrain(708, 1024)),
         ("boxes8k.glb", many_boxes(8000, 512)),
+        ("torus1m.glb", textured_torus(1000, 500, 1024)),
     ] {
         let BakeInput { mut scene, image } = input;
         let bytes = encode_image(&image, ImageEncoding::Png, name)?;

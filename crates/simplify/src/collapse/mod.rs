@@ -42,6 +42,7 @@ pub(crate) mod history;
 pub(crate) mod ordering;
 mod partition;
 mod refused_around;
+mod slots;
 mod witness_waits;
 
 use refused_around::RefusedAround;
@@ -292,7 +293,7 @@ pub(crate) struct Run<'o> {
     report: Report,
     history: Option<HistoryRecorder>,
     /// Attributes fitted through the collapses (Hoppe 1999), when given.
-    attrs: Option<AttributeState>,
+    attrs: Option<AttributeState<'o>>,
     attr_scratch: AttrScratch,
     scratch: Scratch,
     star: Vec<u32>,
@@ -310,7 +311,7 @@ impl<'o> Run<'o> {
     /// Without star lists (see [`Complex::faces_only`]) the virtual edges are
     /// found but added only once the complex gets its adjacency, in
     /// [`Run::start`].
-    pub fn new(mut p: Prepared, options: &'o Options, attrs: Option<AttributeState>) -> Self {
+    pub fn new(mut p: Prepared, options: &'o Options, attrs: Option<AttributeState<'o>>) -> Self {
         let quads = p.complex.faces.iter().filter(|f| f.len == 4).count();
         let quads_active = options.quads_active(quads);
         let metric = options.effective_metric(quads_active);
@@ -465,13 +466,13 @@ impl<'o> Run<'o> {
 
     /// A run over one chunk of the partitioned path: its own small complex
     /// (local ids), the quadrics of its vertices (moved out of the global
-    /// arrays), the vertices it shares with other chunks locked, and its
-    /// share of the target.
+    /// arrays), its attribute state (local ids too), the vertices it shares
+    /// with other chunks locked, and its share of the target.
     pub fn chunk(
         parent: &Run<'o>,
         p: Prepared,
-        quadrics: &'o mut [StoredQuadric],
-        reg: &'o mut [Isotropic],
+        (quadrics, reg): (&'o mut [StoredQuadric], &'o mut [Isotropic]),
+        attrs: Option<AttributeState<'o>>,
         locked: Vec<bool>,
         target: usize,
     ) -> Self {
@@ -511,7 +512,7 @@ impl<'o> Run<'o> {
                 target_triangles: target,
                 ..Report::default()
             },
-            attrs: None,
+            attrs,
             attr_scratch: AttrScratch::default(),
             scratch: Scratch::default(),
             star: Vec::new(),
@@ -1254,7 +1255,7 @@ pub(crate) struct Collapsed<'o> {
     /// The collapse history, when recorded.
     pub history: Option<History>,
     /// The attributes fitted through the collapses, when given.
-    pub attrs: Option<AttributeState>,
+    pub attrs: Option<AttributeState<'o>>,
     /// Whether flat borders were held exactly (see
     /// `CostModel::exact_flat_borders`): the refit holds them too.
     pub exact_flat_borders: bool,

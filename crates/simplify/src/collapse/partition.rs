@@ -11,10 +11,12 @@ use glam::DVec3;
 use rayon::prelude::*;
 
 use super::refused_around::RefusedAround;
+use super::slots::{first_slots, split_ranges, Slots};
 use super::{PerVertex, Run};
 use crate::prepare::complex::{Complex, FaceSlots, NONE};
 use crate::prepare::Prepared;
 use crate::report::Report;
+use crate::terms::attributes::ChunkWedges;
 use crate::terms::stored::{Isotropic, StoredQuadric};
 
 /// A chunk stops at this many times the triangles around its locked
@@ -42,6 +44,10 @@ struct Chunk<'o> {
     floor: usize,
     /// It stopped at its round's share, with collapses under the cap left.
     limited: bool,
+    /// With attributes: the run's corner of each local corner, and the
+    /// run's id of each of the chunk's wedges, per fitted stream.
+    corners: Vec<u32>,
+    wedges: Option<Vec<Vec<u32>>>,
 }
 
 /// Whether the phase applies to this run.
@@ -50,7 +56,6 @@ pub(super) fn applies(run: &Run) -> bool {
     let p = &o.partition;
     !o.record.history
         && !run.quads_active
-        && run.attrs.is_none()
         && run.p.complex.triangles >= p.min_triangles
         && p.chunk_faces > 0
         && chunk_count(run) >= 2
@@ -190,6 +195,10 @@ struct Layout {
     pairs: Vec<(u32, u32)>,
     /// Triangles of the faces touching a locked vertex.
     ring: usize,
+    /// With attributes, the run's corner of each local corner (a local
+    /// corner is the slot it starts at): the chunk's attribute state is
+    /// indexed by local corners.
+    corners: Vec<u32>,
 }
 
 /// Every chunk's layout, in one sequential sweep with a shared global →
@@ -201,6 +210,7 @@ fn layouts(
     locked: &[bool],
     owner: &[u32],
     virtual_pairs: &[(u32, u32)],
+    attributes: bool,
 ) -> Vec<Layout> {
     let mut local = vec![NONE; c.pos.len()];
     let mut seen = vec![NONE; c.pos.len()];
@@ -235,9 +245,17 @@ fn layouts(
                 l.slot_vertex.push(local[v as usize]);
                 touches_lock |= locked[v as usize];
             }
-            // Empty for triangles (see `Complex::corner`): the global
-            // corners stay valid through the pass.
-            if !c.slot_corner.is_empty() {
+            if attributes {
+                // The chunk's attribute state is local: so are the corners
+                // it reads (for triangles, the slots themselves).
+                let local = l.corners.len() as u32;
+                l.corners.extend((s..s + n).map(|k| c.corner(k)));
+                if !c.slot_corner.is_empty() {
+                    l.slot_corner.extend(local..local + n as u32);
+                }
+            } else if !c.slot_corner.is_empty() {
+                // Empty for triangles (see `Complex::corner`): the global
+                // corners stay valid through the pass.
                 l.slot_corner.extend_from_slice(&c.slot_corner[s..s + n]);
             }
             if touches_lock {
@@ -260,137 +278,6 @@ fn layouts(
     out
 }
 
-/// Where a pass keeps every per-vertex value (quadrics, regularization
-/// quadrics) while its chunks run: in the global array itself, rearranged
-/// so that the chunks' ranges follow one another, each in its local order.
-/// The values are moved there and back in place, not copied: the global
-/// arrays alive beside the chunks' copies were the run's peak.
-struct Slots {
-    /// Start of each chunk's range, and the end of the last.
-    start: Vec<usize>,
-    /// Each vertex's slot: its one copy, or the first of its copies for a
-    /// vertex on a cut (in several chunks, read-only in all); `NONE` for a
-    /// vertex in no chunk.
-    slot: Vec<u32>,
-}
-
-impl Slots {
-    fn new(layouts: &[Layout], nv: usize) -> Slots {
-        let mut start = Vec::with_capacity(layouts.len() + 1);
-        let mut next = 0usize;
-        for l in layouts {
-            start.push(next);
-            next += l.vertex.len();
-        }
-        start.push(next);
-        let slot = first_slots(layouts.iter().map(|l| &l.vertex[..]), nv);
-        Slots { start, slot }
-    }
-
-    /// Length of the rearranged array: the chunks' ranges, or more where
-    /// dead vertices make the global array longer.
-    fn len(&self) -> usize {
-        self.slot.len().max(self.start.last().copied().unwrap_or(0))
-    }
-
-    /// Rearranges `g` (one value per vertex) into the chunks' ranges.
-    /// Values of vertices in no chunk are lost: the caller sets aside the
-    /// ones it needs.
-    fn move_to_chunks<T: Copy + Default>(&self, g: &mut Vec<T>, layouts: &[Layout]) {
-        let nv = g.len();
-        // Exactly: `resize` alone would double the capacity.
-        g.reserve_exact(self.len() - nv);
-        g.resize(self.len(), T::default());
-        // Each vertex's value to its slot; a chain ends at a slot whose
-        // value is no longer needed.
-        let slot = &self.slot;
-        permute(g, |at| {
-            (at < nv && slot[at] != NONE).then(|| slot[at] as usize)
-        });
-        // The further copies of vertices on a cut.
-        for (l, &start) in layouts.iter().zip(&self.start) {
-            for (k, &v) in l.vertex.iter().enumerate() {
-                let first = self.slot[v as usize] as usize;
-                if first != start + k {
-                    g[start + k] = g[first];
-                }
-            }
-        }
-    }
-
-    /// Puts the values back in vertex order (undoes [`Slots::move_to_chunks`]),
-    /// each vertex taking its first copy; vertices in no chunk get the
-    /// default value.
-    fn move_back<T: Copy + Default>(&self, g: &mut Vec<T>) {
-        let nv = self.slot.len();
-        let mut vertex = vec![NONE; g.len()];
-        for (v, &s) in self.slot.iter().enumerate() {
-            if s != NONE {
-                vertex[s as usize] = v as u32;
-            }
-        }
-        permute(g, |at| (vertex[at] != NONE).then(|| vertex[at] as usize));
-        g.truncate(nv);
-        g.shrink_to_fit();
-        for (v, &s) in self.slot.iter().enumerate() {
-            if s == NONE {
-                g[v] = T::default();
-            }
-        }
-    }
-}
-
-/// Each vertex's first slot when the chunks' vertex lists (`vertex`, in
-/// chunk order) follow one another; `NONE` for a vertex in none.
-fn first_slots<'a>(vertex: impl Iterator<Item = &'a [u32]>, nv: usize) -> Vec<u32> {
-    let mut slot = vec![NONE; nv];
-    let mut next = 0u32;
-    for list in vertex {
-        for &v in list {
-            if slot[v as usize] == NONE {
-                slot[v as usize] = next;
-            }
-            next += 1;
-        }
-    }
-    slot
-}
-
-/// Moves every value of `g` at an index with a destination there, in
-/// place: each cycle or chain of displaced values is followed once, and a
-/// chain ends at an index without a destination, whose value is dropped.
-fn permute<T: Copy>(g: &mut [T], dest: impl Fn(usize) -> Option<usize>) {
-    let mut done = vec![false; g.len()];
-    for start in 0..g.len() {
-        if done[start] || dest(start).is_none() {
-            continue;
-        }
-        done[start] = true;
-        let (mut at, mut value) = (start, g[start]);
-        while let Some(to) = dest(at) {
-            if !done[to] && dest(to).is_some() {
-                done[to] = true;
-                value = std::mem::replace(&mut g[to], value);
-                at = to;
-            } else {
-                g[to] = value;
-                break;
-            }
-        }
-    }
-}
-
-/// `s` cut into consecutive ranges, `start` giving their bounds.
-fn split_ranges<'a, T>(mut s: &'a mut [T], start: &[usize]) -> Vec<&'a mut [T]> {
-    let mut out = Vec::with_capacity(start.len().saturating_sub(1));
-    for w in start.windows(2) {
-        let (range, rest) = std::mem::take(&mut s).split_at_mut(w[1] - w[0]);
-        out.push(range);
-        s = rest;
-    }
-    out
-}
-
 /// A live vertex in no chunk (unused by the live faces), its quadrics and
 /// its position, set aside while the global arrays hold the chunks' values
 /// (and the global positions are freed).
@@ -402,6 +289,7 @@ fn build_chunk<'a>(
     run: &Run<'a>,
     layout: Layout,
     (quadrics, reg): (&'a mut [StoredQuadric], &'a mut [Isotropic]),
+    (wedges, values): (Option<ChunkWedges>, Vec<&'a mut [f64]>),
     locked: &[bool],
 ) -> Chunk<'a> {
     let Layout {
@@ -413,6 +301,7 @@ fn build_chunk<'a>(
         pos,
         pairs,
         ring,
+        corners,
     } = layout;
     let mut complex = Complex::from_clean_faces(pos, slots, slot_vertex, slot_corner);
     for (a, b) in pairs {
@@ -440,7 +329,14 @@ fn build_chunk<'a>(
         weights: Vec::new(),
         rep: Vec::new(),
     };
-    let mut chunk_run = Run::chunk(run, prepared, quadrics, reg, chunk_locked, floor);
+    let (attrs, wedges) = match (&run.attrs, wedges) {
+        (Some(a), Some(w)) => {
+            let (state, ids) = a.chunk(w, values, &vertex);
+            (Some(state), Some(ids))
+        }
+        _ => (None, None),
+    };
+    let mut chunk_run = Run::chunk(run, prepared, (quadrics, reg), attrs, chunk_locked, floor);
     chunk_run.inherit_pinch_prices(run, &vertex);
     Chunk {
         run: chunk_run,
@@ -449,6 +345,8 @@ fn build_chunk<'a>(
         active: true,
         floor,
         limited: false,
+        corners,
+        wedges,
     }
 }
 
@@ -508,7 +406,14 @@ fn one_pass(run: &mut Run, shift: DVec3, handoff: usize, progress: &dyn Fn(f64))
     let (locked, owner) = locked_vertices(&run.p.complex, &chunks, &run.virtual_pairs);
     let start = run.progress_start;
     let remove = start.saturating_sub(run.target);
-    let layouts = layouts(&run.p.complex, chunks, &locked, &owner, &run.virtual_pairs);
+    let layouts = layouts(
+        &run.p.complex,
+        chunks,
+        &locked,
+        &owner,
+        &run.virtual_pairs,
+        run.attrs.is_some(),
+    );
     let ring: usize = layouts.iter().map(|l| l.ring).sum();
     let goal = pass_goal(run.p.complex.triangles, ring, handoff);
     drop(owner);
@@ -533,7 +438,10 @@ fn one_pass(run: &mut Run, shift: DVec3, handoff: usize, progress: &dyn Fn(f64))
     if regular {
         run.p.complex.faces = Vec::new();
     }
-    let slots = Slots::new(&layouts, run.p.complex.pos.len());
+    let slots = Slots::new(
+        layouts.iter().map(|l| &l.vertex[..]),
+        run.p.complex.pos.len(),
+    );
     // Live vertices in no chunk keep their quadrics; a removed vertex's
     // are never read again.
     let aside: Vec<Aside> = (0..slots.slot.len() as u32)
@@ -548,18 +456,49 @@ fn one_pass(run: &mut Run, shift: DVec3, handoff: usize, progress: &dyn Fn(f64))
     run.p.complex.pos = Vec::new();
     let mut quadrics = std::mem::take(&mut run.quadrics).into_vec();
     let mut reg = std::mem::take(&mut run.reg).into_vec();
-    slots.move_to_chunks(&mut quadrics, &layouts);
-    slots.move_to_chunks(&mut reg, &layouts);
-    let ranges: Vec<_> = split_ranges(&mut quadrics, &slots.start)
+    let vertex_lists = || layouts.iter().map(|l| &l.vertex[..]);
+    slots.move_to_chunks(&mut quadrics, 1, vertex_lists());
+    slots.move_to_chunks(&mut reg, 1, vertex_lists());
+    let ranges: Vec<_> = split_ranges(&mut quadrics, &slots.start, 1)
         .into_iter()
-        .zip(split_ranges(&mut reg, &slots.start))
+        .zip(split_ranges(&mut reg, &slots.start, 1))
         .collect();
+    // Attributes: each chunk's wedges, and every fitted stream's wedge
+    // quadrics rearranged into the chunks' ranges the same way.
+    let wedges: Vec<Option<ChunkWedges>> = match &run.attrs {
+        Some(a) => layouts
+            .par_iter()
+            .map(|l| Some(a.chunk_wedges(&l.corners)))
+            .collect(),
+        None => layouts.iter().map(|_| None).collect(),
+    };
+    let mut wedge_values: Vec<(Slots, Vec<f64>, usize)> = Vec::new();
+    if let Some(a) = &mut run.attrs {
+        for k in 0..a.fitted_streams() {
+            let lists = || wedges.iter().flatten().map(|w| w.global(k));
+            let ws = Slots::new(lists(), a.wedge_count(k));
+            let stride = a.stride(k);
+            let mut values = a.take_values(k);
+            ws.move_to_chunks(&mut values, stride, lists());
+            wedge_values.push((ws, values, stride));
+        }
+    }
+    let mut chunk_values: Vec<Vec<&mut [f64]>> = layouts.iter().map(|_| Vec::new()).collect();
+    for (ws, values, stride) in &mut wedge_values {
+        for (to, range) in chunk_values
+            .iter_mut()
+            .zip(split_ranges(values, &ws.start, *stride))
+        {
+            to.push(range);
+        }
+    }
     let mut parts: Vec<Chunk> = {
         let this = &*run;
         layouts
             .into_par_iter()
             .zip(ranges)
-            .map(|(layout, q)| build_chunk(this, layout, q, &locked))
+            .zip(wedges.into_par_iter().zip(chunk_values))
+            .map(|((layout, q), w)| build_chunk(this, layout, q, w, &locked))
             .collect()
     };
     // Not needed in the rounds: `write_back` finds the first slots again
@@ -622,8 +561,14 @@ fn one_pass(run: &mut Run, shift: DVec3, handoff: usize, progress: &dyn Fn(f64))
     }
     slots.slot = write_back(run, parts, corners, listed, regular.then_some(face_count));
     run.refused_around = RefusedAround::new(nv);
-    slots.move_back(&mut quadrics);
-    slots.move_back(&mut reg);
+    slots.move_back(&mut quadrics, 1);
+    slots.move_back(&mut reg, 1);
+    if let Some(a) = &mut run.attrs {
+        for (k, (ws, mut values, stride)) in wedge_values.into_iter().enumerate() {
+            ws.move_back(&mut values, stride);
+            a.restore_values(k, values);
+        }
+    }
     for (v, q, r, p) in aside {
         quadrics[v as usize] = q;
         reg[v as usize] = r;
@@ -673,9 +618,11 @@ fn write_back(
     run.p.complex.pos = vec![DVec3::ZERO; run.merged_into.len()];
     for part in parts {
         let Chunk {
-            run: local,
+            run: mut local,
             vertex,
             face,
+            corners: corner_of,
+            wedges,
             ..
         } = part;
         let lc = &local.p.complex;
@@ -688,7 +635,11 @@ fn write_back(
             for k in 0..l.len as usize {
                 gc.slot_vertex[gs + k] = vertex[lc.slot_vertex[ls + k] as usize];
             }
-            if listed {
+            if listed && wedges.is_some() {
+                for k in 0..l.len as usize {
+                    gc.slot_corner[gs + k] = corner_of[lc.slot_corner[ls + k] as usize];
+                }
+            } else if listed {
                 gc.slot_corner[gs..gs + l.len as usize]
                     .copy_from_slice(&lc.slot_corner[ls..ls + l.len as usize]);
             }
@@ -702,6 +653,9 @@ fn write_back(
             if into != lv as u32 {
                 run.merged_into[gv as usize] = vertex[into as usize];
             }
+        }
+        if let (Some(a), Some(chunk), Some(ids)) = (&mut run.attrs, local.attrs.take(), &wedges) {
+            a.put_back(chunk, ids, &corner_of, &vertex);
         }
         add_report(&mut run.report, &local.report);
         run.error_limited |= local.error_limited;
@@ -807,13 +761,13 @@ mod tests {
         let c = strip();
         let chunks = vec![(0..8).collect::<Vec<u32>>(), (8..16).collect()];
         let (locked, owner) = locked_vertices(&c, &chunks, &[]);
-        let l = layouts(&c, chunks, &locked, &owner, &[]);
+        let l = layouts(&c, chunks, &locked, &owner, &[], false);
         // Two more vertices than the faces use: they are in no chunk.
         let nv = c.pos.len() + 2;
-        let slots = Slots::new(&l, nv);
+        let slots = Slots::new(l.iter().map(|p| &p.vertex[..]), nv);
         let values: Vec<u64> = (0..nv as u64).map(|v| 100 + v).collect();
         let mut g = values.clone();
-        slots.move_to_chunks(&mut g, &l);
+        slots.move_to_chunks(&mut g, 1, l.iter().map(|p| &p.vertex[..]));
         for (part, &start) in l.iter().zip(&slots.start) {
             for (k, &v) in part.vertex.iter().enumerate() {
                 assert_eq!(g[start + k], values[v as usize], "vertex {v}");
@@ -821,7 +775,7 @@ mod tests {
         }
         // The cut's column is in both chunks.
         assert_eq!(slots.start[2], c.pos.len() + 2);
-        slots.move_back(&mut g);
+        slots.move_back(&mut g, 1);
         let mut expected = values;
         expected[nv - 2..].fill(0);
         assert_eq!(g, expected);
@@ -832,7 +786,7 @@ mod tests {
         let c = strip();
         let chunks = vec![(0..8).collect::<Vec<u32>>(), (8..16).collect()];
         let (locked, owner) = locked_vertices(&c, &chunks, &[]);
-        let l = layouts(&c, chunks, &locked, &owner, &[(0, 10)]);
+        let l = layouts(&c, chunks, &locked, &owner, &[(0, 10)], false);
         for part in &l {
             for (lf, &gf) in part.face.iter().enumerate() {
                 let s = part.slots[lf];

@@ -8,8 +8,10 @@
 //! `seams.rs`; at the end each wedge takes the value its quadric fits at
 //! its vertex's final position. Skin weights are sparse per-vertex
 //! quadrics (`skin.rs`). `state.rs` holds a run's state and the hooks the
-//! collapse loop calls.
+//! collapse loop calls; `chunk.rs` cuts it for the chunks of the parallel
+//! first phase and puts their results back.
 
+mod chunk;
 mod linear_fit;
 mod quadric;
 mod seams;
@@ -17,4 +19,5 @@ mod skin;
 mod state;
 mod wedges;
 
+pub(crate) use chunk::ChunkWedges;
 pub(crate) use state::{AttrScratch, AttributeState};

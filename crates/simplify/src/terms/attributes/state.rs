@@ -30,29 +30,57 @@ use crate::terms::tangent::tangent_plane;
 const MAX_SEAM_SHARE: f64 = 0.5;
 
 /// One fitted stream's state.
-struct StreamState {
+/// A stream's wedge quadrics (`layout.stride()` floats per wedge): the
+/// run's own, or a chunk's range of the run's, which the partitioned phase
+/// rearranges so that each chunk's wedges follow one another (see
+/// `collapse::partition`): the phase then needs no second copy.
+pub(crate) enum WedgeValues<'a> {
+    Owned(Vec<f64>),
+    Borrowed(&'a mut [f64]),
+}
+
+impl std::ops::Deref for WedgeValues<'_> {
+    type Target = [f64];
+    fn deref(&self) -> &[f64] {
+        match self {
+            WedgeValues::Owned(v) => v,
+            WedgeValues::Borrowed(s) => s,
+        }
+    }
+}
+
+impl std::ops::DerefMut for WedgeValues<'_> {
+    fn deref_mut(&mut self) -> &mut [f64] {
+        match self {
+            WedgeValues::Owned(v) => v,
+            WedgeValues::Borrowed(s) => s,
+        }
+    }
+}
+
+pub(super) struct StreamState<'a> {
     /// Index in the caller's `AttributeInput::streams`.
-    input: usize,
-    layout: Layout,
+    pub(super) input: usize,
+    pub(super) layout: Layout,
     /// (weight / range)²: the factor of its reduced quadrics in the cost.
-    scale: f64,
-    seams: bool,
-    kind: StreamKind,
-    wedges: Wedges,
+    pub(super) scale: f64,
+    pub(super) seams: bool,
+    pub(super) kind: StreamKind,
+    pub(super) wedges: Wedges,
     /// Per wedge, `layout.stride()` floats.
-    quadrics: Vec<f64>,
+    pub(super) quadrics: WedgeValues<'a>,
     /// Per wedge: merged with another wedge (its value must be refitted).
-    merged: Vec<bool>,
+    pub(super) merged: Vec<bool>,
     /// The input range of each component, for clamping fitted values.
-    lo: [f32; 4],
-    hi: [f32; 4],
+    pub(super) lo: [f32; 4],
+    pub(super) hi: [f32; 4],
 }
 
 /// The per-vertex skin quadrics.
-struct SkinState {
-    scale: f64,
-    influences: usize,
-    quadrics: Vec<SkinQuadric>,
+pub(super) struct SkinState {
+    pub(super) scale: f64,
+    pub(super) influences: usize,
+    pub(super) quadrics: Vec<SkinQuadric>,
 }
 
 /// What attributes add to the evaluation of a collapse.
@@ -84,18 +112,18 @@ pub(crate) struct AttrScratch {
 }
 
 /// Attribute state of one run.
-pub(crate) struct AttributeState {
-    streams: Vec<StreamState>,
+pub(crate) struct AttributeState<'a> {
+    pub(super) streams: Vec<StreamState<'a>>,
     /// Material borders as a stream without values: wedges only.
-    groups: Option<Wedges>,
-    skin: Option<SkinState>,
+    pub(super) groups: Option<Wedges>,
+    pub(super) skin: Option<SkinState>,
     /// Streams given to [`AttributeState::new`], carried ones included.
-    carried: Vec<usize>,
-    stream_count: usize,
+    pub(super) carried: Vec<usize>,
+    pub(super) stream_count: usize,
     /// Seams are kept strictly ([`SeamPolicy::Keep`]).
-    strict: bool,
+    pub(super) strict: bool,
     /// Any seam exists at all (otherwise relaxing changes nothing).
-    has_seams: bool,
+    pub(super) has_seams: bool,
 }
 
 /// Per-corner checks of a stream against the face corners.
@@ -140,7 +168,7 @@ fn check_stream(
     Ok(())
 }
 
-impl AttributeState {
+impl AttributeState<'_> {
     /// Builds wedges and quadrics from the input. `corner_vertex[c]` is the
     /// welded vertex of input corner `c`; the complex is the run's, built
     /// over the same corners (its slots still are the input corners).
@@ -154,7 +182,7 @@ impl AttributeState {
         vertex_weight: &[f64],
         policy: SeamPolicy,
         weight_factor: f64,
-    ) -> Result<AttributeState, Error> {
+    ) -> Result<AttributeState<'static>, Error> {
         let corners = corner_vertex.len();
         let edge_length = mean_edge_length(c);
         let mut streams = Vec::new();
@@ -206,7 +234,7 @@ impl AttributeState {
                 scale: (s.weight * weight_factor * unit).powi(2),
                 seams: s.seams && policy != SeamPolicy::Ignore,
                 kind: s.kind,
-                quadrics: vec![0.0; wedges.count() * layout.stride()],
+                quadrics: WedgeValues::Owned(vec![0.0; wedges.count() * layout.stride()]),
                 merged: vec![false; wedges.count()],
                 wedges,
                 lo,
