@@ -74,8 +74,10 @@ pub fn rebake_levels(
                 continue;
             }
         }
-        // The same drawn triangles per mesh as the keep-UV level.
-        let targets = drawn_targets(&level.meshes, &instances);
+        // The same drawn triangles per mesh as the keep-UV level, which
+        // aimed for its runs' targets.
+        let aimed = level.runs.iter().map(|r| r.report.target_triangles).sum();
+        let targets = drawn_targets(&level.meshes, &instances, aimed);
         let t0 = Instant::now();
         let mut baked = doc.clone();
         let label = format!("{stem}_lod{}", level.level);

@@ -142,7 +142,11 @@ pub fn simplify_document<P: MeshProgress>(
         } else {
             let (run, report) =
                 simplify_whole_scene(&mut out.scene, input, options, &t, &stem, progress)?;
-            let _ = whole_file.set(drawn_targets(&out.scene.meshes, &instances));
+            let _ = whole_file.set(drawn_targets(
+                &out.scene.meshes,
+                &instances,
+                report.target_triangles,
+            ));
             (vec![run], Some(report))
         };
         let notes = vec![String::new(); runs.len()];
@@ -160,8 +164,9 @@ pub fn simplify_document<P: MeshProgress>(
             t.clone()
         } else {
             let mut scene = doc.scene.clone();
-            simplify_whole_scene(&mut scene, input, options, &t, &stem, progress)?;
-            drawn_targets(&scene.meshes, &instances)
+            let (_, report) =
+                simplify_whole_scene(&mut scene, input, options, &t, &stem, progress)?;
+            drawn_targets(&scene.meshes, &instances, report.target_triangles)
         };
         let mut out = doc.clone();
         let (runs, more) = rebake_scene(

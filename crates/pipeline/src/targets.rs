@@ -53,15 +53,38 @@ pub fn targets_for(
 /// over the whole file spent where (W's budget is one for the scene, §1).
 /// A mesh the file's run removed gets 0 triangles: it goes in the re-bake
 /// too (see `rebake_scene`).
-pub fn drawn_targets(meshes: &[Mesh], instances: &[usize]) -> Vec<Target> {
-    meshes
+///
+/// `file_target`, the triangles that run aimed for: a run reaches its
+/// target within a triangle (two where a collapse takes a face and its
+/// twin), so a re-bake aiming at the counts it reached would add its own
+/// slack to that run's. Counts that fall short of the file's target are
+/// raised to it (the shortfall shared in proportion to the counts, largest
+/// remainders), so the re-bake aims where the file's run did.
+pub fn drawn_targets(meshes: &[Mesh], instances: &[usize], file_target: usize) -> Vec<Target> {
+    let counts: Vec<usize> = meshes
         .iter()
         .enumerate()
-        .map(|(m, mesh)| Target {
-            triangles: Some(mesh.triangle_count() * instances.get(m).copied().unwrap_or(1)),
+        .map(|(m, mesh)| mesh.triangle_count() * instances.get(m).copied().unwrap_or(1))
+        .collect();
+    raise_to(&counts, file_target)
+        .into_iter()
+        .map(|n| Target {
+            triangles: Some(n),
             ..Target::default()
         })
         .collect()
+}
+
+/// `counts` raised to sum to `total` where they sum to less, the
+/// shortfall shared in proportion to them (a zero stays zero); unchanged
+/// otherwise.
+fn raise_to(counts: &[usize], total: usize) -> Vec<usize> {
+    let sum: usize = counts.iter().sum();
+    if sum == 0 || sum >= total {
+        return counts.to_vec();
+    }
+    let extra = share_budget(total - sum, counts);
+    counts.iter().zip(extra).map(|(c, e)| c + e).collect()
 }
 
 /// Triangles every mesh keeps (see [`targets_for`]).
@@ -156,6 +179,25 @@ mod tests {
         assert_eq!(share_budget(10, &[1, 1, 1]), vec![1, 1, 1]);
         assert_eq!(share_budget(100, &[3, 4]), vec![3, 4]);
         assert_eq!(share_budget(5, &[0, 0]), vec![0, 0]);
+    }
+
+    #[test]
+    fn a_rebake_aims_where_the_files_run_aimed() {
+        // The file's run aimed for 100 and reached 99 (within a
+        // triangle): the re-bake aims for 100 again, the shortfall going
+        // to the mesh with the larger remainder; a removed mesh stays at 0.
+        assert_eq!(raise_to(&[66, 33, 0], 100), vec![67, 33, 0]);
+        assert_eq!(raise_to(&[60, 38], 100), vec![61, 39]);
+        // Reached or above the target (an error limit, nothing left to
+        // collapse): the counts as they are.
+        assert_eq!(raise_to(&[60, 40], 100), vec![60, 40]);
+        assert_eq!(raise_to(&[80, 40], 100), vec![80, 40]);
+        assert_eq!(raise_to(&[0, 0], 100), vec![0, 0]);
+        // Drawn counts: a cube shown twice (24) and once (12), 36 for 37:
+        // the triangle short goes to the one drawing two thirds.
+        let meshes = [wildlod_mesh::shapes::cube(), wildlod_mesh::shapes::cube()];
+        let t = drawn_targets(&meshes, &[2, 1], 37);
+        assert_eq!((t[0].triangles, t[1].triangles), (Some(25), Some(12)));
     }
 
     #[test]
