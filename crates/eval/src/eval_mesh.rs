@@ -234,8 +234,17 @@ impl<'a> EvalMesh<'a> {
                 counts: info.counts,
             });
             let moved = triangulate(&transformed(mesh, &matrix));
+            // Positions placed in f64: a georeferenced file's meshes sit
+            // millions of units from the origin, where f32 steps by a
+            // quarter of a unit and would swamp the distances measured.
+            let m = glam::DMat4::from_cols_array(&matrix.map(f64::from));
+            let world: Vec<DVec3> = mesh
+                .positions
+                .iter()
+                .map(|p| m.transform_point3(DVec3::from(p.map(f64::from))))
+                .collect();
             out.instance_first.push(out.positions.len() as u32);
-            out.push_triangulated(&moved, &info.vertices, &material_source);
+            out.push_triangulated(&moved, &world, &info.vertices, &material_source);
         }
         out
     }
@@ -256,22 +265,30 @@ impl<'a> EvalMesh<'a> {
             counts: info.counts,
         });
         out.instance_first.push(0);
-        out.push_triangulated(&triangulate(mesh), &info.vertices, &[]);
+        let positions: Vec<DVec3> = mesh
+            .positions
+            .iter()
+            .map(|p| DVec3::from(p.map(f64::from)))
+            .collect();
+        out.push_triangulated(&triangulate(mesh), &positions, &info.vertices, &[]);
         out
     }
 
-    /// Appends a triangulated, world-space mesh. `vertices` are its vertex
-    /// sample positions; `material_source` says what each material reads.
+    /// Appends a triangulated, world-space mesh whose positions are
+    /// `positions` (in f64: `tri`'s own are rounded to f32). `vertices` are
+    /// its vertex sample positions; `material_source` says what each
+    /// material reads.
     fn push_triangulated(
         &mut self,
         tri: &Mesh,
+        positions: &[DVec3],
         vertices: &[u32],
         material_source: &[MaterialSource],
     ) {
         let base = self.positions.len() as u32;
         let np = tri.positions.len();
-        self.positions
-            .extend(tri.positions.iter().map(|p| DVec3::from(p.map(f64::from))));
+        debug_assert_eq!(positions.len(), np);
+        self.positions.extend_from_slice(positions);
         let finite = |v: u32| (v as usize) < np && self.positions[(base + v) as usize].is_finite();
         self.vertices
             .extend(vertices.iter().filter(|&&v| finite(v)).map(|&v| base + v));

@@ -38,4 +38,4 @@ pub use compare::{
     compare, CompareOptions, Comparison, OutlierVertex, DEFAULT_SEED, MAX_NAMED_OUTLIERS,
 };
 pub use eval_mesh::{EvalMesh, FaceCounts, InstanceCounts};
-pub use pose::posed;
+pub use pose::{pose_origin, posed, posed_about};

@@ -87,7 +87,26 @@ fn skinned(mesh: &Mesh, joints: &[Mat4]) -> Mesh {
 /// meshes deformed by their joints; materials and textures are kept, so
 /// every metric (texture and normal Chamfer included) applies.
 pub fn posed(scene: &Scene, animation: Option<usize>, time: f32) -> Scene {
+    posed_about(scene, animation, time, [0.0; 3])
+}
+
+/// A point to pose `scene` about ([`posed_about`]): the world position of
+/// its first mesh instance's origin. Two files to compare are posed about
+/// the reference's.
+pub fn pose_origin(scene: &Scene) -> [f64; 3] {
+    scene
+        .instances()
+        .first()
+        .map_or([0.0; 3], |(_, m)| [m[12], m[13], m[14]].map(f64::from))
+}
+
+/// [`posed`] with every position relative to `origin`, placed in f64: a
+/// georeferenced file's meshes sit millions of units from the world
+/// origin, where f32 positions step by a quarter of a unit, so posing in
+/// world coordinates would swamp every distance measured on them.
+pub fn posed_about(scene: &Scene, animation: Option<usize>, time: f32, origin: [f64; 3]) -> Scene {
     let world = world_matrices(scene, animation, time);
+    let about = |m: &Mat4| shifted(m, origin);
     let mut out = Scene {
         materials: scene.materials.clone(),
         textures: scene.textures.clone(),
@@ -102,18 +121,44 @@ pub fn posed(scene: &Scene, animation: Option<usize>, time: f32) -> Scene {
         let mesh = &scene.meshes[mi as usize];
         let posed_mesh = match node.skin {
             Some(skin) if mesh.skinning.is_some() && (skin as usize) < scene.skins.len() => {
-                skinned(mesh, &skin_matrices(scene, skin, &world))
+                // Weights sum to one: shifting every joint shifts the blend.
+                let joints: Vec<Mat4> = skin_matrices(scene, skin, &world)
+                    .iter()
+                    .map(about)
+                    .collect();
+                skinned(mesh, &joints)
             }
-            _ => transformed(mesh, &world[n].to_cols_array()),
+            _ => transformed(mesh, &about(&world[n]).to_cols_array()),
         };
         push_instance(&mut out, posed_mesh);
     }
     for (m, r) in reached.iter().enumerate() {
         if !r {
-            push_instance(&mut out, scene.meshes[m].clone());
+            let mesh = &scene.meshes[m];
+            let moved = if origin == [0.0; 3] {
+                mesh.clone()
+            } else {
+                transformed(mesh, &about(&Mat4::IDENTITY).to_cols_array())
+            };
+            push_instance(&mut out, moved);
         }
     }
     out
+}
+
+/// `m` followed by a translation by `-origin`, computed in f64.
+fn shifted(m: &Mat4, origin: [f64; 3]) -> Mat4 {
+    if origin == [0.0; 3] {
+        return *m;
+    }
+    let mut c = m.to_cols_array().map(f64::from);
+    for col in 0..4 {
+        let w = c[4 * col + 3];
+        for k in 0..3 {
+            c[4 * col + k] -= origin[k] * w;
+        }
+    }
+    Mat4::from_cols_array(&c.map(|x| x as f32))
 }
 
 fn push_instance(out: &mut Scene, mut mesh: Mesh) {
@@ -173,6 +218,57 @@ mod tests {
             }],
         });
         s
+    }
+
+    /// A tilted 10 × 10 square as an `n × n` grid of triangle pairs, shown
+    /// by one node moved by `t`.
+    fn tilted_square(n: usize, t: [f32; 3]) -> Scene {
+        let mut pos = Vec::new();
+        for j in 0..=n {
+            for i in 0..=n {
+                let (x, z) = (10.0 * i as f32 / n as f32, 10.0 * j as f32 / n as f32);
+                pos.push([x, 0.37 * x, z]);
+            }
+        }
+        let id = |i: usize, j: usize| (j * (n + 1) + i) as u32;
+        let mut idx = Vec::new();
+        for j in 0..n {
+            for i in 0..n {
+                idx.extend_from_slice(&[id(i, j), id(i + 1, j), id(i + 1, j + 1)]);
+                idx.extend_from_slice(&[id(i, j), id(i + 1, j + 1), id(i, j + 1)]);
+            }
+        }
+        let mut matrix = IDENTITY;
+        matrix[12..15].copy_from_slice(&t);
+        Scene {
+            meshes: vec![Mesh::from_triangles(pos, &idx)],
+            nodes: vec![Node {
+                mesh: Some(0),
+                matrix,
+                ..Node::default()
+            }],
+            roots: vec![0],
+            ..Scene::default()
+        }
+    }
+
+    #[test]
+    fn far_from_the_origin_one_plane_in_two_tessellations_measures_zero() {
+        // Four million units away f32 steps by a quarter of a unit: placed
+        // in world coordinates, the tessellations rounded apart (0.1
+        // units); posed about the reference's point, they coincide.
+        let at = [2.0e6, 4.0e6, 1.0e3];
+        let (fine, coarse) = (tilted_square(8, at), tilted_square(1, at));
+        let origin = pose_origin(&fine);
+        assert_eq!(origin, [2.0e6, 4.0e6, 1.0e3]);
+        let measure = |o: [f64; 3]| {
+            let images: Vec<Option<wildlod_mesh::Image>> = Vec::new();
+            let r = crate::EvalMesh::from_scene(&posed_about(&fine, None, 0.0, o), &images);
+            let c = crate::EvalMesh::from_scene(&posed_about(&coarse, None, 0.0, o), &images);
+            crate::compare(&r, &c, &crate::CompareOptions::default()).hausdorff
+        };
+        assert!(measure(origin) < 1e-6, "{}", measure(origin));
+        assert!(measure([0.0; 3]) > 1e-3, "the case tests nothing");
     }
 
     #[test]

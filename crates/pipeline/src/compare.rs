@@ -156,8 +156,16 @@ pub fn compare_files(
     // As a renderer shows them at rest: skinned meshes through their
     // joints' rest transforms (an exporter may place a skinned mesh's node
     // anywhere, since renderers ignore it).
-    let r = EvalMesh::from_scene(&wildlod_eval::posed(&ref_doc.scene, None, 0.0), &ri);
-    let c = EvalMesh::from_scene(&wildlod_eval::posed(&cand_doc.scene, None, 0.0), &ci);
+    // Both about the reference's first instance (see `posed_about`).
+    let origin = wildlod_eval::pose_origin(&ref_doc.scene);
+    let r = EvalMesh::from_scene(
+        &wildlod_eval::posed_about(&ref_doc.scene, None, 0.0, origin),
+        &ri,
+    );
+    let c = EvalMesh::from_scene(
+        &wildlod_eval::posed_about(&cand_doc.scene, None, 0.0, origin),
+        &ci,
+    );
     let compare_options = CompareOptions {
         samples: options.samples,
         texture_samples: options.texture_samples,
@@ -220,8 +228,9 @@ fn animated(
     for k in 0..options.frames {
         // Past the animation's end the last pose holds.
         let time = (k as f64 / options.fps).min(anim.duration as f64);
-        let pr = wildlod_eval::posed(&reference.0.scene, Some(index), time as f32);
-        let pc = wildlod_eval::posed(&candidate.0.scene, Some(index), time as f32);
+        let origin = wildlod_eval::pose_origin(&reference.0.scene);
+        let pr = wildlod_eval::posed_about(&reference.0.scene, Some(index), time as f32, origin);
+        let pc = wildlod_eval::posed_about(&candidate.0.scene, Some(index), time as f32, origin);
         let c = compare(
             &EvalMesh::from_scene(&pr, images.0),
             &EvalMesh::from_scene(&pc, images.1),

@@ -276,11 +276,12 @@ fn value_index(a: Option<&Attribute>, corner: usize) -> u32 {
 }
 
 /// Flattens every mesh instance of `model.scene` (posed as `compare`
-/// measures it) into indexed triangles grouped by material. A vertex is a
+/// measures it, about `origin`: see `wildlod_eval::posed_about`) into
+/// indexed triangles grouped by material. A vertex is a
 /// distinct (position, UV, normal, color, part) of a mesh instance, so UV
 /// seams and hard edges stay as the file has them.
-fn flatten(model: &ReportModel, textures: &mut Textures) -> Flat {
-    let scene = wildlod_eval::posed(model.scene, None, 0.0);
+fn flatten(model: &ReportModel, textures: &mut Textures, origin: [f64; 3]) -> Flat {
+    let scene = wildlod_eval::posed_about(model.scene, None, 0.0, origin);
     let mut materials: Vec<MaterialJson> = scene
         .materials
         .iter()
@@ -473,9 +474,12 @@ pub fn report_page(
         index: HashMap::new(),
         max: options.max_texture_size,
     };
-    let posed_ref = wildlod_eval::posed(reference.scene, None, 0.0);
+    // Every model about the reference's first instance (see
+    // `wildlod_eval::posed_about`).
+    let origin = wildlod_eval::pose_origin(reference.scene);
+    let posed_ref = wildlod_eval::posed_about(reference.scene, None, 0.0, origin);
     let r = EvalMesh::from_scene(&posed_ref, reference.images);
-    let ref_flat = flatten(reference, &mut textures);
+    let ref_flat = flatten(reference, &mut textures, origin);
     let ref_set = TriangleSet::new(r.positions(), r.triangles());
     let mut notes = Vec::new();
     if r.triangles().is_empty() {
@@ -486,14 +490,14 @@ pub fn report_page(
     let mut all = Vec::new();
     let mut diagonal = 0.0;
     for c in candidates {
-        let posed = wildlod_eval::posed(c.scene, None, 0.0);
+        let posed = wildlod_eval::posed_about(c.scene, None, 0.0, origin);
         let metrics = compare(
             &r,
             &EvalMesh::from_scene(&posed, c.images),
             &compare_options,
         );
         diagonal = metrics.diagonal;
-        let mut flat = flatten(c, &mut textures);
+        let mut flat = flatten(c, &mut textures, origin);
         appearance |= flat.appearance;
         let distances = face_distances(&ref_set, &flat.corners, metrics.diagonal);
         all.extend_from_slice(&distances);
@@ -753,6 +757,7 @@ mod tests {
                 chain_error: None,
             },
             &mut textures,
+            [0.0; 3],
         );
         assert_eq!(flat.json.triangles, 2);
         // Six corners, all different (UV per corner, parts differ).

@@ -563,13 +563,23 @@ fn merge<'s>(scene: &'s Scene, group: &Group, placements: &[Placement]) -> Merge
             .map(|&m| placements[m as usize].scale)
             .fold(0.0, f64::max)
     };
+    // A world-space group is placed about a point of its own, its first
+    // member's position, not about the world origin: a georeferenced file
+    // puts its meshes millions of units away, where f32 coordinates step by
+    // a quarter of a unit (a 20-unit sphere at y = 4e6 came out with 10×
+    // the Hausdorff distance of the same sphere at the origin). Distances do
+    // not depend on the point, and the split inverts the same placements.
+    let origin = match group.meshes.first() {
+        Some(&m) if world => translation(&placements[m as usize].matrix),
+        _ => [0.0; 3],
+    };
     let mut placed: Vec<(u32, [f32; 16], std::borrow::Cow<'_, Mesh>)> = group
         .meshes
         .iter()
         .map(|&m| {
             let mesh = &scene.meshes[m as usize];
             let matrix = if world {
-                placements[m as usize].matrix
+                shifted(&placements[m as usize].matrix, origin)
             } else {
                 IDENTITY
             };
@@ -681,6 +691,24 @@ fn merge<'s>(scene: &'s Scene, group: &Group, placements: &[Placement]) -> Merge
         members,
         scale,
     }
+}
+
+/// The translation of a world matrix (column-major), in f64.
+fn translation(m: &[f32; 16]) -> [f64; 3] {
+    [m[12], m[13], m[14]].map(f64::from)
+}
+
+/// `m` followed by a translation by `-origin`, computed in f64: the
+/// placement relative to `origin`.
+fn shifted(m: &[f32; 16], origin: [f64; 3]) -> [f32; 16] {
+    let mut out = *m;
+    for c in 0..4 {
+        let w = f64::from(m[4 * c + 3]);
+        for k in 0..3 {
+            out[4 * c + k] = (f64::from(m[4 * c + k]) - origin[k] * w) as f32;
+        }
+    }
+    out
 }
 
 fn exact_map(original: &Mesh, placed: &Mesh, matrix: &[f32; 16]) -> HashMap<[u32; 3], [f32; 3]> {

@@ -140,6 +140,34 @@ fn meshes_come_back_in_their_own_space() {
 }
 
 #[test]
+fn a_georeferenced_scene_simplifies_as_it_would_at_the_origin() {
+    // Two spheres placed four million units from the origin (a survey
+    // grid's coordinates), where f32 steps by a quarter of a unit: merged
+    // in world space they were rounded to that grid. About their own
+    // point, each comes out bit for bit as the same pair near the origin.
+    let sphere = bumpy_sphere(12);
+    let far = 4.0e6;
+    let at = |t: [f32; 3]| translate_scale(t, 1.0);
+    for r in [0.5, 0.1] {
+        let near = scene(
+            vec![sphere.clone(), sphere.clone()],
+            &[(0, at([0.0, 0.0, 0.0])), (1, at([3.0, 0.0, 0.0]))],
+        );
+        let away = scene(
+            vec![sphere.clone(), sphere.clone()],
+            &[(0, at([0.0, far, 0.0])), (1, at([3.0, far, 0.0]))],
+        );
+        let (a, ra) = simplify_scene(&near, &ratio(r)).unwrap();
+        let (b, rb) = simplify_scene(&away, &ratio(r)).unwrap();
+        assert_eq!(ra.output_triangles, rb.output_triangles);
+        for (x, y) in a.meshes.iter().zip(&b.meshes) {
+            assert_eq!(x.positions, y.positions, "ratio {r}");
+            assert_eq!(x.faces, y.faces, "ratio {r}");
+        }
+    }
+}
+
+#[test]
 fn a_budget_counts_the_triangles_the_scene_draws() {
     // A sphere shown by four nodes beside another shown once, both the
     // same size: the scene draws five spheres. A budget of 1000 triangles
