@@ -339,3 +339,53 @@ fn scene_is_one_mesh_named_after_the_file_on_one_root_node() {
     assert_eq!(s.nodes[0].mesh, Some(0));
     assert!(Path::new(doc.source.as_ref().unwrap()).ends_with("tray part.obj"));
 }
+
+/// A 2 × 1 quad at survey coordinates: x near 5·10⁵, y near 4·10⁶,
+/// written to the millimetre.
+const SURVEY_QUAD: &str = "v 512345.678 4123456.789 133.456\nv 512347.679 4123456.789 133.456\n\
+                           v 512347.679 4123457.791 133.457\nv 512345.678 4123457.791 133.457\n\
+                           f 1 2 3 4\n";
+
+#[test]
+fn survey_coordinates_are_read_relative_to_a_point_a_node_holds() {
+    // Read into f32 directly, y would step by a quarter of a unit: the
+    // quad's millimetres would be gone and its two rows a quarter apart
+    // or merged. Relative to the box's centre they are kept, and the node
+    // puts the centre back.
+    let doc = read_obj(SURVEY_QUAD);
+    let s = &doc.scene;
+    let t: [f64; 3] = std::array::from_fn(|k| f64::from(s.nodes[0].matrix[12 + k]));
+    let want = [
+        [512345.678, 4123456.789, 133.456],
+        [512347.679, 4123456.789, 133.456],
+        [512347.679, 4123457.791, 133.457],
+        [512345.678, 4123457.791, 133.457],
+    ];
+    for (p, w) in s.meshes[0].positions.iter().zip(want) {
+        for k in 0..3 {
+            let got = t[k] + f64::from(p[k]);
+            assert!((got - w[k]).abs() < 1e-6, "{got} for {}", w[k]);
+        }
+    }
+    // The point is the box's centre (to f32), so positions stay small.
+    assert!(s.meshes[0].positions.iter().flatten().all(|c| c.abs() < 2.0));
+    // Ordinary coordinates are read as they are, under an identity node.
+    let near = read_obj(&format!("{SQUARE}f 1 2 3 4\n"));
+    assert_eq!(near.scene.nodes[0].matrix, wildlod_mesh::IDENTITY);
+    assert_eq!(near.scene.meshes[0].positions[2], [1.0, 1.0, 0.0]);
+}
+
+#[test]
+fn survey_coordinates_come_back_as_written() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let input = dir.path().join("survey.obj");
+    std::fs::write(&input, SURVEY_QUAD).expect("write");
+    let doc = read(&input).unwrap_or_else(|e| panic!("{e}"));
+    let output = dir.path().join("back.obj");
+    wildlod_io::write(&doc, &output, &Default::default()).unwrap_or_else(|e| panic!("{e}"));
+    let text = std::fs::read_to_string(&output).expect("read back");
+    let written: Vec<&str> = text.lines().filter(|l| l.starts_with("v ")).collect();
+    let want: Vec<&str> = SURVEY_QUAD.lines().filter(|l| l.starts_with("v ")).collect();
+    let want: Vec<String> = want.iter().map(|l| l.trim().to_string()).collect();
+    assert_eq!(written, want);
+}

@@ -37,6 +37,10 @@ pub(crate) fn read(
         .map(|s| s.to_string_lossy().into_owned())
         .unwrap_or_default();
     let mut scene = Scene::from_mesh(mesh);
+    if let Some(o) = parsed.origin {
+        // Positions relative to a far point: the node puts them back.
+        scene.nodes[0].matrix[12..15].copy_from_slice(&o);
+    }
     scene.materials = lib.materials;
     scene.textures = lib.textures;
     Ok(scene)
@@ -51,6 +55,10 @@ pub(crate) struct Parsed {
     pub used_materials: Vec<String>,
     /// `mtllib` arguments with their line numbers.
     pub mtllibs: Vec<(usize, Vec<u8>)>,
+    /// Where the positions are relative to, when the file's coordinates
+    /// lie so far from the origin that f32 would round them visibly (see
+    /// [`far_origin`]); exactly representable in f32.
+    pub origin: Option<[f32; 3]>,
 }
 
 /// A vertex or attribute index seen before its pool was complete: OBJ
@@ -89,6 +97,9 @@ impl MaxRef {
 #[derive(Default)]
 struct State {
     positions: Vec<[f32; 3]>,
+    /// The positions' bounds as written (f64), before rounding to f32.
+    lo: [f64; 3],
+    hi: [f64; 3],
     /// Per-position colors, created at the first colored `v`.
     colors: Vec<[f32; 4]>,
     has_color: Vec<bool>,
@@ -181,7 +192,13 @@ pub(crate) fn parse(data: &[u8], warnings: &mut Vec<String>) -> Result<Parsed, E
             list.join(", ")
         ));
     }
-    st.finish()
+    let origin = far_origin(st.lo, st.hi);
+    if let Some(o) = origin {
+        reread_relative(data, o, &mut st.positions);
+    }
+    let mut parsed = st.finish()?;
+    parsed.origin = origin;
+    Ok(parsed)
 }
 
 impl State {
@@ -197,6 +214,17 @@ impl State {
             }
             vals[n] = parse_f32(tok).map_err(|e| ErrorKind::syntax(ln, format!("vertex: {e}")))?;
             n += 1;
+        }
+        // Bounds, to see whether f32 loses the coordinates (see
+        // `far_origin`; the f32 values tell as well as the f64 ones).
+        let p: [f64; 3] = std::array::from_fn(|k| f64::from(vals[k]));
+        if self.positions.is_empty() {
+            (self.lo, self.hi) = (p, p);
+        } else {
+            for (k, &x) in p.iter().enumerate() {
+                self.lo[k] = self.lo[k].min(x);
+                self.hi[k] = self.hi[k].max(x);
+            }
         }
         if n < 3 {
             return Err(ErrorKind::syntax(
@@ -477,7 +505,52 @@ impl State {
             mesh,
             used_materials,
             mtllibs: self.mtllibs,
+            origin: None,
         })
+    }
+}
+
+/// A point to hold positions relative to, when coordinates within `lo..hi`
+/// lie so far from the origin that f32 rounds them by more than a
+/// millionth of their extent: survey or site coordinates (UTM northings
+/// of 4·10⁶, where f32 steps by a quarter of a unit). The box's centre,
+/// rounded to f32 so that the point itself is exact where it is stored (a
+/// node's translation).
+fn far_origin(lo: [f64; 3], hi: [f64; 3]) -> Option<[f32; 3]> {
+    let diagonal = (0..3).map(|k| (hi[k] - lo[k]).powi(2)).sum::<f64>().sqrt();
+    let reach = (0..3)
+        .map(|k| lo[k].abs().max(hi[k].abs()))
+        .fold(0.0, f64::max);
+    // Rounding to f32 errs by up to 2⁻²⁴ of a coordinate's magnitude.
+    let rounding = reach * f64::from(f32::EPSILON) / 2.0;
+    let far = diagonal.is_finite() && diagonal > 0.0 && rounding > 1e-6 * diagonal;
+    far.then(|| std::array::from_fn(|k| (0.5 * (lo[k] + hi[k])) as f32))
+}
+
+/// Reads every `v` line's coordinates again, in f64, into `positions`
+/// relative to `origin` (same order as the first pass, which checked them).
+fn reread_relative(data: &[u8], origin: [f32; 3], positions: &mut [[f32; 3]]) {
+    let o = origin.map(f64::from);
+    let mut lines = Lines::new(data, true);
+    let mut k = 0;
+    while let Some((_, line)) = lines.next_line() {
+        let line = text::trim_start(line);
+        if line.is_empty() || line[0] == b'#' {
+            continue;
+        }
+        let (kw, rest) = split_keyword(line);
+        if kw != b"v" {
+            continue;
+        }
+        let Some(p) = positions.get_mut(k) else {
+            return;
+        };
+        for (c, tok) in tokens(cut_comment(rest)).take(3).enumerate() {
+            if let Ok(x) = parse_f64(tok) {
+                p[c] = (x - o[c]) as f32;
+            }
+        }
+        k += 1;
     }
 }
 
