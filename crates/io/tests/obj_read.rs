@@ -368,7 +368,11 @@ fn survey_coordinates_are_read_relative_to_a_point_a_node_holds() {
         }
     }
     // The point is the box's centre (to f32), so positions stay small.
-    assert!(s.meshes[0].positions.iter().flatten().all(|c| c.abs() < 2.0));
+    assert!(s.meshes[0]
+        .positions
+        .iter()
+        .flatten()
+        .all(|c| c.abs() < 2.0));
     // Ordinary coordinates are read as they are, under an identity node.
     let near = read_obj(&format!("{SQUARE}f 1 2 3 4\n"));
     assert_eq!(near.scene.nodes[0].matrix, wildlod_mesh::IDENTITY);
@@ -385,7 +389,10 @@ fn survey_coordinates_come_back_as_written() {
     wildlod_io::write(&doc, &output, &Default::default()).unwrap_or_else(|e| panic!("{e}"));
     let text = std::fs::read_to_string(&output).expect("read back");
     let written: Vec<&str> = text.lines().filter(|l| l.starts_with("v ")).collect();
-    let want: Vec<&str> = SURVEY_QUAD.lines().filter(|l| l.starts_with("v ")).collect();
+    let want: Vec<&str> = SURVEY_QUAD
+        .lines()
+        .filter(|l| l.starts_with("v "))
+        .collect();
     let want: Vec<String> = want.iter().map(|l| l.trim().to_string()).collect();
     assert_eq!(written, want);
 }
