@@ -10,6 +10,7 @@
 
 mod atomic;
 mod error;
+mod far;
 mod format;
 mod gltf;
 mod image;

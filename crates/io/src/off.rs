@@ -22,6 +22,7 @@ use std::path::Path;
 use wildlod_mesh::transform::transformed;
 use wildlod_mesh::{Attribute, ComponentFormat, Faces, Mesh, Scene, Semantic, ABSENT};
 
+use crate::far::{exact_decimals, far_placement, trimmed};
 use crate::obj::text::{self, parse_f32, parse_i64, show, v_from_file};
 use crate::{ErrorKind, OutputFiles};
 
@@ -44,12 +45,17 @@ pub(crate) fn read(
     data: &[u8],
     warnings: &mut Vec<String>,
 ) -> Result<Scene, ErrorKind> {
-    let mut mesh = read_mesh(data, warnings)?;
+    let (mut mesh, origin) = read_mesh(data, warnings)?;
     mesh.name = path
         .file_stem()
         .map(|s| s.to_string_lossy().into_owned())
         .unwrap_or_default();
-    Ok(Scene::from_mesh(mesh))
+    let mut scene = Scene::from_mesh(mesh);
+    if let Some(o) = origin {
+        // Positions relative to a far point: the node puts them back.
+        scene.nodes[0].matrix[12..15].copy_from_slice(&o);
+    }
+    Ok(scene)
 }
 
 /// Numbered lines of the file (1-based), borrowing from its bytes.
@@ -146,7 +152,13 @@ fn color(toks: &[&[u8]], ln: usize) -> Result<[f32; 4], ErrorKind> {
     Ok(c)
 }
 
-fn read_mesh(data: &[u8], warnings: &mut Vec<String>) -> Result<Mesh, ErrorKind> {
+/// The mesh of an OFF file, with its positions relative to the point
+/// returned beside it when they lie far from the origin
+/// ([`crate::far::far_origin`]).
+fn read_mesh(
+    data: &[u8],
+    warnings: &mut Vec<String>,
+) -> Result<(Mesh, Option<[f32; 3]>), ErrorKind> {
     let mut lines = lines(data);
     let Some((ln, first)) = content(&mut lines) else {
         return Err(ErrorKind::malformed("OFF", "the file has no header"));
@@ -204,6 +216,7 @@ fn read_mesh(data: &[u8], warnings: &mut Vec<String>) -> Result<Mesh, ErrorKind>
     }
     let (nv, nf) = (nv as usize, nf as usize);
     let mut positions = Vec::with_capacity(nv);
+    let mut exact: Vec<[f64; 3]> = Vec::with_capacity(nv);
     let mut normals: Vec<f32> = Vec::with_capacity(if layout.normals { 3 * nv } else { 0 });
     let mut colors: Vec<f32> = Vec::new();
     let mut color_components = 3u8;
@@ -229,6 +242,9 @@ fn read_mesh(data: &[u8], warnings: &mut Vec<String>) -> Result<Mesh, ErrorKind>
             ));
         }
         positions.push([number(toks[0])?, number(toks[1])?, number(toks[2])?]);
+        // The digits in f64 too, for coordinates far from the origin.
+        let wide = |t: &[u8]| text::parse_f64(t).map_err(|m| ErrorKind::syntax(ln, m));
+        exact.push([wide(toks[0])?, wide(toks[1])?, wide(toks[2])?]);
         let mut at = 3;
         if layout.normals {
             for t in &toks[3..6] {
@@ -324,6 +340,7 @@ fn read_mesh(data: &[u8], warnings: &mut Vec<String>) -> Result<Mesh, ErrorKind>
     if faces.is_empty() {
         return Err(ErrorKind::malformed("OFF", "the file has no faces"));
     }
+    let (positions, origin) = crate::far::relative(&exact, positions);
     let mut mesh = Mesh::from_polygons(positions, faces);
     let per_vertex = |values: Vec<f32>, components: u8, semantic: Semantic| Attribute {
         semantic,
@@ -375,7 +392,7 @@ fn read_mesh(data: &[u8], warnings: &mut Vec<String>) -> Result<Mesh, ErrorKind>
         });
     }
     mesh.attributes = attributes;
-    Ok(mesh)
+    Ok((mesh, origin))
 }
 
 /// How colors are written.
@@ -395,16 +412,16 @@ enum ColorMode {
 /// corners disagree), or colors per face when that is how they are laid
 /// out.
 pub(crate) fn write(scene: &Scene, path: &Path, files: &mut OutputFiles) -> Result<(), ErrorKind> {
-    let meshes: Vec<Mesh> = scene
+    let (meshes, exact): (Vec<Mesh>, Vec<Option<Vec<[f64; 3]>>>) = scene
         .instances()
         .iter()
         .filter_map(|(m, matrix)| {
             scene
                 .meshes
                 .get(*m as usize)
-                .map(|x| transformed(x, matrix))
+                .map(|x| (transformed(x, matrix), far_placement(x, matrix)))
         })
-        .collect();
+        .unzip();
     let stream = |m: &Mesh, s: &Semantic| m.attribute(s).filter(|a| a.components > 0).cloned();
     let has = |s: &Semantic| meshes.iter().any(|m| m.attribute(s).is_some());
     let with_normals = has(&Semantic::Normal);
@@ -442,7 +459,10 @@ pub(crate) fn write(scene: &Scene, path: &Path, files: &mut OutputFiles) -> Resu
     let mut vertices = String::new();
     let mut face_lines = String::new();
     let (mut nv, mut nf) = (0u64, 0u64);
-    for m in &meshes {
+    for (m, exact) in meshes.iter().zip(&exact) {
+        // Survey coordinates: placed in f64, to the digits f32 offsets
+        // hold (`crate::far`).
+        let decimals = exact_decimals(m.diagonal());
         let normals = stream(m, &Semantic::Normal);
         let uvs = stream(m, &Semantic::TexCoord(0));
         let colors = stream(m, &Semantic::Color(0));
@@ -482,7 +502,15 @@ pub(crate) fn write(scene: &Scene, path: &Path, files: &mut OutputFiles) -> Resu
                 .get(key[0] as usize)
                 .copied()
                 .unwrap_or_default();
-            let _ = write!(vertices, "{} {} {}", p[0], p[1], p[2]);
+            match exact.as_ref().and_then(|e| e.get(key[0] as usize)) {
+                Some(q) => {
+                    let [x, y, z] = q.map(|c| trimmed(c, decimals));
+                    let _ = write!(vertices, "{x} {y} {z}");
+                }
+                None => {
+                    let _ = write!(vertices, "{} {} {}", p[0], p[1], p[2]);
+                }
+            }
             if with_normals {
                 let n = get(&normals, key[1], [0.0, 0.0, 1.0, 0.0]);
                 let _ = write!(vertices, " {} {} {}", n[0], n[1], n[2]);

@@ -378,6 +378,19 @@ pub(crate) fn write(scene: &Scene, path: &Path, files: &mut OutputFiles) -> Resu
     }
     files.add(path, out)?;
     warn_dropped(scene, &meshes, files);
+    // Binary STL holds 32-bit floats only: survey coordinates round.
+    let far = instances.iter().find_map(|(m, matrix)| {
+        let mesh = scene.meshes.get(*m as usize)?;
+        crate::far::far_placement(mesh, matrix)?;
+        let reach = matrix[12..15].iter().fold(0.0f32, |a, t| a.max(t.abs()));
+        Some((reach, mesh.diagonal()))
+    });
+    if let Some((reach, size)) = far {
+        let step = f64::from(reach) * f64::from(f32::EPSILON) / 2.0;
+        files.warn(format!(
+            "the model lies {reach:.0} units from the origin, where STL's 32-bit floats round positions by up to {step:.2e} (a mesh is {size:.3e} across); write OBJ, PLY, OFF or glTF to keep them"
+        ));
+    }
     Ok(())
 }
 

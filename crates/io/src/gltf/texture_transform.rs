@@ -131,13 +131,13 @@ pub(crate) fn apply_texture_transforms(scene: &mut Scene, json: &mut Value) -> u
         .iter()
         .flat_map(|m| &m.attributes)
         .filter_map(|a| match a.semantic {
-            Semantic::TexCoord(n) => Some(n + 1),
+            Semantic::TexCoord(n) => Some(n.saturating_add(1)),
             _ => None,
         })
         .chain(scene.materials.iter_mut().flat_map(|m| {
             SLOTS
                 .iter()
-                .filter_map(|(_, f)| f(m).as_ref().map(|r| r.tex_coord + 1))
+                .filter_map(|(_, f)| f(m).as_ref().map(|r| r.tex_coord.saturating_add(1)))
                 .collect::<Vec<_>>()
         }))
         .max()
@@ -199,6 +199,9 @@ pub(crate) fn apply_texture_transforms(scene: &mut Scene, json: &mut Value) -> u
                 }
                 _ => match plan.added.iter().find(|a| a.1 == source && a.2 == map) {
                     Some(a) => a.0,
+                    // A hostile `texCoord` of 2³² − 1 leaves no set to
+                    // add: the texture reads its own set untransformed.
+                    None if next_set == u32::MAX => source,
                     None => {
                         plan.added.push((next_set, source, map));
                         next_set += 1;

@@ -57,7 +57,7 @@ pub(crate) struct Parsed {
     pub mtllibs: Vec<(usize, Vec<u8>)>,
     /// Where the positions are relative to, when the file's coordinates
     /// lie so far from the origin that f32 would round them visibly (see
-    /// [`far_origin`]); exactly representable in f32.
+    /// [`crate::far::far_origin`]); exactly representable in f32.
     pub origin: Option<[f32; 3]>,
 }
 
@@ -192,7 +192,7 @@ pub(crate) fn parse(data: &[u8], warnings: &mut Vec<String>) -> Result<Parsed, E
             list.join(", ")
         ));
     }
-    let origin = far_origin(st.lo, st.hi);
+    let origin = crate::far::far_origin(st.lo, st.hi);
     if let Some(o) = origin {
         reread_relative(data, o, &mut st.positions);
     }
@@ -508,23 +508,6 @@ impl State {
             origin: None,
         })
     }
-}
-
-/// A point to hold positions relative to, when coordinates within `lo..hi`
-/// lie so far from the origin that f32 rounds them by more than a
-/// millionth of their extent: survey or site coordinates (UTM northings
-/// of 4·10⁶, where f32 steps by a quarter of a unit). The box's centre,
-/// rounded to f32 so that the point itself is exact where it is stored (a
-/// node's translation).
-fn far_origin(lo: [f64; 3], hi: [f64; 3]) -> Option<[f32; 3]> {
-    let diagonal = (0..3).map(|k| (hi[k] - lo[k]).powi(2)).sum::<f64>().sqrt();
-    let reach = (0..3)
-        .map(|k| lo[k].abs().max(hi[k].abs()))
-        .fold(0.0, f64::max);
-    // Rounding to f32 errs by up to 2⁻²⁴ of a coordinate's magnitude.
-    let rounding = reach * f64::from(f32::EPSILON) / 2.0;
-    let far = diagonal.is_finite() && diagonal > 0.0 && rounding > 1e-6 * diagonal;
-    far.then(|| std::array::from_fn(|k| (0.5 * (lo[k] + hi[k])) as f32))
 }
 
 /// Reads every `v` line's coordinates again, in f64, into `positions`

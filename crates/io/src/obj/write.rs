@@ -18,56 +18,8 @@ use wildlod_mesh::{AlphaMode, Attribute, ImageSource, Material, Mesh, Scene, Sem
 use super::mtl::obj_default;
 use super::mtl::{existing_image, library_paths, map_file};
 use super::text::{split_keyword, trim_start, v_to_text, Lines};
+use crate::far::{exact_decimals, far_placement, trimmed};
 use crate::{Document, ErrorKind, Format, OutputFiles};
-
-/// A mesh's positions placed by `matrix` in f64, when its translation
-/// lies so far away that f32 would round the placed positions by more
-/// than a millionth of the mesh's size (survey coordinates, which the
-/// reader keeps in a node's translation: see `obj::read::far_origin`);
-/// `None` otherwise, and the usual f32 placement is written.
-fn far_placement(mesh: &Mesh, matrix: &[f32; 16]) -> Option<Vec<[f64; 3]>> {
-    let reach = matrix[12..15]
-        .iter()
-        .fold(0.0f64, |a, &t| a.max(f64::from(t).abs()));
-    let rounding = reach * f64::from(f32::EPSILON) / 2.0;
-    let size = mesh.diagonal();
-    if !(size > 0.0 && rounding > 1e-6 * size) {
-        return None;
-    }
-    let m = matrix.map(f64::from);
-    Some(
-        mesh.positions
-            .iter()
-            .map(|p| {
-                let p = p.map(f64::from);
-                // Column-major, affine (as `transformed` places them).
-                std::array::from_fn(|r| m[r] * p[0] + m[4 + r] * p[1] + m[8 + r] * p[2] + m[12 + r])
-            })
-            .collect(),
-    )
-}
-
-/// Decimals that keep what f32 positions relative to a far point hold on
-/// a mesh of diagonal `size` (a step of 2⁻²³ of it), and no more: the
-/// digits past them are the sum's rounding.
-fn exact_decimals(size: f64) -> usize {
-    let step = size * f64::from(f32::EPSILON);
-    if step > 0.0 && step.is_finite() {
-        (-step.log10()).ceil().clamp(0.0, 17.0) as usize
-    } else {
-        6
-    }
-}
-
-/// `x` with `decimals` decimals, trailing zeros (and a bare point) cut.
-fn trimmed(x: f64, decimals: usize) -> String {
-    let s = format!("{x:.decimals$}");
-    if s.contains('.') {
-        s.trim_end_matches('0').trim_end_matches('.').to_string()
-    } else {
-        s
-    }
-}
 
 /// Writes `doc` as OBJ to `path`, with `<stem>.mtl` and extracted images
 /// beside it.

@@ -107,6 +107,20 @@ impl Body<'_> {
         })
     }
 
+    /// A position coordinate: its value as [`Body::value`] reads it, and
+    /// in f64 as the file writes it (for an ASCII `float`, its digits
+    /// parsed in f64), for positions far from the origin.
+    #[inline]
+    fn value_and_digits(&mut self, ty: Scalar) -> Result<(f64, f64), Fault> {
+        if self.encoding == Encoding::Ascii && matches!(ty, Scalar::F32) {
+            let tok = self.token()?;
+            let v = parse_f32(tok).map_err(Fault::Bad)?;
+            let wide = crate::obj::text::parse_f64(tok).map_err(Fault::Bad)?;
+            return Ok((f64::from(v), wide));
+        }
+        self.value(ty).map(|v| (v, v))
+    }
+
     /// A list length, checked against what is left of the file before the
     /// caller loops over it.
     fn list_len(&mut self, count: Scalar, item: Scalar) -> Result<usize, Fault> {
@@ -214,12 +228,22 @@ pub(crate) fn read(data: &[u8], warnings: &mut Vec<String>) -> Result<Scene, Err
         Some(f) if !f.faces.is_empty() => f,
         _ => return Err(ErrorKind::malformed("PLY", "the file has no faces")),
     };
-    Ok(Scene::from_mesh(build(v, f)))
+    let origin = v.origin;
+    let mut scene = Scene::from_mesh(build(v, f));
+    if let Some(o) = origin {
+        // Positions relative to a far point: the node puts them back.
+        scene.nodes[0].matrix[12..15].copy_from_slice(&o);
+    }
+    Ok(scene)
 }
 
 #[derive(Default)]
 struct Vertices {
     positions: Vec<[f32; 3]>,
+    /// Where `positions` are relative to, when the file's coordinates lie
+    /// so far from the origin that f32 would round them visibly
+    /// ([`crate::far::far_origin`]).
+    origin: Option<[f32; 3]>,
     normals: Option<Vec<f32>>,
     colors: Option<(Vec<f32>, u8, ComponentFormat)>,
     uvs: Option<Vec<f32>>,
@@ -270,9 +294,14 @@ fn read_vertices(body: &mut Body, e: &Element) -> Result<Vertices, ErrorKind> {
             (Vec::with_capacity(comps as usize * n), comps, format)
         }),
         uvs: with_uvs.then(|| Vec::with_capacity(2 * n)),
+        origin: None,
     };
+    // Positions as the file writes them, before f32 rounds them: `double`
+    // properties, or the digits of an ASCII `float`.
+    let mut exact: Vec<[f64; 3]> = Vec::with_capacity(n);
     for i in 0..e.count {
         let mut p = [0f64; 3];
+        let mut p_exact = [0f64; 3];
         let mut nrm = [0f64; 3];
         let mut col = [0f64, 0.0, 0.0, 1.0];
         let mut uv = [0f64; 2];
@@ -281,15 +310,22 @@ fn read_vertices(body: &mut Body, e: &Element) -> Result<Vertices, ErrorKind> {
                 body.skip_property(prop.kind).map_err(|f| f.at(e, i))?;
                 continue;
             };
-            let v = body.value(ty).map_err(|f| f.at(e, i))?;
-            if !v.is_finite() {
+            let (v, v_exact) = match r {
+                Role::Position(_) => body.value_and_digits(ty),
+                _ => body.value(ty).map(|v| (v, v)),
+            }
+            .map_err(|f| f.at(e, i))?;
+            if !(v.is_finite() && v_exact.is_finite()) {
                 return Err(ErrorKind::malformed(
                     e.at(i),
                     format!("property '{}' is not finite ({v})", prop.name),
                 ));
             }
             match r {
-                Role::Position(k) => p[k] = v,
+                Role::Position(k) => {
+                    p[k] = v;
+                    p_exact[k] = v_exact;
+                }
                 Role::Normal(k) => nrm[k] = v,
                 Role::Color(k) => col[k] = v / scale(ty),
                 Role::Uv(k) => uv[k] = v,
@@ -304,6 +340,7 @@ fn read_vertices(body: &mut Body, e: &Element) -> Result<Vertices, ErrorKind> {
             ));
         }
         out.positions.push(p32);
+        exact.push(p_exact);
         if let Some(ns) = &mut out.normals {
             ns.extend(nrm.map(|c| c as f32));
         }
@@ -321,6 +358,8 @@ fn read_vertices(body: &mut Body, e: &Element) -> Result<Vertices, ErrorKind> {
             us.extend([uv[0] as f32, t]);
         }
     }
+    let positions = std::mem::take(&mut out.positions);
+    (out.positions, out.origin) = crate::far::relative(&exact, positions);
     Ok(out)
 }
 
