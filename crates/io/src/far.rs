@@ -8,7 +8,8 @@
 //! place them back in f64, so a file read and written again keeps its
 //! coordinates to the digits its f32 offsets hold.
 
-use wildlod_mesh::Mesh;
+use wildlod_mesh::transform::transformed;
+use wildlod_mesh::{Mesh, Scene};
 
 /// A point to hold positions relative to, when coordinates within `lo..hi`
 /// lie so far from the origin that f32 rounds them by more than a
@@ -80,6 +81,24 @@ pub(crate) fn far_placement(mesh: &Mesh, matrix: &[f32; 16]) -> Option<Vec<[f64;
             })
             .collect(),
     )
+}
+
+/// Positions of a placed mesh in f64, where [`far_placement`] needs them.
+pub(crate) type Exact = Option<Vec<[f64; 3]>>;
+
+/// Every mesh instance of `scene` moved by its world matrix (formats
+/// without a scene graph write them so), with its [`far_placement`].
+pub(crate) fn world_meshes(scene: &Scene) -> (Vec<Mesh>, Vec<Exact>) {
+    scene
+        .instances()
+        .iter()
+        .filter_map(|(m, matrix)| {
+            scene
+                .meshes
+                .get(*m as usize)
+                .map(|x| (transformed(x, matrix), far_placement(x, matrix)))
+        })
+        .unzip()
 }
 
 /// Decimals that keep what f32 positions relative to a far point hold on

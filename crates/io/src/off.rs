@@ -19,10 +19,9 @@ use std::collections::HashMap;
 use std::fmt::Write as _;
 use std::path::Path;
 
-use wildlod_mesh::transform::transformed;
 use wildlod_mesh::{Attribute, ComponentFormat, Faces, Mesh, Scene, Semantic, ABSENT};
 
-use crate::far::{exact_decimals, far_placement, trimmed};
+use crate::far::{exact_decimals, trimmed};
 use crate::obj::text::{self, parse_f32, parse_i64, show, v_from_file};
 use crate::{ErrorKind, OutputFiles};
 
@@ -412,16 +411,7 @@ enum ColorMode {
 /// corners disagree), or colors per face when that is how they are laid
 /// out.
 pub(crate) fn write(scene: &Scene, path: &Path, files: &mut OutputFiles) -> Result<(), ErrorKind> {
-    let (meshes, exact): (Vec<Mesh>, Vec<Option<Vec<[f64; 3]>>>) = scene
-        .instances()
-        .iter()
-        .filter_map(|(m, matrix)| {
-            scene
-                .meshes
-                .get(*m as usize)
-                .map(|x| (transformed(x, matrix), far_placement(x, matrix)))
-        })
-        .unzip();
+    let (meshes, exact) = crate::far::world_meshes(scene);
     let stream = |m: &Mesh, s: &Semantic| m.attribute(s).filter(|a| a.components > 0).cloned();
     let has = |s: &Semantic| meshes.iter().any(|m| m.attribute(s).is_some());
     let with_normals = has(&Semantic::Normal);

@@ -14,11 +14,9 @@ use std::collections::{BTreeSet, HashMap};
 use std::hash::BuildHasherDefault;
 use std::path::Path;
 
-use wildlod_mesh::transform::transformed;
 use wildlod_mesh::weld::PositionHasher;
 use wildlod_mesh::{Attribute, ComponentFormat, Mesh, Scene, Semantic, ABSENT};
 
-use crate::far::far_placement;
 use crate::obj::text::{v_fits_f32, v_to_f32};
 use crate::{ErrorKind, OutputFiles};
 
@@ -108,16 +106,7 @@ fn vertex_map(mesh: &Mesh) -> VertexMap {
 /// Writes the scene's mesh instances, moved by their world matrices, into
 /// one binary PLY.
 pub(crate) fn write(scene: &Scene, path: &Path, files: &mut OutputFiles) -> Result<(), ErrorKind> {
-    let (meshes, exact): (Vec<Mesh>, Vec<Option<Vec<[f64; 3]>>>) = scene
-        .instances()
-        .iter()
-        .filter_map(|(m, matrix)| {
-            scene
-                .meshes
-                .get(*m as usize)
-                .map(|x| (transformed(x, matrix), far_placement(x, matrix)))
-        })
-        .unzip();
+    let (meshes, exact) = crate::far::world_meshes(scene);
     // Survey coordinates: every position in f64 once one mesh needs it.
     let p_f64 = exact.iter().any(Option::is_some);
     let mut dropped = BTreeSet::new();
