@@ -7,13 +7,96 @@
 //! tracks; a skinned mesh's vertices move with `Σ wₖ · world(jointₖ) ·
 //! inverseBindₖ`, as a renderer does (the skinned node's own transform is
 //! ignored, as the specification says; weights are normalized to sum 1, as
-//! renderers do for files that break that rule). Morph target weights are
-//! not applied.
+//! renderers do for files that break that rule). Morph targets apply
+//! first, with the node's animated weights: positions and normals move by
+//! their weighted deltas (a node with no weights track shows its rest
+//! shape: default mesh weights are not modelled).
 
 use glam::{Mat3, Mat4, Vec3};
-use wildlod_mesh::pose::{skin_matrices, world_matrices};
+use wildlod_mesh::pose::{morph_weights, skin_matrices, world_matrices};
 use wildlod_mesh::transform::transformed;
-use wildlod_mesh::{Mesh, Node, Scene, Semantic, ABSENT, IDENTITY};
+use wildlod_mesh::{Mesh, MorphChannel, Node, Scene, Semantic, ABSENT, IDENTITY};
+
+/// Number of morph targets of `mesh` (one past the highest target index).
+fn morph_target_count(mesh: &Mesh) -> usize {
+    mesh.attributes
+        .iter()
+        .filter_map(|a| match a.semantic {
+            Semantic::Morph { target, .. } => Some(target as usize + 1),
+            _ => None,
+        })
+        .max()
+        .unwrap_or(0)
+}
+
+/// A copy of `mesh` with its morph targets applied at `weights`: each
+/// position moves by the weighted deltas of its first corner; each
+/// corner's normal by its own, renormalized. `None` when no weight is
+/// nonzero.
+fn morphed(mesh: &Mesh, weights: &[f32]) -> Option<Mesh> {
+    if weights.iter().all(|&w| w == 0.0) {
+        return None;
+    }
+    let mut out = mesh.clone();
+    let mut position_done = vec![false; mesh.positions.len()];
+    let normal_at = mesh
+        .attributes
+        .iter()
+        .position(|a| a.semantic == Semantic::Normal && a.components == 3);
+    // Per corner, the normal delta summed over targets.
+    let mut normal_delta = vec![[0.0f32; 3]; mesh.faces.indices.len()];
+    let mut any_normal = false;
+    for a in &mesh.attributes {
+        let Semantic::Morph { target, channel } = a.semantic else {
+            continue;
+        };
+        let w = weights.get(target as usize).copied().unwrap_or(0.0);
+        if w == 0.0 || a.components < 3 {
+            continue;
+        }
+        match channel {
+            MorphChannel::Position => {
+                position_done.fill(false);
+                for (c, &v) in mesh.faces.indices.iter().enumerate() {
+                    if std::mem::replace(&mut position_done[v as usize], true) {
+                        continue;
+                    }
+                    if let Some(d) = a.corner_value(c) {
+                        for (p, x) in out.positions[v as usize].iter_mut().zip(d) {
+                            *p += w * x;
+                        }
+                    }
+                }
+            }
+            MorphChannel::Normal => {
+                for (c, nd) in normal_delta.iter_mut().enumerate() {
+                    if let Some(d) = a.corner_value(c) {
+                        for (n, x) in nd.iter_mut().zip(d) {
+                            *n += w * x;
+                        }
+                        any_normal = true;
+                    }
+                }
+            }
+            MorphChannel::Tangent => {}
+        }
+    }
+    if let (Some(i), true) = (normal_at, any_normal) {
+        let a = &mut out.attributes[i];
+        let mut values = Vec::with_capacity(a.indices.len() * 3);
+        for (corner, idx) in a.indices.iter_mut().enumerate() {
+            if *idx == ABSENT {
+                continue;
+            }
+            let at = *idx as usize * 3;
+            let n = Vec3::from_slice(&a.values[at..at + 3]) + Vec3::from(normal_delta[corner]);
+            *idx = (values.len() / 3) as u32;
+            values.extend_from_slice(&n.normalize_or_zero().to_array());
+        }
+        a.values = values;
+    }
+    Some(out)
+}
 
 /// A copy of `mesh` skinned by `joints` (one matrix per skin joint): each
 /// position moves with the influences of its first skinned corner; normals
@@ -119,6 +202,16 @@ pub fn posed_about(scene: &Scene, animation: Option<usize>, time: f32, origin: [
         };
         reached[mi as usize] = true;
         let mesh = &scene.meshes[mi as usize];
+        let targets = morph_target_count(mesh);
+        let with_morphs = (targets > 0)
+            .then(|| {
+                morphed(
+                    mesh,
+                    &morph_weights(scene, animation, time, n as u32, targets),
+                )
+            })
+            .flatten();
+        let mesh = with_morphs.as_ref().unwrap_or(mesh);
         let posed_mesh = match node.skin {
             Some(skin) if mesh.skinning.is_some() && (skin as usize) < scene.skins.len() => {
                 // Weights sum to one: shifting every joint shifts the blend.
@@ -269,6 +362,50 @@ mod tests {
         };
         assert!(measure(origin) < 1e-6, "{}", measure(origin));
         assert!(measure([0.0; 3]) > 1e-3, "the case tests nothing");
+    }
+
+    #[test]
+    fn morph_targets_apply_with_the_animated_weights() {
+        // A unit triangle whose target 1 lifts vertex 2 by 2 (target 0
+        // moves nothing); the node's weights go from (0, 0) to (0, 1).
+        let mut m = Mesh::from_triangles(
+            vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]],
+            &[0, 1, 2],
+        );
+        for (target, lift) in [(0u32, 0.0f32), (1, 2.0)] {
+            m.attributes.push(wildlod_mesh::Attribute {
+                semantic: Semantic::Morph {
+                    target,
+                    channel: MorphChannel::Position,
+                },
+                components: 3,
+                values: vec![0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, lift],
+                indices: vec![0, 1, 2],
+                format: ComponentFormat::F32,
+            });
+        }
+        let mut s = Scene::from_mesh(m);
+        s.animations.push(Animation {
+            name: "open".into(),
+            channels: 1,
+            duration: 1.0,
+            tracks: vec![Track {
+                node: 0,
+                path: TrackPath::Weights,
+                interpolation: Interpolation::Linear,
+                times: vec![0.0, 1.0],
+                values: vec![0.0, 0.0, 0.0, 1.0],
+            }],
+        });
+        let z2 = |t: f32| posed(&s, Some(0), t).meshes[0].positions[2][2];
+        assert_eq!(z2(0.0), 0.0);
+        assert_eq!(z2(0.25), 0.5);
+        assert_eq!(z2(1.0), 2.0);
+        // The rest pose, and an animation without weights, show the rest
+        // shape.
+        assert_eq!(posed(&s, None, 0.5).meshes[0].positions[2][2], 0.0);
+        let still = posed(&s, Some(7), 0.5);
+        assert_eq!(still.meshes[0].positions, s.meshes[0].positions);
     }
 
     #[test]

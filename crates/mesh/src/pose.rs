@@ -94,6 +94,72 @@ pub fn sample(track: &Track, n: usize, t: f32) -> Option<[f32; 4]> {
     Some(out)
 }
 
+/// The value of a morph weight track at time `t`, `n` weights per key
+/// (glTF 2.0 §3.11: weights interpolate component by component, cubic
+/// splines included); `None` when the track holds too few values.
+pub fn sample_weights(track: &Track, n: usize, t: f32) -> Option<Vec<f32>> {
+    let keys = track.times.len();
+    let cubic = track.interpolation == Interpolation::CubicSpline;
+    let stride = if cubic { 3 * n } else { n };
+    if keys == 0 || n == 0 || track.values.len() < keys * stride {
+        return None;
+    }
+    let value = |k: usize| -> &[f32] {
+        let o = k * stride + if cubic { n } else { 0 };
+        &track.values[o..o + n]
+    };
+    if t <= track.times[0] {
+        return Some(value(0).to_vec());
+    }
+    if t >= track.times[keys - 1] {
+        return Some(value(keys - 1).to_vec());
+    }
+    let k = track.times.partition_point(|&x| x <= t).saturating_sub(1);
+    let (t0, t1) = (track.times[k], track.times[k + 1]);
+    let dt = t1 - t0;
+    let u = if dt > 0.0 { (t - t0) / dt } else { 0.0 };
+    let (a, b) = (value(k), value(k + 1));
+    Some(match track.interpolation {
+        Interpolation::Step => a.to_vec(),
+        Interpolation::Linear => (0..n).map(|x| a[x] + (b[x] - a[x]) * u).collect(),
+        Interpolation::CubicSpline => {
+            let out_tangent = k * stride + 2 * n;
+            let in_tangent = (k + 1) * stride;
+            let (u2, u3) = (u * u, u * u * u);
+            (0..n)
+                .map(|x| {
+                    (2.0 * u3 - 3.0 * u2 + 1.0) * a[x]
+                        + (u3 - 2.0 * u2 + u) * dt * track.values[out_tangent + x]
+                        + (-2.0 * u3 + 3.0 * u2) * b[x]
+                        + (u3 - u2) * dt * track.values[in_tangent + x]
+                })
+                .collect()
+        }
+    })
+}
+
+/// The morph target weights of node `node` (whose mesh has `targets`
+/// targets) at `time` of `animation`: its weights track there, else
+/// zeros (the rest pose; the mesh's default weights, which the model does
+/// not hold, are not applied).
+pub fn morph_weights(
+    scene: &Scene,
+    animation: Option<usize>,
+    time: f32,
+    node: u32,
+    targets: usize,
+) -> Vec<f32> {
+    animation
+        .and_then(|a| scene.animations.get(a))
+        .and_then(|anim| {
+            anim.tracks
+                .iter()
+                .find(|t| t.node == node && t.path == TrackPath::Weights)
+        })
+        .and_then(|track| sample_weights(track, targets, time))
+        .unwrap_or_else(|| vec![0.0; targets])
+}
+
 /// World matrix of every node at time `time` of `animation` (the rest pose
 /// when `None`). Nodes no root reaches keep their local transform.
 pub fn world_matrices(scene: &Scene, animation: Option<usize>, time: f32) -> Vec<Mat4> {
@@ -203,6 +269,32 @@ mod tests {
             times: times.to_vec(),
             values: values.to_vec(),
         }
+    }
+
+    #[test]
+    fn morph_weights_interpolate_component_by_component() {
+        // Three targets, keys at 0 and 2 s.
+        let mut track = Track {
+            node: 0,
+            path: TrackPath::Weights,
+            interpolation: Interpolation::Linear,
+            times: vec![0.0, 2.0],
+            values: vec![0.0, 1.0, 0.5, 1.0, 0.0, 0.5],
+        };
+        assert_eq!(sample_weights(&track, 3, 0.5), Some(vec![0.25, 0.75, 0.5]));
+        assert_eq!(sample_weights(&track, 3, 9.0), Some(vec![1.0, 0.0, 0.5]));
+        track.interpolation = Interpolation::Step;
+        assert_eq!(sample_weights(&track, 3, 1.9), Some(vec![0.0, 1.0, 0.5]));
+        // Cubic with zero tangents: the value eases by 3u² − 2u³
+        // (u = 0.5: halfway).
+        track.interpolation = Interpolation::CubicSpline;
+        track.values = vec![
+            0.0, 0.0, 0.0, 0.0, 1.0, 0.5, 0.0, 0.0, 0.0, // key 0: in, value, out
+            0.0, 0.0, 0.0, 1.0, 0.0, 0.5, 0.0, 0.0, 0.0, // key 1
+        ];
+        assert_eq!(sample_weights(&track, 3, 1.0), Some(vec![0.5, 0.5, 0.5]));
+        // Too few values for three weights a key.
+        assert_eq!(sample_weights(&track, 4, 1.0), None);
     }
 
     #[test]

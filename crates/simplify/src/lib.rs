@@ -59,7 +59,7 @@ pub use error::Error;
 pub use input::{
     AttributeInput, AttributeStream, FittedSkin, FittedStream, SeamPolicy, SkinStream, StreamKind,
 };
-pub use mesh::{simplify_mesh, simplify_mesh_with_progress, vertex_joints};
+pub use mesh::{morph_targets, simplify_mesh, simplify_mesh_with_progress, vertex_joints};
 pub use options::{
     AttributeOptions, Guards, InputData, Metric, NormalMode, Options, Partition, QuadMode,
     QuadSettings, Record, Target,

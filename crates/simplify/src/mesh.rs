@@ -3,7 +3,7 @@
 //! ([`crate::AttributeOptions`]), and the result put back into a mesh.
 
 use glam::DVec3;
-use wildlod_mesh::{Attribute, Mesh, Semantic, Skinning, ABSENT};
+use wildlod_mesh::{Attribute, Mesh, MorphChannel, Semantic, Skinning, ABSENT};
 
 use crate::assemble::uv_health::uv_damage;
 use crate::error::Error;
@@ -50,9 +50,15 @@ pub fn simplify_mesh_with_progress(
         .map_err(|e| Error::InvalidMesh(e.to_string()))?;
     let joints = vertex_joints(mesh);
     let see_through = see_through_faces(mesh, options);
+    let morphs = if options.attributes.morph_poses && options.data.morph_targets.is_empty() {
+        morph_targets(mesh)
+    } else {
+        Vec::new()
+    };
     let with_joints;
     let options = if (joints.is_empty() || !options.data.vertex_joints.is_empty())
         && see_through.is_empty()
+        && morphs.is_empty()
     {
         options
     } else {
@@ -62,6 +68,11 @@ pub fn simplify_mesh_with_progress(
                     joints
                 } else {
                     options.data.vertex_joints.clone()
+                },
+                morph_targets: if morphs.is_empty() {
+                    options.data.morph_targets.clone()
+                } else {
+                    morphs
                 },
                 see_through_faces: if see_through.is_empty() {
                     options.data.see_through_faces.clone()
@@ -455,6 +466,45 @@ fn fix_stray_normals(
         fixed += 1;
     }
     fixed
+}
+
+/// The position morph targets of `mesh` as [`crate::InputData::morph_targets`]:
+/// per target (in target order), every position's delta, taken from the
+/// first corner on it (glTF stores one per vertex, and copies of a
+/// position share it). Targets that move nothing are left out.
+pub fn morph_targets(mesh: &Mesh) -> Vec<Vec<[f32; 3]>> {
+    let mut targets: Vec<(u32, &Attribute)> = mesh
+        .attributes
+        .iter()
+        .filter_map(|a| match a.semantic {
+            Semantic::Morph {
+                target,
+                channel: MorphChannel::Position,
+            } if a.components >= 3 => Some((target, a)),
+            _ => None,
+        })
+        .collect();
+    targets.sort_by_key(|t| t.0);
+    targets
+        .into_iter()
+        .filter_map(|(_, a)| {
+            let mut deltas = vec![[0.0f32; 3]; mesh.positions.len()];
+            let mut seen = vec![false; mesh.positions.len()];
+            for (c, &v) in mesh.faces.indices.iter().enumerate() {
+                let Some(slot) = seen.get_mut(v as usize).filter(|s| !**s) else {
+                    continue;
+                };
+                *slot = true;
+                if let Some(d) = a.corner_value(c) {
+                    deltas[v as usize] = [d[0], d[1], d[2]];
+                }
+            }
+            deltas
+                .iter()
+                .any(|d| d.iter().any(|&x| x != 0.0))
+                .then_some(deltas)
+        })
+        .collect()
 }
 
 /// Joint influences per vertex from the mesh's skinning (each vertex takes

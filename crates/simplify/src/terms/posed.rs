@@ -102,22 +102,20 @@ fn face_plane_of(corners: &[DVec3]) -> Option<(DVec3, f64, DVec3)> {
     (len.is_finite() && len > 0.0).then(|| (n2 / len, 0.5 * len, centroid))
 }
 
+/// Where one pose puts each complex vertex: `x ↦ m·x + t` in normalized
+/// coordinates, `None` for a vertex the pose leaves still.
+type Moves = Vec<Option<(DMat3, DVec3)>>;
+
 /// What to add to each vertex's rest quadric so that its face planes are
-/// their mean over the rest pose and `poses` (see the module
-/// documentation): `mean − rest`, per vertex. `poses[k][j]` is joint `j`'s
-/// skinning matrix in pose `k` (world of the joint times its inverse bind
-/// matrix, column-major, input units); `joints[v]` the (joint, weight)
-/// influences of complex vertex `v` (empty: it does not move); `center` and
-/// `scale` the normalization of the complex's positions. Empty when there
-/// is no pose.
-pub(crate) fn pose_terms(
+/// their mean over the rest pose and `count` poses, pose `k` moving the
+/// vertices by `moves_of(k)` (see the module documentation): `mean − rest`,
+/// per vertex. Empty when there is no pose.
+fn mean_pose_terms(
     c: &Complex,
-    poses: &[Vec<[f32; 16]>],
-    joints: &[&[(u32, f32)]],
-    center: DVec3,
-    scale: f64,
+    count: usize,
+    moves_of: &(dyn Fn(usize) -> Moves + Sync),
 ) -> Vec<Quadric> {
-    if poses.is_empty() || c.pos.is_empty() {
+    if count == 0 || c.pos.is_empty() {
         return Vec::new();
     }
     let (start, list) = if c.has_adjacency() {
@@ -135,39 +133,10 @@ pub(crate) fn pose_terms(
     let still = vec![None; c.pos.len()];
     let rest = planes_at(c, &c.pos, &still, &faces_of);
     let mut sum = rest.clone();
-    for pose in poses {
-        // Each joint's skinning matrix on normalized positions: the
-        // linear part is the same; the translation absorbs the center.
-        let matrices: Vec<(DMat3, DVec3)> = pose
-            .iter()
-            .map(|m| {
-                let m = DMat4::from_cols_array(&m.map(f64::from));
-                let lin = DMat3::from_mat4(m);
-                let t = m.w_axis.truncate();
-                (lin, (lin * center + t - center) / scale)
-            })
-            .collect();
-        let moves: Vec<Option<(DMat3, DVec3)>> = (0..c.pos.len())
-            .into_par_iter()
-            .map(|v| {
-                let influences = joints.get(v).copied().unwrap_or(&[]);
-                let total: f64 = influences.iter().map(|&(_, w)| w as f64).sum();
-                if total.is_nan() || total <= 0.0 {
-                    return None;
-                }
-                let mut m = DMat3::ZERO;
-                let mut t = DVec3::ZERO;
-                for &(j, w) in influences {
-                    let Some((mj, tj)) = matrices.get(j as usize) else {
-                        continue;
-                    };
-                    let w = w as f64 / total;
-                    m += *mj * w;
-                    t += *tj * w;
-                }
-                Some((m, t))
-            })
-            .collect();
+    for k in 0..count {
+        let mut moves = moves_of(k);
+        // One entry per vertex, whatever the source covered.
+        moves.resize(c.pos.len(), None);
         let pos: Vec<DVec3> = c
             .pos
             .iter()
@@ -177,18 +146,99 @@ pub(crate) fn pose_terms(
         let posed = planes_at(c, &pos, &moves, &faces_of);
         sum.par_iter_mut().zip(posed).for_each(|(s, p)| *s += p);
     }
-    let n = (poses.len() + 1) as f64;
+    let n = (count + 1) as f64;
     sum.into_iter()
         .zip(rest)
         .map(|(s, r)| s.scaled(1.0 / n).minus(&r))
         .collect()
 }
 
-/// Adds the pose terms ([`pose_terms`]) of [`crate::InputData::skin_poses`] to a
-/// run's vertex quadrics, each vertex moving with the influences of its
-/// first input vertex ([`crate::InputData::vertex_joints`]).
+/// The moves of a skin pose: `pose[j]` is joint `j`'s skinning matrix
+/// (world of the joint times its inverse bind matrix, column-major, input
+/// units), `joints[v]` the (joint, weight) influences of complex vertex `v`
+/// (empty: it does not move), blended linearly; `center` and `scale` the
+/// normalization of the complex's positions.
+fn skin_moves(pose: &[[f32; 16]], joints: &[&[(u32, f32)]], center: DVec3, scale: f64) -> Moves {
+    // Each joint's skinning matrix on normalized positions: the linear
+    // part is the same; the translation absorbs the center.
+    let matrices: Vec<(DMat3, DVec3)> = pose
+        .iter()
+        .map(|m| {
+            let m = DMat4::from_cols_array(&m.map(f64::from));
+            let lin = DMat3::from_mat4(m);
+            let t = m.w_axis.truncate();
+            (lin, (lin * center + t - center) / scale)
+        })
+        .collect();
+    (0..joints.len())
+        .into_par_iter()
+        .map(|v| {
+            let influences = joints[v];
+            let total: f64 = influences.iter().map(|&(_, w)| w as f64).sum();
+            if total.is_nan() || total <= 0.0 {
+                return None;
+            }
+            let mut m = DMat3::ZERO;
+            let mut t = DVec3::ZERO;
+            for &(j, w) in influences {
+                let Some((mj, tj)) = matrices.get(j as usize) else {
+                    continue;
+                };
+                let w = w as f64 / total;
+                m += *mj * w;
+                t += *tj * w;
+            }
+            Some((m, t))
+        })
+        .collect()
+}
+
+/// The moves of a morph target at full weight: complex vertex `v` moves
+/// by `deltas[rep[v]]` (input units, brought to the complex's `scale`); a
+/// vertex without a delta, or with a zero or non-finite one, stays.
+fn morph_moves(deltas: &[[f32; 3]], rep: &[u32], scale: f64) -> Moves {
+    rep.par_iter()
+        .map(|&v| {
+            let d = DVec3::from(deltas.get(v as usize)?.map(f64::from)) / scale;
+            (d.is_finite() && d != DVec3::ZERO).then_some((DMat3::IDENTITY, d))
+        })
+        .collect()
+}
+
+/// [`mean_pose_terms`] over skin poses: `poses[k][j]` is joint `j`'s
+/// skinning matrix in pose `k` (see [`skin_moves`]), `joints[v]` the
+/// influences of complex vertex `v`.
+#[cfg(test)]
+pub(crate) fn pose_terms(
+    c: &Complex,
+    poses: &[Vec<[f32; 16]>],
+    joints: &[&[(u32, f32)]],
+    center: DVec3,
+    scale: f64,
+) -> Vec<Quadric> {
+    mean_pose_terms(c, poses.len(), &|k| {
+        skin_moves(&poses[k], joints, center, scale)
+    })
+}
+
+/// Adds the pose terms ([`mean_pose_terms`]) to a run's vertex quadrics:
+/// the skin's poses ([`crate::InputData::skin_poses`], each vertex moving
+/// with the influences of its first input vertex,
+/// [`crate::InputData::vertex_joints`]) and the morph targets at full
+/// weight ([`crate::InputData::morph_targets`]), all counting alike.
 pub(crate) fn add_pose_terms(quadrics: &mut [StoredQuadric], p: &Prepared, options: &Options) {
-    if options.data.skin_poses.is_empty() || options.data.vertex_joints.is_empty() {
+    let data = &options.data;
+    let skin = if data.vertex_joints.is_empty() {
+        &[][..]
+    } else {
+        &data.skin_poses[..]
+    };
+    let morphs = if options.attributes.morph_poses {
+        &data.morph_targets[..]
+    } else {
+        &[][..]
+    };
+    if skin.is_empty() && morphs.is_empty() {
         return;
     }
     let none: &[(u32, f32)] = &[];
@@ -196,19 +246,18 @@ pub(crate) fn add_pose_terms(quadrics: &mut [StoredQuadric], p: &Prepared, optio
         .rep
         .iter()
         .map(|&v| {
-            options
-                .data
-                .vertex_joints
+            data.vertex_joints
                 .get(v as usize)
                 .map_or(none, Vec::as_slice)
         })
         .collect();
-    let terms = pose_terms(
+    let terms = mean_pose_terms(
         &p.complex,
-        &options.data.skin_poses,
-        &joints,
-        p.center,
-        p.scale,
+        skin.len() + morphs.len(),
+        &|k| match skin.get(k) {
+            Some(pose) => skin_moves(pose, &joints, p.center, p.scale),
+            None => morph_moves(&morphs[k - skin.len()], &p.rep, p.scale),
+        },
     );
     for ((q, t), &at) in quadrics.iter_mut().zip(terms).zip(&p.complex.pos) {
         *q = StoredQuadric::new(&(q.quadric(at) + t), at);
@@ -244,6 +293,62 @@ mod tests {
             assert!((back.eval(x) - expected).abs() < 1e-9, "{x}");
             assert!((q.eval(y) - expected).abs() < 1e-9);
         }
+    }
+
+    /// A flat square of two triangles in z = 0, as a complex.
+    fn square() -> Complex {
+        let pos = vec![
+            DVec3::new(0.0, 0.0, 0.0),
+            DVec3::new(1.0, 0.0, 0.0),
+            DVec3::new(1.0, 1.0, 0.0),
+            DVec3::new(0.0, 1.0, 0.0),
+        ];
+        Complex::new(pos, &[0, 3, 6], &[0, 1, 2, 0, 2, 3]).0
+    }
+
+    #[test]
+    fn a_morph_that_moves_the_surface_rigidly_adds_nothing() {
+        // Every vertex up by 2: the posed planes, pulled back by the same
+        // shift, are the rest planes.
+        let c = square();
+        let up = vec![[0.0f32, 0.0, 2.0]; 4];
+        let rep = [0u32, 1, 2, 3];
+        let terms = mean_pose_terms(&c, 1, &|_| morph_moves(&up, &rep, 1.0));
+        for t in terms {
+            assert!(t.a.iter().all(|x| x.abs() < 1e-12), "{t:?}");
+            assert!(t.c.abs() < 1e-12 && t.b.length() < 1e-12);
+        }
+    }
+
+    #[test]
+    fn a_morph_that_lifts_a_corner_costs_what_flattening_it_would() {
+        // Corner 2 of the square rises by 1 in the target. At rest moving
+        // it onto corner 0 is free (the square is flat); in the pose the
+        // vertex sits at corner 0's place plus corner 2's delta, off the
+        // posed faces: the pulled-back planes measure that.
+        let c = square();
+        let mut lift = vec![[0.0f32; 3]; 4];
+        lift[2] = [0.0, 0.0, 1.0];
+        let rep = [0u32, 1, 2, 3];
+        let terms = mean_pose_terms(&c, 1, &|_| morph_moves(&lift, &rep, 1.0));
+        // At its own rest position corner 2 costs nothing in either pose.
+        let q2 = terms[2];
+        let rest_at_2 = DVec3::new(1.0, 1.0, 0.0);
+        let rest2 = planes_at(&c, &c.pos, &vec![None; 4], &|v| c.vert_faces[v].to_vec())[2];
+        assert!((q2.eval(rest_at_2) + rest2.eval(rest_at_2)).abs() < 1e-12);
+        // Placed at corner 0's rest position and moved by corner 2's
+        // delta, the point (0, 0, 1) is off the posed triangle 0-1-2
+        // (through (0,0,0), (1,0,0), (1,1,1): the plane z = y) by
+        // 1/√2: squared 0.5, times its area share √2/2 / 3, halved (the
+        // mean of the rest pose, where it costs 0, and the pose).
+        let at0 = DVec3::ZERO;
+        let mean = q2.eval(at0) + rest2.eval(at0);
+        let area = 0.5 * 2f64.sqrt();
+        let want_tri0 = 0.5 * (0.5 * area / 3.0);
+        // Triangle 0-2-3 through (0,0,0), (1,1,1), (0,1,0): the plane
+        // z = x, which (0, 0, 1) is off by 1/√2 as well.
+        let want = 2.0 * want_tri0;
+        assert!((mean - want).abs() < 1e-12, "{mean} vs {want}");
     }
 
     #[test]
