@@ -10,8 +10,8 @@ use std::time::Instant;
 use wildlod_mesh::tangents::generate_tangents;
 use wildlod_mesh::{Attribute, ComponentFormat, Faces, Mesh, Part, Semantic, ABSENT};
 use wildlod_simplify::{
-    simplify_with_attributes, AttributeInput, FittedSkin, History, Options, Report, Simplified,
-    SkinStream,
+    simplify_with_attributes, AttributeInput, FittedSkin, History, MorphStream, Options, Report,
+    Simplified, SkinStream,
 };
 
 use crate::channels::corner_normals;
@@ -79,9 +79,24 @@ pub(crate) fn prepare<'a>(
         opts.data.vertex_joints = wildlod_simplify::vertex_joints(mesh);
     }
     // Positions and faces steer the collapses, UVs do not (W: collapses
-    // cross seams freely); skin influences are fitted through every
-    // collapse (Knodt 2024 §3) so that the LOD deforms like the input.
+    // cross seams freely); skin influences and morph deltas are fitted
+    // through every collapse (Knodt 2024 §3) so that the LOD deforms like
+    // the input.
+    let morph_attributes: Vec<usize> = mesh
+        .attributes
+        .iter()
+        .enumerate()
+        .filter(|(_, a)| matches!(a.semantic, Semantic::Morph { .. }) && a.components == 3)
+        .map(|(i, _)| i)
+        .collect();
     let attributes = AttributeInput {
+        morphs: morph_attributes
+            .iter()
+            .map(|&i| MorphStream {
+                values: &mesh.attributes[i].values,
+                indices: &mesh.attributes[i].indices,
+            })
+            .collect(),
         skin: mesh.skinning.as_ref().map(|sk| SkinStream {
             influences: sk.influences as usize,
             joints: &sk.joints,
@@ -150,7 +165,7 @@ pub(crate) fn prepare<'a>(
         tri_group.push(g as u32);
     }
 
-    let mut out = carried_mesh(mesh, &s, &triangles, &tri_corners);
+    let mut out = carried_mesh(mesh, &s, &triangles, &tri_corners, &morph_attributes);
     if let (Some(fitted), Some(input_skin)) = (&s.skin, &mesh.skinning) {
         out.skinning = Some(fitted_skinning(fitted, input_skin, &triangles));
     }
@@ -266,12 +281,15 @@ fn smooth_normals(positions: &[[f32; 3]], triangles: &[[u32; 3]], crease: f32) -
 
 /// The simplified triangles with every per-corner stream except UVs,
 /// tangents and colors carried from the input corner each output corner
-/// is (normals, morph deltas, custom streams, skin influences).
+/// is (normals, custom streams, skin influences), and the morph deltas of
+/// `morph_attributes` (mesh attribute indices, in the order of
+/// `s.morphs`) as fitted, one per output vertex.
 fn carried_mesh(
     mesh: &Mesh,
     s: &wildlod_simplify::Simplified,
     triangles: &[[u32; 3]],
     tri_corners: &[[u32; 3]],
+    morph_attributes: &[usize],
 ) -> Mesh {
     let mut faces = Faces::with_capacity(triangles.len(), 3 * triangles.len());
     for t in triangles {
@@ -286,15 +304,29 @@ fn carried_mesh(
     let attributes = mesh
         .attributes
         .iter()
-        .filter(|a| {
+        .enumerate()
+        .filter(|(_, a)| {
             !matches!(
                 a.semantic,
                 Semantic::TexCoord(_) | Semantic::Tangent | Semantic::Color(_)
             )
         })
-        .map(|a| Attribute {
-            indices: corners.iter().map(|&c| a.indices[c]).collect(),
-            ..a.clone()
+        .map(|(i, a)| {
+            let fitted = morph_attributes
+                .iter()
+                .position(|&m| m == i)
+                .and_then(|k| s.morphs.get(k));
+            match fitted {
+                Some(deltas) => Attribute {
+                    values: deltas.iter().flatten().copied().collect(),
+                    indices: faces.indices.clone(),
+                    ..a.clone()
+                },
+                None => Attribute {
+                    indices: corners.iter().map(|&c| a.indices[c]).collect(),
+                    ..a.clone()
+                },
+            }
         })
         .collect();
     let skinning = mesh.skinning.as_ref().map(|sk| wildlod_mesh::Skinning {

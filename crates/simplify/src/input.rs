@@ -82,6 +82,21 @@ pub struct SkinStream<'a> {
     pub weight: f64,
 }
 
+/// One morph target's deltas per corner (a blend shape's position, normal
+/// or tangent deltas, three floats a value), fitted at the simplified
+/// positions like any attribute but stored sparsely (a target moves a
+/// small region), one value per position: see `terms/attributes/morph.rs`.
+/// They never steer collapses; a target's shape does, as a pose
+/// ([`crate::InputData::morph_targets`]).
+#[derive(Clone, Copy, Debug)]
+pub struct MorphStream<'a> {
+    /// The delta pool, three floats per value.
+    pub values: &'a [f32],
+    /// For every corner of the input faces, the index of its delta in the
+    /// pool, or [`ABSENT`] (no delta: zero).
+    pub indices: &'a [u32],
+}
+
 /// Everything besides positions that rides along a simplification.
 #[derive(Clone, Debug, Default)]
 pub struct AttributeInput<'a> {
@@ -89,6 +104,9 @@ pub struct AttributeInput<'a> {
     pub streams: Vec<AttributeStream<'a>>,
     /// Skin influences, when the mesh is skinned.
     pub skin: Option<SkinStream<'a>>,
+    /// Morph target deltas, any number; [`crate::Simplified::morphs`]
+    /// gives them back per output vertex, in this order.
+    pub morphs: Vec<MorphStream<'a>>,
     /// A material (or any group) id per face: where faces of different ids
     /// meet, the border is kept like a seam. Empty: no material borders.
     pub face_groups: &'a [u32],
@@ -97,7 +115,10 @@ pub struct AttributeInput<'a> {
 impl AttributeInput<'_> {
     /// True when nothing but positions is given.
     pub fn is_empty(&self) -> bool {
-        self.streams.is_empty() && self.skin.is_none() && self.face_groups.is_empty()
+        self.streams.is_empty()
+            && self.skin.is_none()
+            && self.morphs.is_empty()
+            && self.face_groups.is_empty()
     }
 }
 

@@ -57,7 +57,8 @@ pub use assemble::Simplified;
 pub use collapse::history::{CollapseRecord, History, RingFace, RingInput};
 pub use error::Error;
 pub use input::{
-    AttributeInput, AttributeStream, FittedSkin, FittedStream, SeamPolicy, SkinStream, StreamKind,
+    AttributeInput, AttributeStream, FittedSkin, FittedStream, MorphStream, SeamPolicy, SkinStream,
+    StreamKind,
 };
 pub use mesh::{morph_targets, simplify_mesh, simplify_mesh_with_progress, vertex_joints};
 pub use options::{

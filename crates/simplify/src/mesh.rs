@@ -7,7 +7,9 @@ use wildlod_mesh::{Attribute, Mesh, MorphChannel, Semantic, Skinning, ABSENT};
 
 use crate::assemble::uv_health::uv_damage;
 use crate::error::Error;
-use crate::input::{AttributeInput, AttributeStream, FittedStream, SkinStream, StreamKind};
+use crate::input::{
+    AttributeInput, AttributeStream, FittedStream, MorphStream, SkinStream, StreamKind,
+};
 use crate::options::{InputData, NormalMode, Options};
 use crate::report::Report;
 use crate::simplify::simplify_with_attributes_and_progress;
@@ -104,9 +106,22 @@ pub fn simplify_mesh_with_progress(
         })
         .collect();
     let mut streams: Vec<AttributeStream<'_>> = Vec::new();
-    // Per mesh attribute, its streams: one, or (read, unread).
+    // Per mesh attribute, its streams: one, or (read, unread); morph
+    // deltas go to their own sparse fit (`morphs`, `morph_of`).
     let mut stream_of: Vec<(usize, Option<usize>)> = Vec::new();
+    let mut morphs: Vec<MorphStream<'_>> = Vec::new();
+    let mut morph_of: Vec<Option<usize>> = Vec::new();
     for ((a, faces), parts) in mesh.attributes.iter().zip(&steer).zip(&split) {
+        if matches!(a.semantic, Semantic::Morph { .. }) && a.components == 3 {
+            morph_of.push(Some(morphs.len()));
+            stream_of.push((usize::MAX, None));
+            morphs.push(MorphStream {
+                values: &a.values,
+                indices: &a.indices,
+            });
+            continue;
+        }
+        morph_of.push(None);
         let (weight, seams, kind) = stream_settings(&a.semantic, options);
         let first = streams.len();
         match parts {
@@ -134,6 +149,7 @@ pub fn simplify_mesh_with_progress(
     let input = AttributeInput {
         streams,
         skin,
+        morphs,
         face_groups: &groups,
     };
     let s = simplify_with_attributes_and_progress(
@@ -158,7 +174,15 @@ pub fn simplify_mesh_with_progress(
     };
     let mut fitted_streams: Vec<Option<FittedStream>> =
         s.attributes.into_iter().map(Some).collect();
-    for (a, &(first, second)) in out.attributes.iter_mut().zip(&stream_of) {
+    let mut fitted_morphs: Vec<Option<Vec<[f32; 3]>>> = s.morphs.into_iter().map(Some).collect();
+    for ((a, &(first, second)), morph) in out.attributes.iter_mut().zip(&stream_of).zip(&morph_of) {
+        if let Some(k) = *morph {
+            // One delta per output position, shared by its corners.
+            let deltas = fitted_morphs[k].take().unwrap_or_default();
+            a.values = deltas.into_iter().flatten().collect();
+            a.indices = out.faces.indices.clone();
+            continue;
+        }
         let mut fitted = fitted_streams[first].take().unwrap_or_default();
         if let Some(other) = second.and_then(|k| fitted_streams[k].take()) {
             join_streams(&mut fitted, other);

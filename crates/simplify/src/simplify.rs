@@ -147,6 +147,7 @@ pub fn simplify_with_attributes_and_progress(
             .map(|s| AttributeStream { weight: 0.0, ..*s })
             .collect(),
         skin: attributes.skin.map(|s| SkinStream { weight: 0.0, ..s }),
+        morphs: attributes.morphs.clone(),
         face_groups: attributes.face_groups,
     };
     let geometry = simplify_once(positions, faces, &plain, options, f64::INFINITY, &|f| {

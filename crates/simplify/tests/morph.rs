@@ -120,3 +120,131 @@ fn targets_that_move_nothing_are_not_poses() {
     let (plain, _) = simplify_mesh(&input, &rest_only).unwrap();
     assert_eq!(out.positions, plain.positions);
 }
+
+/// A linear delta field: what any fit must give back exactly.
+fn field(p: [f32; 3]) -> [f32; 3] {
+    [0.2 * p[0] - 0.1 * p[1] + 0.05, 0.3 * p[1], 0.1 * p[0] + 0.2]
+}
+
+/// An `n × n` triangle grid on [0, 1]² with two targets: target 0 the
+/// linear `field` everywhere, target 1 zero but on a small corner, and a
+/// UV seam down the middle (the positions on it are stored twice, as a
+/// glTF writer stores them, each copy with the same deltas).
+fn grid_with_targets(n: usize) -> Mesh {
+    let mut m = shapes::triangulate(&shapes::quad_grid(n, n));
+    m.attributes.clear();
+    let mut uvs = Vec::new();
+    let mut uv_indices = Vec::new();
+    for (c, &v) in m.faces.indices.iter().enumerate() {
+        let p = m.positions[v as usize];
+        let face = c / 3;
+        let fc = m.faces.face(face);
+        let cx = fc.iter().map(|&x| m.positions[x as usize][0]).sum::<f32>() / 3.0;
+        // Left and right halves in separate charts.
+        let shift = if cx < 0.5 { 0.0 } else { 2.0 };
+        uv_indices.push((uvs.len() / 2) as u32);
+        uvs.extend([p[0] + shift, p[1]]);
+    }
+    let corner_of_position: Vec<u32> = m.faces.indices.clone();
+    let target0: Vec<f32> = m.positions.iter().flat_map(|&p| field(p)).collect();
+    let target1: Vec<f32> = m
+        .positions
+        .iter()
+        .flat_map(|&p| {
+            let h = (0.2 - p[0] - p[1]).max(0.0);
+            [0.0, 0.0, h]
+        })
+        .collect();
+    for (target, values) in [(0u32, target0), (1, target1)] {
+        m.attributes.push(Attribute {
+            semantic: Semantic::Morph {
+                target,
+                channel: MorphChannel::Position,
+            },
+            components: 3,
+            values,
+            indices: corner_of_position.clone(),
+            format: ComponentFormat::F32,
+        });
+    }
+    m.attributes.push(Attribute {
+        semantic: Semantic::TexCoord(0),
+        components: 2,
+        values: uvs,
+        indices: uv_indices,
+        format: ComponentFormat::F32,
+    });
+    m
+}
+
+fn delta(m: &Mesh, target: u32, corner: usize) -> [f32; 3] {
+    let a = m
+        .attribute(&Semantic::Morph {
+            target,
+            channel: MorphChannel::Position,
+        })
+        .unwrap();
+    let d = a.corner_value(corner).unwrap();
+    [d[0], d[1], d[2]]
+}
+
+#[test]
+fn a_linear_delta_field_survives_simplification_exactly_with_and_without_chunks() {
+    let input = grid_with_targets(48);
+    let mut chunked = ratio(0.05);
+    chunked.partition = wildlod_simplify::Partition {
+        min_triangles: 0,
+        chunk_faces: 1024,
+        handoff: 0.02,
+    };
+    for options in [ratio(0.05), chunked] {
+        let (out, report) = simplify_mesh(&input, &options).unwrap();
+        assert!(
+            options.partition.min_triangles > 0 || report.parallel_collapses > 0,
+            "{report:?}"
+        );
+        out.validate().unwrap();
+        // Vertices moved, so the deltas were fitted, not copied.
+        assert!(out.positions.iter().any(|p| !input.positions.contains(p)));
+        for (corner, &v) in out.faces.indices.iter().enumerate() {
+            let p = out.positions[v as usize];
+            let (got, want) = (delta(&out, 0, corner), field(p));
+            for k in 0..3 {
+                assert!(
+                    (got[k] - want[k]).abs() <= 1e-5,
+                    "corner {corner} at {p:?}: {got:?} against the field's {want:?}"
+                );
+            }
+            // Target 1 stays zero away from its corner of the grid (where
+            // it is zero on every face a vertex could have merged).
+            if p[0] + p[1] > 0.6 {
+                assert_eq!(delta(&out, 1, corner), [0.0; 3], "at {p:?}");
+            }
+        }
+    }
+}
+
+#[test]
+fn copies_of_a_position_share_one_delta() {
+    let input = grid_with_targets(48);
+    let (out, _) = simplify_mesh(&input, &ratio(0.1)).unwrap();
+    // The UV seam survives, so positions on it have corners in two charts.
+    let uv = out.attribute(&Semantic::TexCoord(0)).unwrap();
+    let mut charts_at = vec![Vec::new(); out.positions.len()];
+    for (c, &v) in out.faces.indices.iter().enumerate() {
+        let u = uv.corner_value(c).unwrap()[0];
+        charts_at[v as usize].push((u >= 1.5, c));
+    }
+    let mut seam_positions = 0;
+    for corners in &charts_at {
+        if corners.iter().any(|x| x.0) && corners.iter().any(|x| !x.0) {
+            seam_positions += 1;
+        }
+        for &(_, c) in corners {
+            for target in [0, 1] {
+                assert_eq!(delta(&out, target, c), delta(&out, target, corners[0].1));
+            }
+        }
+    }
+    assert!(seam_positions > 0);
+}

@@ -38,6 +38,9 @@ pub struct Simplified {
     pub attributes: Vec<FittedStream>,
     /// The skin influences, one set per output vertex, when given.
     pub skin: Option<FittedSkin>,
+    /// The morph deltas given ([`crate::AttributeInput::morphs`]), in that
+    /// order: per stream, one fitted delta per output vertex.
+    pub morphs: Vec<Vec<[f32; 3]>>,
     /// What was reached, and why it stopped.
     pub report: Report,
     /// The collapse history, when [`crate::Record::history`] was set.
@@ -133,7 +136,7 @@ pub(crate) fn assemble(
         .iter()
         .map(|&w| out_id[root[w as usize] as usize])
         .collect();
-    let (attributes, skin) = match &run.attrs {
+    let (attributes, skin, morphs) = match &run.attrs {
         Some(a) => {
             // The run's vertex of every output corner and vertex.
             let mut vertex_of = vec![0u32; positions.len()];
@@ -150,9 +153,10 @@ pub(crate) fn assemble(
             (
                 a.output(input, &corner_origin, &corner_vertex, &c.pos, &run.moved),
                 a.output_skin(&vertex_of, &c.pos),
+                a.output_morphs(input, &vertex_of, &c.pos, &run.moved),
             )
         }
-        None => (Vec::new(), None),
+        None => (Vec::new(), None, Vec::new()),
     };
     let mut report = run.report;
     report.output_triangles = c.triangles;
@@ -164,6 +168,7 @@ pub(crate) fn assemble(
         vertex_map,
         attributes,
         skin,
+        morphs,
         report,
         history: run.history,
     }

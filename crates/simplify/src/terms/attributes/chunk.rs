@@ -13,7 +13,7 @@
 
 use std::collections::HashMap;
 
-use super::state::{AttributeState, SkinState, StreamState, WedgeValues};
+use super::state::{AttributeState, MorphState, SkinState, StreamState, WedgeValues};
 use super::wedges::Wedges;
 use crate::input::ABSENT;
 
@@ -130,6 +130,14 @@ impl<'a> AttributeState<'a> {
                     .map(|&v| sk.quadrics[v as usize].clone())
                     .collect(),
             }),
+            morph: self.morph.as_ref().map(|ms| MorphState {
+                sums: vertices
+                    .iter()
+                    .map(|&v| ms.sums[v as usize].clone())
+                    .collect(),
+                lo: ms.lo.clone(),
+                hi: ms.hi.clone(),
+            }),
             carried: self.carried.clone(),
             stream_count: self.stream_count,
             strict: self.strict,
@@ -167,6 +175,11 @@ impl<'a> AttributeState<'a> {
                 sk.quadrics[v as usize] = q;
             }
         }
+        if let (Some(ms), Some(local)) = (&mut self.morph, chunk.morph) {
+            for (q, &v) in local.sums.into_iter().zip(vertices) {
+                ms.sums[v as usize] = q;
+            }
+        }
     }
 }
 
@@ -199,4 +212,68 @@ fn local_wedges(w: &Wedges, corners: &[u32]) -> (Wedges, Vec<u32>) {
         },
         global,
     )
+}
+
+#[cfg(test)]
+mod tests {
+    use glam::DVec3;
+
+    use super::super::morph::MorphSums;
+    use super::*;
+    use crate::input::{AttributeInput, MorphStream, SeamPolicy};
+    use crate::prepare::complex::Complex;
+
+    #[test]
+    fn a_chunk_hands_back_the_morph_sums_its_collapses_made() {
+        // Two triangles sharing an edge; one morph delta per vertex.
+        let pos = vec![
+            DVec3::new(0.0, 0.0, 0.0),
+            DVec3::new(1.0, 0.0, 0.0),
+            DVec3::new(1.0, 1.0, 0.0),
+            DVec3::new(0.0, 1.0, 0.0),
+        ];
+        let indices = [0u32, 1, 2, 0, 2, 3];
+        let (c, _) = Complex::new(pos, &[0, 3, 6], &indices);
+        let values = [
+            0.0f32, 0.0, 1.0, 0.0, 0.0, 2.0, 0.0, 0.0, 3.0, 0.0, 0.0, 4.0,
+        ];
+        let input = AttributeInput {
+            morphs: vec![MorphStream {
+                values: &values,
+                indices: &indices,
+            }],
+            ..AttributeInput::default()
+        };
+        let corner_vertex = indices.to_vec();
+        let mut state = AttributeState::new(
+            &input,
+            &corner_vertex,
+            &c,
+            &[1.0; 4],
+            SeamPolicy::Penalize,
+            1.0,
+        )
+        .expect("valid input");
+        let before = state.morph.as_ref().expect("morphs").sums.clone();
+        // A chunk of the second triangle's vertices (run ids 0, 2, 3),
+        // whose collapse merges its local vertex 2 (run 3) into 1 (run 2).
+        let vertices = [0u32, 2, 3];
+        let corners = [3u32, 4, 5];
+        let wedges = state.chunk_wedges(&corners);
+        let (mut chunk, ids) = state.chunk(wedges, Vec::new(), &vertices);
+        {
+            let ms = chunk.morph.as_mut().expect("morphs in the chunk");
+            assert_eq!(ms.sums[1], before[2]);
+            let other = std::mem::take(&mut ms.sums[2]);
+            ms.sums[1].merge(&other);
+        }
+        state.put_back(chunk, &ids, &corners, &vertices);
+        let after = &state.morph.as_ref().expect("morphs").sums;
+        let mut want = before[2].clone();
+        want.merge(&before[3]);
+        assert_eq!(after[2], want);
+        assert_eq!(after[3], MorphSums::default());
+        // Vertices outside the chunk are untouched.
+        assert_eq!(after[1], before[1]);
+    }
 }

@@ -7,12 +7,14 @@
 //! accounts for it, and merges the wedges it joins under the seam rules of
 //! `seams.rs`; at the end each wedge takes the value its quadric fits at
 //! its vertex's final position. Skin weights are sparse per-vertex
-//! quadrics (`skin.rs`). `state.rs` holds a run's state and the hooks the
+//! quadrics (`skin.rs`), morph deltas sparse per-vertex functional sums
+//! (`morph.rs`). `state.rs` holds a run's state and the hooks the
 //! collapse loop calls; `chunk.rs` cuts it for the chunks of the parallel
 //! first phase and puts their results back.
 
 mod chunk;
 mod linear_fit;
+mod morph;
 mod quadric;
 mod seams;
 mod skin;

@@ -10,13 +10,15 @@ use glam::DVec3;
 use smallvec::SmallVec;
 
 use super::linear_fit::FaceFrame;
+use super::morph::{MorphSums, MorphTerm};
 use super::quadric::{accumulate, Layout};
 use super::seams::{plan_stream, StreamPlan};
 use super::skin::SkinQuadric;
 use super::wedges::{build_wedges, stream_key, value_tolerance, within, Wedges};
 use crate::error::Error;
 use crate::input::{
-    AttributeInput, FittedSkin, FittedStream, SeamPolicy, SkinStream, StreamKind, ABSENT,
+    AttributeInput, FittedSkin, FittedStream, MorphStream, SeamPolicy, SkinStream, StreamKind,
+    ABSENT,
 };
 use crate::prepare::complex::Complex;
 use crate::prepare::geometry::newell;
@@ -83,6 +85,14 @@ pub(super) struct SkinState {
     pub(super) quadrics: Vec<SkinQuadric>,
 }
 
+/// The per-vertex morph sums (see `morph.rs`) and each morph stream's
+/// input range per component, for clamping fitted deltas.
+pub(super) struct MorphState {
+    pub(super) sums: Vec<MorphSums>,
+    pub(super) lo: Vec<[f32; 3]>,
+    pub(super) hi: Vec<[f32; 3]>,
+}
+
 /// What attributes add to the evaluation of a collapse.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(crate) struct Terms {
@@ -117,6 +127,7 @@ pub(crate) struct AttributeState<'a> {
     /// Material borders as a stream without values: wedges only.
     pub(super) groups: Option<Wedges>,
     pub(super) skin: Option<SkinState>,
+    pub(super) morph: Option<MorphState>,
     /// Streams given to [`AttributeState::new`], carried ones included.
     pub(super) carried: Vec<usize>,
     pub(super) stream_count: usize,
@@ -273,6 +284,7 @@ impl AttributeState<'_> {
             streams,
             groups,
             skin: None,
+            morph: morph_state(&input.morphs, corners, c)?,
             carried,
             stream_count: input.streams.len(),
             strict: policy == SeamPolicy::Keep,
@@ -371,6 +383,18 @@ impl AttributeState<'_> {
             }
             if let (Some(sk), Some(src)) = (&mut self.skin, &input.skin) {
                 add_skin_face(sk, src, &frame, &pos, &corners, verts, share, weight);
+            }
+            if let Some(ms) = &mut self.morph {
+                add_morph_face(
+                    ms,
+                    &input.morphs,
+                    &frame,
+                    &pos,
+                    &corners,
+                    verts,
+                    share,
+                    weight,
+                );
             }
         }
         for (st, (surface, uv)) in self.streams.iter_mut().zip(areas) {
@@ -584,6 +608,10 @@ impl AttributeState<'_> {
             let other = std::mem::take(&mut sk.quadrics[j as usize]);
             sk.quadrics[i as usize].merge(&other, pi, pj);
         }
+        if let Some(ms) = &mut self.morph {
+            let other = std::mem::take(&mut ms.sums[j as usize]);
+            ms.sums[i as usize].merge(&other);
+        }
     }
 
     /// The output streams, in the caller's order: for every output corner
@@ -651,6 +679,49 @@ impl AttributeState<'_> {
             }
         }
         out
+    }
+
+    /// Per morph stream, one delta per output vertex (`vertices[k]` is the
+    /// run's vertex of output vertex `k`): fitted at its final position
+    /// (normalized coordinates in `pos`) and clamped to the stream's input
+    /// range, or, at a vertex that never moved and never merged, the
+    /// input delta of its first corner, bit for bit.
+    pub fn output_morphs(
+        &self,
+        input: &AttributeInput<'_>,
+        vertices: &[u32],
+        pos: &[DVec3],
+        moved: &[bool],
+    ) -> Vec<Vec<[f32; 3]>> {
+        let Some(ms) = &self.morph else {
+            return Vec::new();
+        };
+        input
+            .morphs
+            .iter()
+            .enumerate()
+            .map(|(k, src)| {
+                vertices
+                    .iter()
+                    .map(|&v| {
+                        let sums = &ms.sums[v as usize];
+                        let still = !sums.merged && !moved.get(v as usize).copied().unwrap_or(true);
+                        if still && sums.first_corner != u32::MAX {
+                            return morph_value(src, sums.first_corner);
+                        }
+                        let d = sums.value(k as u32, pos[v as usize]);
+                        std::array::from_fn(|c| {
+                            let x = d[c] as f32;
+                            if x.is_finite() {
+                                x.clamp(ms.lo[k][c], ms.hi[k][c])
+                            } else {
+                                0.0
+                            }
+                        })
+                    })
+                    .collect()
+            })
+            .collect()
     }
 
     /// One influence set per output vertex (`vertices[k]` is the run's
@@ -828,6 +899,121 @@ fn face_offsets(c: &Complex, corners: usize) -> Vec<u32> {
     let mut o: Vec<u32> = c.faces.iter().map(|f| f.start).collect();
     o.push(corners as u32);
     o
+}
+
+/// The delta of corner `x` in morph stream `src` (zero without one).
+fn morph_value(src: &MorphStream<'_>, x: u32) -> [f32; 3] {
+    match src.indices.get(x as usize) {
+        Some(&i) if i != ABSENT => {
+            let at = i as usize * 3;
+            [src.values[at], src.values[at + 1], src.values[at + 2]]
+        }
+        _ => [0.0; 3],
+    }
+}
+
+/// The morph sums, one per welded vertex (filled by the face loop), after
+/// checking every stream against the corners; `None` without morphs.
+fn morph_state(
+    morphs: &[MorphStream<'_>],
+    corners: usize,
+    c: &Complex,
+) -> Result<Option<MorphState>, Error> {
+    if morphs.is_empty() {
+        return Ok(None);
+    }
+    let mut lo = Vec::with_capacity(morphs.len());
+    let mut hi = Vec::with_capacity(morphs.len());
+    for (k, m) in morphs.iter().enumerate() {
+        let problem = if m.values.len() % 3 != 0 {
+            Some(format!(
+                "{} morph values, not three per delta",
+                m.values.len()
+            ))
+        } else if m.indices.len() != corners {
+            Some(format!(
+                "{} morph indices for {corners} corners",
+                m.indices.len()
+            ))
+        } else if m
+            .indices
+            .iter()
+            .any(|&i| i != ABSENT && i as usize >= m.values.len() / 3)
+        {
+            Some("a morph index is out of range".into())
+        } else if m.values.iter().any(|x| !x.is_finite()) {
+            Some("a morph delta is not finite".into())
+        } else {
+            None
+        };
+        if let Some(problem) = problem {
+            return Err(Error::BadAttribute {
+                stream: usize::MAX - 1 - k,
+                problem,
+            });
+        }
+        // Zero is in range: a vertex no delta reached gets zero.
+        let (mut l, mut h) = ([0.0f32; 3], [0.0f32; 3]);
+        for d in m.values.chunks_exact(3) {
+            for x in 0..3 {
+                l[x] = l[x].min(d[x]);
+                h[x] = h[x].max(d[x]);
+            }
+        }
+        lo.push(l);
+        hi.push(h);
+    }
+    Ok(Some(MorphState {
+        sums: vec![MorphSums::default(); c.pos.len()],
+        lo,
+        hi,
+    }))
+}
+
+/// Adds one face to the morph sums of its corners' vertices: its area to
+/// every one, and the functional of every delta set nonzero on one of its
+/// corners.
+#[allow(clippy::too_many_arguments)]
+fn add_morph_face(
+    ms: &mut MorphState,
+    morphs: &[MorphStream<'_>],
+    frame: &FaceFrame,
+    pos: &[DVec3],
+    corners: &[u32],
+    verts: &[u32],
+    share: f64,
+    weight: &[f64],
+) {
+    // Each set's functional, unweighted.
+    let mut fits: SmallVec<[MorphTerm; 2]> = SmallVec::new();
+    for (k, src) in morphs.iter().enumerate() {
+        let values: SmallVec<[[f32; 3]; 8]> =
+            corners.iter().map(|&x| morph_value(src, x)).collect();
+        if values.iter().all(|d| *d == [0.0; 3]) {
+            continue;
+        }
+        let mut grad = [DVec3::ZERO; 3];
+        let mut offset = [0.0; 3];
+        for c in 0..3 {
+            (grad[c], offset[c]) = frame.fit(pos, values.iter().map(|d| f64::from(d[c])));
+        }
+        fits.push(MorphTerm {
+            set: k as u32,
+            grad,
+            offset,
+        });
+    }
+    for (&v, &x) in verts.iter().zip(corners) {
+        let a = share * weight.get(v as usize).copied().unwrap_or(1.0);
+        let sums = &mut ms.sums[v as usize];
+        sums.alpha += a;
+        if sums.first_corner == u32::MAX {
+            sums.first_corner = x;
+        }
+        for t in &fits {
+            sums.add(t.set, a, t.grad, t.offset);
+        }
+    }
 }
 
 /// The skin quadrics, one per welded vertex (filled by the face loop).
