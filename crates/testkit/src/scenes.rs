@@ -1916,6 +1916,78 @@ fn textured(name: &str) -> Material {
     }
 }
 
+// ---------------------------------------------------------------------------
+// A blend-shape rig
+
+/// A sphere of radius 1 (`quad_sphere(n)` triangulated: `12·n²`
+/// triangles) with `targets` position morph targets, each a smooth bump of
+/// height 0.2 over 15° around its own direction (spread evenly by a
+/// golden-angle spiral), zero elsewhere, the way a face rig's blend
+/// shapes each move one small region; and an animation (`"targets"`) that
+/// shows each target at full weight in turn: target `k` peaks at
+/// `k + 1` seconds, all weights are 0 at 0 s. Stresses fitting many sparse
+/// delta sets and keeping what only a target shows
+/// (`wildlod compare --animation 0 --fps 1`).
+pub fn morph_sphere(n: usize, targets: usize) -> Scene {
+    let mut m = wildlod_mesh::shapes::triangulate(&wildlod_mesh::shapes::quad_sphere(n));
+    m.name = "morph_sphere".into();
+    m.attributes.retain(|a| a.semantic != Semantic::TexCoord(0));
+    let golden = PI * (3.0 - 5f64.sqrt());
+    for k in 0..targets {
+        let z = 1.0 - 2.0 * (k as f64 + 0.5) / targets as f64;
+        let r = (1.0 - z * z).sqrt();
+        let dir = DVec3::new(
+            r * (golden * k as f64).cos(),
+            r * (golden * k as f64).sin(),
+            z,
+        );
+        let values: Vec<f32> = m
+            .positions
+            .iter()
+            .flat_map(|p| {
+                let p = DVec3::from(p.map(f64::from));
+                let len = p.length();
+                let angle = (p.dot(dir) / len).clamp(-1.0, 1.0).acos().to_degrees();
+                let h = if angle < 15.0 {
+                    0.2 * (1.0 - angle / 15.0).powi(2)
+                } else {
+                    0.0
+                };
+                (p / len * h).to_array().map(|c| canonical(c as f32))
+            })
+            .collect();
+        m.attributes.push(Attribute {
+            semantic: Semantic::Morph {
+                target: k as u32,
+                channel: wildlod_mesh::MorphChannel::Position,
+            },
+            components: 3,
+            values,
+            indices: m.faces.indices.clone(),
+            format: ComponentFormat::F32,
+        });
+    }
+    let mut scene = Scene::from_mesh(m);
+    let keys = targets + 1;
+    let mut values = vec![0.0f32; keys * targets];
+    for k in 0..targets {
+        values[(k + 1) * targets + k] = 1.0;
+    }
+    scene.animations.push(Animation {
+        name: "targets".into(),
+        channels: 1,
+        duration: targets as f32,
+        tracks: vec![Track {
+            node: 0,
+            path: TrackPath::Weights,
+            interpolation: Interpolation::Linear,
+            times: (0..keys).map(|t| t as f32).collect(),
+            values,
+        }],
+    });
+    scene
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

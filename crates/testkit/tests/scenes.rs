@@ -24,7 +24,44 @@ fn all() -> Vec<(&'static str, Scene)> {
         ("outlier_terrain", scenes::outlier_terrain(64, 3)),
         ("uv_fold_mesh", scenes::uv_fold_mesh()),
         ("double_sided_sheet", scenes::double_sided_sheet()),
+        ("morph_sphere", scenes::morph_sphere(16, 5)),
     ]
+}
+
+#[test]
+fn the_morph_sphere_has_one_small_bump_per_target_and_shows_each_in_turn() {
+    let s = scenes::morph_sphere(16, 5);
+    let m = &s.meshes[0];
+    let targets: Vec<_> = m
+        .attributes
+        .iter()
+        .filter(|a| matches!(a.semantic, Semantic::Morph { .. }))
+        .collect();
+    assert_eq!(targets.len(), 5);
+    for a in &targets {
+        let moved = a
+            .values
+            .chunks_exact(3)
+            .filter(|d| d.iter().any(|&x| x != 0.0))
+            .count();
+        // A 15° cap is 1.7% of the sphere: some vertices, not most.
+        assert!(moved > 0 && moved < m.positions.len() / 10, "{moved}");
+        let top = a
+            .values
+            .chunks_exact(3)
+            .map(|d| (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt())
+            .fold(0.0f32, f32::max);
+        assert!(top > 0.1 && top <= 0.2 + 1e-6, "{top}");
+    }
+    let track = &s.animations[0].tracks[0];
+    assert_eq!(track.times, [0.0, 1.0, 2.0, 3.0, 4.0, 5.0]);
+    // Key k + 1 holds target k at 1 and every other at 0.
+    for k in 0..5 {
+        let key = &track.values[(k + 1) * 5..(k + 2) * 5];
+        for (t, &w) in key.iter().enumerate() {
+            assert_eq!(w, if t == k { 1.0 } else { 0.0 });
+        }
+    }
 }
 
 fn write(scene: &Scene, path: &Path) {

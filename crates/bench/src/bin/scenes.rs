@@ -1,7 +1,8 @@
 //! `scenes`: writes the generated scenes of [`wildlod_testkit::scenes`]
 //! (a house, a filleted CAD part, a flat tiling, a city block, a bent
 //! skinned tube, a terrain with outliers, a many-island textured ball, a
-//! double-sided sheet, a sky dome over 40 small parts) as glTF, and the quad-dominant ones also as OBJ
+//! double-sided sheet, a sky dome over 40 small parts, a sphere with 52
+//! blend shapes) as glTF, and the quad-dominant ones also as OBJ
 //! (glTF stores triangles only), for the CLI, `../shared/peers` and the
 //! renders to run on assets unlike the corpus.
 //!
@@ -48,6 +49,7 @@ fn run(args: &Args) -> anyhow::Result<()> {
         ("uv_fold_mesh", scenes::uv_fold_mesh(), false),
         ("double_sided_sheet", scenes::double_sided_sheet(), false),
         ("domed_scene", scenes::domed_scene(40), false),
+        ("morph_sphere", scenes::morph_sphere(115, 52), false),
     ];
     for (name, scene, quads) in all {
         let mut exts = vec!["glb"];

@@ -64,21 +64,30 @@ fn planes_at(
     pos: &[DVec3],
     moves: &[Option<(DMat3, DVec3)>],
     faces_of: &(dyn Fn(usize) -> Vec<u32> + Sync),
+    only: Option<&[bool]>,
 ) -> Vec<Quadric> {
+    let wanted = |v: usize| only.map_or(true, |o| o[v]);
     let planes: Vec<Option<(DVec3, f64, DVec3)>> = (0..c.faces.len() as u32)
         .into_par_iter()
         .map(|f| {
             if c.faces[f as usize].len == 0 {
                 return None;
             }
+            let face = c.face(f);
+            if !face.iter().any(|&v| wanted(v as usize)) {
+                return None;
+            }
             // The face with its corners where this pose puts them.
-            let corners: Vec<DVec3> = c.face(f).iter().map(|&v| pos[v as usize]).collect();
+            let corners: Vec<DVec3> = face.iter().map(|&v| pos[v as usize]).collect();
             face_plane_of(&corners)
         })
         .collect();
     (0..c.pos.len())
         .into_par_iter()
         .map(|v| {
+            if !wanted(v) {
+                return Quadric::ZERO;
+            }
             let mut q = Quadric::ZERO;
             for f in faces_of(v) {
                 if let Some((n, area, centroid)) = planes[f as usize] {
@@ -106,14 +115,28 @@ fn face_plane_of(corners: &[DVec3]) -> Option<(DVec3, f64, DVec3)> {
 /// coordinates, `None` for a vertex the pose leaves still.
 type Moves = Vec<Option<(DMat3, DVec3)>>;
 
+/// One pose: its moves, and whether they are local (a morph target moves
+/// one region: a vertex none of whose faces it moves has its rest planes in
+/// the pose, added as they are instead of computed again, bit for bit the
+/// same) or move the whole mesh (a skin pose).
+struct Pose {
+    moves: Moves,
+    local: bool,
+}
+
 /// What to add to each vertex's rest quadric so that its face planes are
-/// their mean over the rest pose and `count` poses, pose `k` moving the
-/// vertices by `moves_of(k)` (see the module documentation): `mean − rest`,
-/// per vertex. Empty when there is no pose.
+/// their mean over the rest pose and the `count` poses `pose_of(k)` (see
+/// the module documentation): `mean − rest`, per vertex. Every pose counts
+/// at every vertex, where it moves nothing with the rest planes: a target
+/// weighs against the rest pose by its share of all the poses. (Counting
+/// a target only where it acts, as much as the rest pose there, was
+/// measured: on a sphere with 52 bumps at 10%, the same posed Hausdorff
+/// distance at each target's peak for 3× the rest pose's.) Empty when
+/// there is no pose.
 fn mean_pose_terms(
     c: &Complex,
     count: usize,
-    moves_of: &(dyn Fn(usize) -> Moves + Sync),
+    pose_of: &(dyn Fn(usize) -> Pose + Sync),
 ) -> Vec<Quadric> {
     if count == 0 || c.pos.is_empty() {
         return Vec::new();
@@ -130,21 +153,42 @@ fn mean_pose_terms(
             list[start[v] as usize..start[v + 1] as usize].to_vec()
         }
     };
-    let still = vec![None; c.pos.len()];
-    let rest = planes_at(c, &c.pos, &still, &faces_of);
+    let n = c.pos.len();
+    let still = vec![None; n];
+    let rest = planes_at(c, &c.pos, &still, &faces_of, None);
     let mut sum = rest.clone();
     for k in 0..count {
-        let mut moves = moves_of(k);
+        let Pose { mut moves, local } = pose_of(k);
         // One entry per vertex, whatever the source covered.
-        moves.resize(c.pos.len(), None);
+        moves.resize(n, None);
+        let reached: Option<Vec<bool>> = local.then(|| {
+            let mut r = vec![false; n];
+            for f in c.live_faces() {
+                let face = c.face(f);
+                if face.iter().any(|&v| moves[v as usize].is_some()) {
+                    for &v in face {
+                        r[v as usize] = true;
+                    }
+                }
+            }
+            r
+        });
         let pos: Vec<DVec3> = c
             .pos
             .iter()
             .zip(&moves)
             .map(|(&x, mv)| mv.map_or(x, |(m, t)| m * x + t))
             .collect();
-        let posed = planes_at(c, &pos, &moves, &faces_of);
-        sum.par_iter_mut().zip(posed).for_each(|(s, p)| *s += p);
+        let posed = planes_at(c, &pos, &moves, &faces_of, reached.as_deref());
+        match &reached {
+            None => sum.par_iter_mut().zip(posed).for_each(|(s, p)| *s += p),
+            Some(r) => sum
+                .par_iter_mut()
+                .zip(posed)
+                .zip(&rest)
+                .zip(r)
+                .for_each(|(((s, p), q), &reached)| *s += if reached { p } else { *q }),
+        }
     }
     let n = (count + 1) as f64;
     sum.into_iter()
@@ -216,8 +260,9 @@ pub(crate) fn pose_terms(
     center: DVec3,
     scale: f64,
 ) -> Vec<Quadric> {
-    mean_pose_terms(c, poses.len(), &|k| {
-        skin_moves(&poses[k], joints, center, scale)
+    mean_pose_terms(c, poses.len(), &|k| Pose {
+        moves: skin_moves(&poses[k], joints, center, scale),
+        local: false,
     })
 }
 
@@ -255,8 +300,14 @@ pub(crate) fn add_pose_terms(quadrics: &mut [StoredQuadric], p: &Prepared, optio
         &p.complex,
         skin.len() + morphs.len(),
         &|k| match skin.get(k) {
-            Some(pose) => skin_moves(pose, &joints, p.center, p.scale),
-            None => morph_moves(&morphs[k - skin.len()], &p.rep, p.scale),
+            Some(pose) => Pose {
+                moves: skin_moves(pose, &joints, p.center, p.scale),
+                local: false,
+            },
+            None => Pose {
+                moves: morph_moves(&morphs[k - skin.len()], &p.rep, p.scale),
+                local: true,
+            },
         },
     );
     for ((q, t), &at) in quadrics.iter_mut().zip(terms).zip(&p.complex.pos) {
@@ -307,13 +358,46 @@ mod tests {
     }
 
     #[test]
+    fn a_local_pose_gives_what_the_whole_mesh_computed_again_gives() {
+        // Two squares far apart (vertices 0-3 and 4-7); target A lifts
+        // vertex 2, target B vertex 6: computed only where each acts, the
+        // terms are those of every vertex's planes computed in each pose.
+        let mut pos: Vec<DVec3> = square().pos;
+        pos.extend(square().pos.iter().map(|&p| p + DVec3::new(10.0, 0.0, 0.0)));
+        let c = Complex::new(
+            pos,
+            &[0, 3, 6, 9, 12],
+            &[0, 1, 2, 0, 2, 3, 4, 5, 6, 4, 6, 7],
+        )
+        .0;
+        let rep: Vec<u32> = (0..8).collect();
+        let lift = |v: usize| {
+            let mut d = vec![[0.0f32; 3]; 8];
+            d[v] = [0.0, 0.0, 1.0];
+            d
+        };
+        let (a, b) = (lift(2), lift(6));
+        let terms = |local: bool| {
+            mean_pose_terms(&c, 2, &|k| Pose {
+                moves: morph_moves(if k == 0 { &a } else { &b }, &rep, 1.0),
+                local,
+            })
+        };
+        assert_eq!(terms(true), terms(false));
+        assert!(terms(true)[2].a.iter().any(|x| x.abs() > 1e-6));
+    }
+
+    #[test]
     fn a_morph_that_moves_the_surface_rigidly_adds_nothing() {
         // Every vertex up by 2: the posed planes, pulled back by the same
         // shift, are the rest planes.
         let c = square();
         let up = vec![[0.0f32, 0.0, 2.0]; 4];
         let rep = [0u32, 1, 2, 3];
-        let terms = mean_pose_terms(&c, 1, &|_| morph_moves(&up, &rep, 1.0));
+        let terms = mean_pose_terms(&c, 1, &|_| Pose {
+            moves: morph_moves(&up, &rep, 1.0),
+            local: true,
+        });
         for t in terms {
             assert!(t.a.iter().all(|x| x.abs() < 1e-12), "{t:?}");
             assert!(t.c.abs() < 1e-12 && t.b.length() < 1e-12);
@@ -330,11 +414,14 @@ mod tests {
         let mut lift = vec![[0.0f32; 3]; 4];
         lift[2] = [0.0, 0.0, 1.0];
         let rep = [0u32, 1, 2, 3];
-        let terms = mean_pose_terms(&c, 1, &|_| morph_moves(&lift, &rep, 1.0));
+        let terms = mean_pose_terms(&c, 1, &|_| Pose {
+            moves: morph_moves(&lift, &rep, 1.0),
+            local: true,
+        });
         // At its own rest position corner 2 costs nothing in either pose.
         let q2 = terms[2];
         let rest_at_2 = DVec3::new(1.0, 1.0, 0.0);
-        let rest2 = planes_at(&c, &c.pos, &vec![None; 4], &|v| c.vert_faces[v].to_vec())[2];
+        let rest2 = planes_at(&c, &c.pos, &[None; 4], &|v| c.vert_faces[v].to_vec(), None)[2];
         assert!((q2.eval(rest_at_2) + rest2.eval(rest_at_2)).abs() < 1e-12);
         // Placed at corner 0's rest position and moved by corner 2's
         // delta, the point (0, 0, 1) is off the posed triangle 0-1-2
