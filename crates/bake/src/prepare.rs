@@ -78,6 +78,10 @@ pub(crate) fn prepare<'a>(
     if opts.data.vertex_joints.is_empty() {
         opts.data.vertex_joints = wildlod_simplify::vertex_joints(mesh);
     }
+    // Blend shapes are poses here too (`simplify_mesh` does the same).
+    if opts.attributes.morph_poses && opts.data.morph_targets.is_empty() {
+        opts.data.morph_targets = wildlod_simplify::morph_targets(mesh);
+    }
     // Positions and faces steer the collapses, UVs do not (W: collapses
     // cross seams freely); skin influences and morph deltas are fitted
     // through every collapse (Knodt 2024 §3) so that the LOD deforms like

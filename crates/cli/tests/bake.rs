@@ -1122,3 +1122,84 @@ fn a_rebake_packs_one_atlas_per_material_across_meshes() {
         "texture Chamfer {chamfer:.4} vs one atlas per mesh {PER_MESH_ATLAS_TEXTURE_CHAMFER} + floor {floor:.4}"
     );
 }
+
+/// The posed Hausdorff distances of `candidate` against `reference` at
+/// every peak of the morph sphere's animation (frame `k` shows target
+/// `k − 1` at full weight; frame 0 is the rest pose).
+fn posed_peaks(reference: &Path, candidate: &Path, targets: usize) -> Vec<f64> {
+    let frames = (targets + 1).to_string();
+    let o = wildlod(&[
+        "compare",
+        s(reference),
+        s(candidate),
+        "--json",
+        "--samples",
+        "20000",
+        "--animation",
+        "0",
+        "--frames",
+        &frames,
+        "--fps",
+        "1",
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let j: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    j["animation"]["frames"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|f| f["hausdorff"].as_f64().unwrap())
+        .collect()
+}
+
+/// A re-baked LOD carries its blend shapes as the simplified one does:
+/// fitted, one delta per position (the bake used to copy each output
+/// corner's input delta, so copies of a vertex could disagree), and as
+/// close to every target's shape at its peak.
+#[test]
+fn a_rebake_keeps_blend_shapes_as_simplifying_does() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("morphs.glb");
+    let targets = 4;
+    wildlod_io::write(
+        &Document::from_scene(wildlod_testkit::scenes::morph_sphere(24, targets)),
+        &input,
+        &WriteOptions::default(),
+    )
+    .unwrap();
+    let run = |extra: &[&str], name: &str| {
+        let out = dir.path().join(name);
+        let mut args = vec!["simplify", s(&input), "-o", s(&out), "--ratio", "0.1", "-q"];
+        args.extend(extra);
+        let o = wildlod(&args);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        out
+    };
+    let kept = run(&[], "kept.glb");
+    let baked = run(&["--bake", "--texture-size", "256"], "baked.glb");
+    let doc = wildlod_io::read(&baked).unwrap();
+    let m = &doc.scene.meshes[0];
+    let mut deltas = 0;
+    for a in &m.attributes {
+        if !matches!(a.semantic, Semantic::Morph { .. }) {
+            continue;
+        }
+        deltas += 1;
+        let mut at: Vec<Option<&[f32]>> = vec![None; m.positions.len()];
+        for (c, &v) in m.faces.indices.iter().enumerate() {
+            let d = a.corner_value(c).unwrap();
+            match at[v as usize] {
+                Some(first) => assert_eq!(first, d, "two deltas at position {v}"),
+                None => at[v as usize] = Some(d),
+            }
+        }
+    }
+    assert_eq!(deltas, targets);
+    let (plain, rebaked) = (
+        posed_peaks(&input, &kept, targets),
+        posed_peaks(&input, &baked, targets),
+    );
+    for (k, (p, b)) in plain.iter().zip(&rebaked).enumerate().skip(1) {
+        assert!(*b <= 1.5 * p, "target {}: {b} re-baked against {p}", k - 1);
+    }
+}
