@@ -60,7 +60,9 @@ pub use input::{
     AttributeInput, AttributeStream, FittedSkin, FittedStream, MorphStream, SeamPolicy, SkinStream,
     StreamKind,
 };
-pub use mesh::{morph_targets, simplify_mesh, simplify_mesh_with_progress, vertex_joints};
+pub use mesh::{
+    morph_targets, simplify_mesh, simplify_mesh_with_progress, vertex_joints, MAX_MORPH_POSES,
+};
 pub use options::{
     AttributeOptions, Guards, InputData, Metric, NormalMode, Options, Partition, QuadMode,
     QuadSettings, Record, Target,

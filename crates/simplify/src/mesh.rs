@@ -492,10 +492,19 @@ fn fix_stray_normals(
     fixed
 }
 
+/// Morph targets taken as poses at most ([`morph_targets`]): each pose
+/// weighs `1 / (poses + 1)` of a vertex's planes, so past a few dozen a
+/// target adds little (a 52-target face rig is within), and each costs a
+/// pass over the mesh: the cap keeps a file of thousands of sparse targets
+/// from costing thousands of passes.
+pub const MAX_MORPH_POSES: usize = 64;
+
 /// The position morph targets of `mesh` as [`crate::InputData::morph_targets`]:
 /// per target (in target order), every position's delta, taken from the
 /// first corner on it (glTF stores one per vertex, and copies of a
-/// position share it). Targets that move nothing are left out.
+/// position share it). Targets that move nothing are left out; of more
+/// than [`MAX_MORPH_POSES`], those that move the surface most (the sum of
+/// their deltas' lengths over the positions) are kept.
 pub fn morph_targets(mesh: &Mesh) -> Vec<Vec<[f32; 3]>> {
     let mut targets: Vec<(u32, &Attribute)> = mesh
         .attributes
@@ -509,25 +518,54 @@ pub fn morph_targets(mesh: &Mesh) -> Vec<Vec<[f32; 3]>> {
         })
         .collect();
     targets.sort_by_key(|t| t.0);
-    targets
-        .into_iter()
-        .filter_map(|(_, a)| {
-            let mut deltas = vec![[0.0f32; 3]; mesh.positions.len()];
-            let mut seen = vec![false; mesh.positions.len()];
-            for (c, &v) in mesh.faces.indices.iter().enumerate() {
-                let Some(slot) = seen.get_mut(v as usize).filter(|s| !**s) else {
-                    continue;
-                };
-                *slot = true;
-                if let Some(d) = a.corner_value(c) {
-                    deltas[v as usize] = [d[0], d[1], d[2]];
+    let n = mesh.positions.len();
+    // Every position's delta: that of its first corner.
+    let deltas_of = |a: &Attribute| -> Vec<[f32; 3]> {
+        let mut deltas = vec![[0.0f32; 3]; n];
+        let mut seen = vec![false; n];
+        for (c, &v) in mesh.faces.indices.iter().enumerate() {
+            let Some(slot) = seen.get_mut(v as usize).filter(|s| !**s) else {
+                continue;
+            };
+            *slot = true;
+            if let Some(d) = a.corner_value(c) {
+                deltas[v as usize] = [d[0], d[1], d[2]];
+            }
+        }
+        deltas
+    };
+    // The sum of a target's delta lengths over the positions.
+    let size = |a: &Attribute| -> f64 {
+        let mut seen = vec![false; n];
+        let mut sum = 0.0;
+        for (c, &v) in mesh.faces.indices.iter().enumerate() {
+            let Some(slot) = seen.get_mut(v as usize).filter(|s| !**s) else {
+                continue;
+            };
+            *slot = true;
+            if let Some(d) = a.corner_value(c) {
+                let l = d.iter().map(|&x| f64::from(x).powi(2)).sum::<f64>().sqrt();
+                if l.is_finite() {
+                    sum += l;
                 }
             }
-            deltas
-                .iter()
-                .any(|d| d.iter().any(|&x| x != 0.0))
-                .then_some(deltas)
-        })
+        }
+        sum
+    };
+    let mut sized: Vec<(f64, u32)> = targets
+        .iter()
+        .map(|&(t, a)| (size(a), t))
+        .filter(|&(s, _)| s > 0.0)
+        .collect();
+    // Largest first, ties to the lower target; then back in target order.
+    sized.sort_by(|x, y| y.0.total_cmp(&x.0).then(x.1.cmp(&y.1)));
+    sized.truncate(MAX_MORPH_POSES);
+    let mut kept: Vec<u32> = sized.into_iter().map(|(_, t)| t).collect();
+    kept.sort_unstable();
+    targets
+        .into_iter()
+        .filter(|(t, _)| kept.binary_search(t).is_ok())
+        .map(|(_, a)| deltas_of(a))
         .collect()
 }
 

@@ -659,7 +659,8 @@ pub struct AttributeOptions {
     /// raises a nose, at 10%, the posed Hausdorff distance dropped by more
     /// than half for the same rest distance (`tests/morph.rs`). False:
     /// deltas are only fitted at the new positions (the rest pose alone
-    /// steers).
+    /// steers). At most [`crate::MAX_MORPH_POSES`] targets are poses, those
+    /// that move the surface most.
     pub morph_poses: bool,
 }
 

@@ -248,3 +248,48 @@ fn copies_of_a_position_share_one_delta() {
     }
     assert!(seam_positions > 0);
 }
+
+#[test]
+fn of_many_targets_those_that_move_the_surface_most_are_poses() {
+    // 70 targets on a small sphere, target k lifting every position by
+    // (k + 1)·1e-3 along z, but targets 3, 10 and 20 by less than any
+    // other: past the cap, the smallest go.
+    let mut m = shapes::triangulate(&shapes::quad_sphere(4));
+    m.attributes.clear();
+    let count = wildlod_simplify::MAX_MORPH_POSES + 6;
+    let small = [3usize, 10, 20, 30, 40, 50];
+    for k in 0..count {
+        let h = if small.contains(&k) {
+            1e-5 * (k + 1) as f32
+        } else {
+            1e-3 * (k + 1) as f32
+        };
+        m.attributes.push(Attribute {
+            semantic: Semantic::Morph {
+                target: k as u32,
+                channel: MorphChannel::Position,
+            },
+            components: 3,
+            values: m.positions.iter().flat_map(|_| [0.0, 0.0, h]).collect(),
+            indices: m.faces.indices.clone(),
+            format: ComponentFormat::F32,
+        });
+    }
+    let poses = wildlod_simplify::morph_targets(&m);
+    assert_eq!(poses.len(), wildlod_simplify::MAX_MORPH_POSES);
+    // In target order, the small ones left out.
+    let lifts: Vec<f32> = poses.iter().map(|p| p[0][2]).collect();
+    let want: Vec<f32> = (0..count)
+        .filter(|k| !small.contains(k))
+        .map(|k| 1e-3 * (k + 1) as f32)
+        .collect();
+    assert_eq!(lifts, want);
+    // And the mesh simplifies with all 70 targets fitted.
+    let (out, _) = simplify_mesh(&m, &ratio(0.5)).unwrap();
+    let targets = out
+        .attributes
+        .iter()
+        .filter(|a| matches!(a.semantic, Semantic::Morph { .. }))
+        .count();
+    assert_eq!(targets, count);
+}
