@@ -237,7 +237,7 @@ impl<'a> SuccessiveMap<'a> {
     /// center by more than twice the radius (distances change by at most
     /// the radius within the ball), or, where the ball hovers over the
     /// candidate's interior, by the plane and in-plane parts of the squared
-    /// distances ([`Above`]); margins cover the `f32` rounding of the
+    /// distances (`Above`); margins cover the `f32` rounding of the
     /// per-point distances. When nothing remains the step is shared. Else
     /// a large batch splits in two across its longest extent (a smaller
     /// ball rules out more), and a small one lets each point pick among

@@ -3,7 +3,7 @@
 //! [`read`] picks the format from the file extension and returns a
 //! [`Document`]: the format-neutral [`Scene`] plus what the format carries
 //! beyond it (glTF extensions, animation curves, samplers…), kept so that
-//! [`write`] can put it back unchanged. [`write`] picks the output format
+//! [`write()`] can put it back unchanged. [`write()`] picks the output format
 //! from the output extension, whatever the input was, and writes through
 //! temporary files renamed into place: a failed write leaves nothing behind
 //! and never a half-written file.
@@ -38,7 +38,7 @@ pub const MAX_FILE_BYTES: u64 = 4 << 30;
 pub struct Document {
     /// The format-neutral content. Edit this; writers take it from here.
     pub scene: Scene,
-    /// The file this was read from, if any. [`write`] refuses to overwrite
+    /// The file this was read from, if any. [`write()`] refuses to overwrite
     /// it unless [`WriteOptions::allow_overwrite_input`] is set.
     pub source: Option<PathBuf>,
     /// The format it was read from.
@@ -59,7 +59,7 @@ impl Document {
     }
 }
 
-/// Options of [`write`].
+/// Options of [`write()`].
 #[derive(Clone, Debug, Default)]
 pub struct WriteOptions {
     /// Allow the output to replace the document's source file (and files it
@@ -208,8 +208,8 @@ pub struct LodLevels<'a> {
 /// document's materials and textures.
 ///
 /// Only `.gltf` and `.glb` hold levels; other formats are refused (write
-/// one file per level with [`write`]). Written all-or-nothing like
-/// [`write`].
+/// one file per level with [`write()`]). Written all-or-nothing like
+/// [`write()`].
 pub fn write_lods(
     doc: &Document,
     lods: &LodLevels<'_>,

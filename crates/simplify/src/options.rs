@@ -413,7 +413,7 @@ pub struct QuadSettings {
     /// peer, most of it on the dense sword: 3.2 / 2.8 / 2.8 to 1.6 / 1.2 /
     /// 1.0× (quad ratio 1.00 / 0.98 / 0.95 to 0.97 / 0.74 / 0.16). Factor
     /// 1 is where a smooth surface's ties stop buying quads (the generated
-    /// spheres of [`crate::collapse::ordering`]) but it kept half the quads of the
+    /// spheres of `collapse::ordering`) but it kept half the quads of the
     /// corpus at 10%.
     pub tie_factor: f64,
     /// *Expert.* ε_rel: costs within this fraction of the larger one are also ties

@@ -938,7 +938,7 @@ const BEND_DEGREES: f32 = 45.0;
 
 /// The poses `skin` is drawn in (see [`crate::InputData::skin_poses`]): frames
 /// spread evenly over each animation of the file (both ends included), or,
-/// when it has none, every joint turned by [`BEND_DEGREES`] about its
+/// when it has none, every joint turned by `BEND_DEGREES` about its
 /// frame's x and z axes, each way (four poses).
 pub fn skin_poses(scene: &Scene, skin: u32) -> Vec<Vec<[f32; 16]>> {
     use wildlod_mesh::pose::{bent_world_matrices, skin_matrices, world_matrices};

@@ -28,7 +28,7 @@ use crate::terms::attributes::AttributeState;
 /// degenerate, in any number of components. Polygons of more than
 /// [`crate::MAX_POLYGON_CORNERS`] corners are split into pieces of at most
 /// that many first, so time stays near-linear in corners; the pieces are
-/// output faces of the same input face ([`Report::split_polygons`] counts
+/// output faces of the same input face ([`crate::Report::split_polygons`] counts
 /// the polygons split). Equal positions are welded
 /// first. The result reaches the target within one triangle whenever the
 /// complex has enough collapsible edges; otherwise the report says why not.

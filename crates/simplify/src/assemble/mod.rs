@@ -33,7 +33,7 @@ pub struct Simplified {
     /// For every input vertex, the output vertex it merged into
     /// (`u32::MAX` when its faces all vanished).
     pub vertex_map: Vec<u32>,
-    /// The attribute streams given to [`simplify_with_attributes`], fitted
+    /// The attribute streams given to [`crate::simplify_with_attributes`], fitted
     /// (in the order given; empty without attributes).
     pub attributes: Vec<FittedStream>,
     /// The skin influences, one set per output vertex, when given.

@@ -466,7 +466,7 @@ pub const FIRM_DIRECTION: f64 = 1e-2;
 
 /// Like [`place`], but exact along the directions the quadric without its
 /// regularization part `reg` holds firmly (eigenvalues above
-/// [`FIRM_DIRECTION`] of the largest): the regularized minimizer, then one
+/// `FIRM_DIRECTION` of the largest): the regularized minimizer, then one
 /// Newton step of `e − reg` restricted to those directions. A vertex held
 /// by constraints (a plane, a border line, a corner) lands exactly on them,
 /// which the regularized solve misses by about `reg / constraint` times the
