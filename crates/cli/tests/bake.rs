@@ -1123,35 +1123,6 @@ fn a_rebake_packs_one_atlas_per_material_across_meshes() {
     );
 }
 
-/// The posed Hausdorff distances of `candidate` against `reference` at
-/// every peak of the morph sphere's animation (frame `k` shows target
-/// `k − 1` at full weight; frame 0 is the rest pose).
-fn posed_peaks(reference: &Path, candidate: &Path, targets: usize) -> Vec<f64> {
-    let frames = (targets + 1).to_string();
-    let o = wildlod(&[
-        "compare",
-        s(reference),
-        s(candidate),
-        "--json",
-        "--samples",
-        "20000",
-        "--animation",
-        "0",
-        "--frames",
-        &frames,
-        "--fps",
-        "1",
-    ]);
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let j: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
-    j["animation"]["frames"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .map(|f| f["hausdorff"].as_f64().unwrap())
-        .collect()
-}
-
 /// A re-baked LOD carries its blend shapes as the simplified one does:
 /// fitted, one delta per position (the bake used to copy each output
 /// corner's input delta, so copies of a vertex could disagree), and as
@@ -1195,10 +1166,16 @@ fn a_rebake_keeps_blend_shapes_as_simplifying_does() {
         }
     }
     assert_eq!(deltas, targets);
-    let (plain, rebaked) = (
-        posed_peaks(&input, &kept, targets),
-        posed_peaks(&input, &baked, targets),
-    );
+    // Frame k shows target k − 1 at full weight (frame 0: the rest pose).
+    let frames = (targets + 1).to_string();
+    let peaks = |c: &Path| {
+        support::posed_hausdorff(
+            &input,
+            c,
+            &["--frames", &frames, "--fps", "1", "--samples", "20000"],
+        )
+    };
+    let (plain, rebaked) = (peaks(&kept), peaks(&baked));
     for (k, (p, b)) in plain.iter().zip(&rebaked).enumerate().skip(1) {
         assert!(*b <= 1.5 * p, "target {}: {b} re-baked against {p}", k - 1);
     }

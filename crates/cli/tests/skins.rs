@@ -6,31 +6,8 @@ mod support;
 
 use std::process::Command;
 
-use support::{npm_tool, s, wildlod};
+use support::{npm_tool, posed_hausdorff, s, wildlod};
 use wildlod_testkit::scenes;
-
-/// Posed Hausdorff distance of `candidate` to `reference` at each of the
-/// 31 frames of animation 0.
-fn posed_hausdorff(reference: &std::path::Path, candidate: &std::path::Path) -> Vec<f64> {
-    let o = wildlod(&[
-        "compare",
-        s(reference),
-        s(candidate),
-        "--animation",
-        "0",
-        "--frames",
-        "31",
-        "--json",
-    ]);
-    assert!(o.status.success(), "{}", support::stderr(&o));
-    let j: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
-    j["animation"]["frames"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .map(|f| f["hausdorff"].as_f64().unwrap())
-        .collect()
-}
 
 #[test]
 fn a_bent_arm_keeps_its_elbow_in_every_frame_of_the_bend() {
@@ -59,8 +36,8 @@ fn a_bent_arm_keeps_its_elbow_in_every_frame_of_the_bend() {
         .unwrap();
     assert!(o.status.success(), "{o:?}");
     let (a, b) = (
-        posed_hausdorff(&input, &ours),
-        posed_hausdorff(&input, &theirs),
+        posed_hausdorff(&input, &ours, &["--frames", "31"]),
+        posed_hausdorff(&input, &theirs, &["--frames", "31"]),
     );
     assert_eq!(a.len(), 31);
     for (frame, (x, y)) in a.iter().zip(&b).enumerate() {

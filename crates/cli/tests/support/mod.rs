@@ -34,6 +34,30 @@ fn in_ci() -> bool {
     std::env::var("CI").is_ok_and(|v| v == "true")
 }
 
+/// Posed Hausdorff distance of `candidate` to `reference` at each frame
+/// `wildlod compare --animation 0` measures, with `extra` arguments
+/// (`--frames`, `--fps`, `--samples`).
+pub fn posed_hausdorff(reference: &Path, candidate: &Path, extra: &[&str]) -> Vec<f64> {
+    let mut args = vec![
+        "compare",
+        s(reference),
+        s(candidate),
+        "--animation",
+        "0",
+        "--json",
+    ];
+    args.extend(extra);
+    let o = wildlod(&args);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let j: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    j["animation"]["frames"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|f| f["hausdorff"].as_f64().unwrap())
+        .collect()
+}
+
 /// A bumpy torus of quads (2304 triangles) written to `path` (any format).
 pub fn torus(path: &Path) -> PathBuf {
     let mut m = shapes::torus(48, 24, 1.0, 0.35);
