@@ -381,20 +381,19 @@ impl AttributeState<'_> {
                         .add_face(&mut st.quadrics[w * stride..(w + 1) * stride], a, &g, &d);
                 }
             }
+            let face = FaceShare {
+                frame: &frame,
+                pos: &pos,
+                corners: &corners,
+                verts,
+                share,
+                weight,
+            };
             if let (Some(sk), Some(src)) = (&mut self.skin, &input.skin) {
-                add_skin_face(sk, src, &frame, &pos, &corners, verts, share, weight);
+                add_skin_face(sk, src, &face);
             }
             if let Some(ms) = &mut self.morph {
-                add_morph_face(
-                    ms,
-                    &input.morphs,
-                    &frame,
-                    &pos,
-                    &corners,
-                    verts,
-                    share,
-                    weight,
-                );
+                add_morph_face(ms, &input.morphs, &face);
             }
         }
         for (st, (surface, uv)) in self.streams.iter_mut().zip(areas) {
@@ -970,20 +969,36 @@ fn morph_state(
     }))
 }
 
+/// One live face as the face loop hands it to the per-vertex terms: its
+/// plane frame, its corners' positions, input corners and vertices, and
+/// its area share per corner; `weight` the vertex importance.
+struct FaceShare<'f> {
+    frame: &'f FaceFrame,
+    pos: &'f [DVec3],
+    corners: &'f [u32],
+    verts: &'f [u32],
+    share: f64,
+    weight: &'f [f64],
+}
+
+impl FaceShare<'_> {
+    /// The area share of vertex `v` (times its importance).
+    fn area(&self, v: u32) -> f64 {
+        self.share * self.weight.get(v as usize).copied().unwrap_or(1.0)
+    }
+}
+
 /// Adds one face to the morph sums of its corners' vertices: its area to
 /// every one, and the functional of every delta set nonzero on one of its
 /// corners.
-#[allow(clippy::too_many_arguments)]
-fn add_morph_face(
-    ms: &mut MorphState,
-    morphs: &[MorphStream<'_>],
-    frame: &FaceFrame,
-    pos: &[DVec3],
-    corners: &[u32],
-    verts: &[u32],
-    share: f64,
-    weight: &[f64],
-) {
+fn add_morph_face(ms: &mut MorphState, morphs: &[MorphStream<'_>], face: &FaceShare<'_>) {
+    let FaceShare {
+        frame,
+        pos,
+        corners,
+        verts,
+        ..
+    } = *face;
     // Each set's functional, unweighted.
     let mut fits: SmallVec<[MorphTerm; 2]> = SmallVec::new();
     for (k, src) in morphs.iter().enumerate() {
@@ -1004,7 +1019,7 @@ fn add_morph_face(
         });
     }
     for (&v, &x) in verts.iter().zip(corners) {
-        let a = share * weight.get(v as usize).copied().unwrap_or(1.0);
+        let a = face.area(v);
         let sums = &mut ms.sums[v as usize];
         sums.alpha += a;
         if sums.first_corner == u32::MAX {
@@ -1061,17 +1076,14 @@ fn skin_state(
 
 /// Adds one face's joint functionals to the skin quadrics of its corners'
 /// vertices.
-#[allow(clippy::too_many_arguments)]
-fn add_skin_face(
-    sk: &mut SkinState,
-    src: &SkinStream<'_>,
-    frame: &FaceFrame,
-    pos: &[DVec3],
-    corners: &[u32],
-    verts: &[u32],
-    share: f64,
-    weight: &[f64],
-) {
+fn add_skin_face(sk: &mut SkinState, src: &SkinStream<'_>, face: &FaceShare<'_>) {
+    let FaceShare {
+        frame,
+        pos,
+        corners,
+        verts,
+        ..
+    } = *face;
     let k = src.influences;
     if corners.iter().any(|&x| src.indices[x as usize] == ABSENT) {
         return;
@@ -1101,7 +1113,7 @@ fn add_skin_face(
         })
         .collect();
     for &v in verts {
-        let a = share * weight.get(v as usize).copied().unwrap_or(1.0);
+        let a = face.area(v);
         let q = &mut sk.quadrics[v as usize];
         q.alpha += a;
         for &(j, g, d) in &fits {
