@@ -9,6 +9,23 @@ use wildlod_eval::{compare, CompareOptions, EvalMesh};
 use wildlod_mesh::{shapes, Attribute, ComponentFormat, Mesh, MorphChannel, Semantic};
 use wildlod_simplify::simplify_mesh;
 
+/// Adds position morph target `target` with one delta per position
+/// (`values`, three floats each), indexed like the positions, as glTF
+/// stores targets.
+fn push_target(m: &mut Mesh, target: u32, values: Vec<f32>) {
+    let indices = m.faces.indices.clone();
+    m.attributes.push(Attribute {
+        semantic: Semantic::Morph {
+            target,
+            channel: MorphChannel::Position,
+        },
+        components: 3,
+        values,
+        indices,
+        format: ComponentFormat::F32,
+    });
+}
+
 /// A sphere with one morph target that raises a nose: a bump of height
 /// 0.4 within 20° of +x, nothing elsewhere. Deltas per position, the
 /// way glTF stores them (one value per vertex).
@@ -28,17 +45,7 @@ fn sphere_with_a_nose(n: usize) -> Mesh {
             p.map(|c| c / len * h)
         })
         .collect();
-    let indices = m.faces.indices.clone();
-    m.attributes.push(Attribute {
-        semantic: Semantic::Morph {
-            target: 0,
-            channel: MorphChannel::Position,
-        },
-        components: 3,
-        values: deltas,
-        indices,
-        format: ComponentFormat::F32,
-    });
+    push_target(&mut m, 0, deltas);
     m
 }
 
@@ -145,7 +152,6 @@ fn grid_with_targets(n: usize) -> Mesh {
         uv_indices.push((uvs.len() / 2) as u32);
         uvs.extend([p[0] + shift, p[1]]);
     }
-    let corner_of_position: Vec<u32> = m.faces.indices.clone();
     let target0: Vec<f32> = m.positions.iter().flat_map(|&p| field(p)).collect();
     let target1: Vec<f32> = m
         .positions
@@ -156,16 +162,7 @@ fn grid_with_targets(n: usize) -> Mesh {
         })
         .collect();
     for (target, values) in [(0u32, target0), (1, target1)] {
-        m.attributes.push(Attribute {
-            semantic: Semantic::Morph {
-                target,
-                channel: MorphChannel::Position,
-            },
-            components: 3,
-            values,
-            indices: corner_of_position.clone(),
-            format: ComponentFormat::F32,
-        });
+        push_target(&mut m, target, values);
     }
     m.attributes.push(Attribute {
         semantic: Semantic::TexCoord(0),
@@ -264,16 +261,8 @@ fn of_many_targets_those_that_move_the_surface_most_are_poses() {
         } else {
             1e-3 * (k + 1) as f32
         };
-        m.attributes.push(Attribute {
-            semantic: Semantic::Morph {
-                target: k as u32,
-                channel: MorphChannel::Position,
-            },
-            components: 3,
-            values: m.positions.iter().flat_map(|_| [0.0, 0.0, h]).collect(),
-            indices: m.faces.indices.clone(),
-            format: ComponentFormat::F32,
-        });
+        let values = m.positions.iter().flat_map(|_| [0.0, 0.0, h]).collect();
+        push_target(&mut m, k as u32, values);
     }
     let poses = wildlod_simplify::morph_targets(&m);
     assert_eq!(poses.len(), wildlod_simplify::MAX_MORPH_POSES);
@@ -310,17 +299,7 @@ fn a_skinned_mesh_with_blend_shapes_keeps_both() {
             [0.3 * band * p[0] / r, 0.0, 0.3 * band * p[2] / r]
         })
         .collect();
-    let indices = m.faces.indices.clone();
-    m.attributes.push(Attribute {
-        semantic: Semantic::Morph {
-            target: 0,
-            channel: MorphChannel::Position,
-        },
-        components: 3,
-        values,
-        indices,
-        format: ComponentFormat::F32,
-    });
+    push_target(m, 0, values);
     let run = |morph_poses: bool| {
         let mut o = ratio(0.1);
         o.attributes.morph_poses = morph_poses;
