@@ -56,6 +56,10 @@ pub(crate) struct Prepared<'a> {
     pub level_scale: f64,
     /// Input texels and 3D area over the input's textured faces.
     pub input_texels: (f64, f64),
+    /// The textures (indices into `input.images`) those texels come from,
+    /// ascending, each once: what the input's images hold, however often
+    /// its UVs repeat them.
+    pub input_textures: Vec<u32>,
     /// Length scale from the mesh's units to the scene's.
     pub world_scale: f64,
     /// Seconds spent here.
@@ -206,6 +210,7 @@ pub(crate) fn prepare<'a>(
         .iter()
         .map(|&f| s.face_origin[f as usize])
         .collect();
+    let (input_texels, input_textures) = input_texels(&input);
     Ok(Prepared {
         input,
         history,
@@ -218,7 +223,8 @@ pub(crate) fn prepare<'a>(
         textured,
         far,
         level_scale: scale,
-        input_texels: input_texels(&input),
+        input_texels,
+        input_textures,
         world_scale: if world_scale.is_finite() && world_scale > 0.0 {
             world_scale
         } else {
@@ -507,10 +513,11 @@ fn level_scale(
 
 /// The input's texels and 3D area over its textured faces (each face's
 /// base colour image, else its first texture): the input's texel density
-/// is their ratio.
-fn input_texels(input: &BakeInput) -> (f64, f64) {
+/// is their ratio. Also the textures they come from (ascending, distinct).
+fn input_texels(input: &BakeInput) -> ((f64, f64), Vec<u32>) {
     let mesh = input.mesh;
     let (mut texels, mut area) = (0.0f64, 0.0f64);
+    let mut used = Vec::new();
     for f in 0..mesh.faces.len() {
         let part = mesh.face_parts[f] as usize;
         let Some(m) = mesh
@@ -534,6 +541,7 @@ fn input_texels(input: &BakeInput) -> (f64, f64) {
         let Some(uv) = mesh.attribute(&Semantic::TexCoord(r.tex_coord)) else {
             continue;
         };
+        used.push(r.texture);
         let start = mesh.faces.offsets[f] as usize;
         let face = mesh.faces.face(f);
         for k in 1..face.len().saturating_sub(1) {
@@ -552,7 +560,9 @@ fn input_texels(input: &BakeInput) -> (f64, f64) {
             texels += a2 * img.width as f64 * img.height as f64;
         }
     }
-    (texels, area)
+    used.sort_unstable();
+    used.dedup();
+    ((texels, area), used)
 }
 
 #[cfg(test)]

@@ -145,9 +145,22 @@ pub(crate) fn lay_out(
         tris.push(prepared[m as usize].triangles[t as usize].map(|v| v + off));
     }
     let densities = member_densities(group, prepared, maps, face_densities);
+    // A chosen size stays within the input images' own texels: a file
+    // whose UVs repeat one image (leaf cards, tiled walls, trim sheets)
+    // would otherwise get every repeat its own texels, an atlas many
+    // times the input's.
+    let unique = options
+        .texture_size
+        .is_none()
+        .then(|| unique_side(group, prepared))
+        .flatten();
+    let limit = options
+        .max_texture_size
+        .min(unique.unwrap_or(u32::MAX))
+        .max(64);
     let mut size = options
         .texture_size
-        .unwrap_or_else(|| density_size(group, prepared, options));
+        .unwrap_or_else(|| density_size(group, prepared, options).min(limit));
     let t_layout = Instant::now();
     // A size chosen here grows (up to `max_texture_size`) until every
     // chart has a place worth its padding; an asked-for size (or the
@@ -164,14 +177,16 @@ pub(crate) fn lay_out(
                 max_chart_angle: options.max_chart_angle,
                 // A size that may still grow needs a useful packing or
                 // none.
-                useful_only: options.texture_size.is_none() && size < options.max_texture_size,
+                useful_only: options.texture_size.is_none() && size < limit,
             },
         );
         if !group.textured && !atlas.fits {
             return Ok(None);
         }
         let fixed = options.texture_size.is_some() || size >= options.max_texture_size;
-        if atlas.fits || (fixed && atlas.placed) {
+        // Past the input's own texels an atlas grows only until every
+        // chart has a place, however small.
+        if atlas.fits || ((fixed || size >= limit) && atlas.placed) {
             break atlas;
         }
         if fixed {
@@ -255,6 +270,30 @@ fn member_densities(
         }
     }
     out
+}
+
+/// The side of the smallest square power-of-two atlas that holds every
+/// texel of the input images the group's faces read (each image once,
+/// however often the UVs repeat it); `None` when they read none.
+fn unique_side(group: &SharedGroup, prepared: &[Prepared]) -> Option<u32> {
+    let mut seen: Vec<u32> = Vec::new();
+    let mut texels = 0.0f64;
+    for &(m, _) in &group.meshes {
+        let p = &prepared[m];
+        for &t in &p.input_textures {
+            if seen.contains(&t) {
+                continue;
+            }
+            seen.push(t);
+            if let Some(Some(img)) = p.input.images.get(t as usize) {
+                texels += img.width as f64 * img.height as f64;
+            }
+        }
+    }
+    (texels >= 1.0).then(|| {
+        let side = texels.sqrt().ceil().min(f64::from(1u32 << 30)) as u32;
+        side.next_power_of_two()
+    })
 }
 
 /// Atlas side for the input's texel density: per member mesh, its input's

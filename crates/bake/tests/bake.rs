@@ -552,6 +552,51 @@ fn a_levels_atlas_follows_the_level_unless_the_texture_has_fine_detail() {
 }
 
 #[test]
+fn an_atlas_never_holds_more_texels_than_the_images_it_replaces() {
+    // A floor whose 64² tile repeats 8 × 8 times (UVs to 8, repeat
+    // sampling), as leaf cards, tiled walls and trim sheets reuse one
+    // image: at the input's density every repeat would get its own
+    // texels, a 512² atlas for a 64² image. Mapped once, a 512² image asks
+    // for the same 512²: the bound is on the images, not the density.
+    let atlas_side = |repeats: f32, n: u32| {
+        let mesh = plane(16, |x, y| [x * repeats, y * repeats]);
+        let materials = [Material {
+            base_color_texture: Some(TextureRef {
+                texture: 0,
+                tex_coord: 0,
+            }),
+            ..Material::default()
+        }];
+        let textures = [Texture {
+            sampler: Sampler::default(),
+            ..texture()
+        }];
+        let images = [Some(Rgba8Image {
+            width: n,
+            height: n,
+            pixels: (0..n * n)
+                .map(|i| [(i % n * 4) as u8, (i / n * 4) as u8, 90, 255])
+                .collect(),
+        })];
+        let input = BakeInput {
+            mesh: &mesh,
+            materials: &materials,
+            textures: &textures,
+            images: &images,
+        };
+        let options = BakeOptions {
+            texture_size: None,
+            density_follows_level: false,
+            bake_normals: false,
+            ..options(0.5, 0)
+        };
+        bake_mesh(&input, &options).expect("bakes").report.atlases[0].size
+    };
+    assert_eq!(atlas_side(8.0, 64), 64);
+    assert_eq!(atlas_side(1.0, 512), 512);
+}
+
+#[test]
 fn an_atlas_too_small_for_the_charts_is_an_error_and_a_chosen_size_grows() {
     // A bumpy plane: at 20% its charts cannot share a 16² atlas (each
     // takes a texel and its padding at least).

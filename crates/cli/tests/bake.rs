@@ -1180,3 +1180,68 @@ fn a_rebake_keeps_blend_shapes_as_simplifying_does() {
         assert!(*b <= 1.5 * p, "target {}: {b} re-baked against {p}", k - 1);
     }
 }
+
+/// A tree of 1,500 leaf cards that all show one 128² leaf image: a re-bake
+/// gives each card its own texels, so at the input's density its atlas
+/// was 4096² (an 11.8 MB LOD of a 0.24 MB file, 7.7 s). The atlas now
+/// stays within the input image's texels, growing only until every chart
+/// has a place, and the default, measuring such a re-bake against the
+/// kept UVs, keeps the one leaf image.
+#[test]
+fn leaf_cards_sharing_one_image_never_get_an_atlas_larger_than_it() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("tree.glb");
+    wildlod_io::write(
+        &Document::from_scene(wildlod_testkit::scenes::foliage_tree(1500)),
+        &input,
+        &WriteOptions::default(),
+    )
+    .unwrap();
+    let sides = |out: &Path| -> Vec<u32> {
+        let doc = wildlod_io::read(out).unwrap();
+        doc.scene
+            .materials
+            .iter()
+            .filter_map(|m| m.base_color_texture)
+            .map(|r| {
+                let img =
+                    wildlod_io::decode_image_rgba8(&doc.scene.textures[r.texture as usize].source)
+                        .unwrap();
+                img.width.max(img.height)
+            })
+            .collect()
+    };
+    for ratio in ["0.5", "0.1"] {
+        let out = dir.path().join(format!("bake{ratio}.glb"));
+        let o = wildlod(&[
+            "simplify",
+            s(&input),
+            "-o",
+            s(&out),
+            "--ratio",
+            ratio,
+            "--bake",
+        ]);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let baked = sides(&out);
+        assert!(
+            !baked.is_empty() && baked.iter().all(|&n| n <= 512),
+            "{baked:?}"
+        );
+
+        let out = dir.path().join(format!("auto{ratio}.glb"));
+        let o = wildlod(&[
+            "simplify",
+            s(&input),
+            "-o",
+            s(&out),
+            "--ratio",
+            ratio,
+            "--json",
+        ]);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let j: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+        assert_eq!(j["textures"]["chosen"], "keep", "{}", j["textures"]);
+        assert_eq!(sides(&out), vec![128], "the input's leaf image");
+    }
+}

@@ -1,7 +1,8 @@
 //! Scenes generated in code that are *unlike* the corpus: an architectural
 //! export, a filleted CAD part, a flat mixed-arity tiling, a city block, a
 //! skinned and animated tube, a terrain with far outliers, a texture atlas
-//! of many small islands and a double-sided sheet.
+//! of many small islands, a double-sided sheet, a sky dome over small
+//! parts, a blend-shape rig and a tree of leaf cards.
 //!
 //! Each generator is deterministic (the same scene, and the same bytes
 //! when written, on every run and machine), returns a [`Scene`] that
@@ -1986,6 +1987,173 @@ pub fn morph_sphere(n: usize, targets: usize) -> Scene {
         }],
     });
     scene
+}
+
+// ---------------------------------------------------------------------------
+// Foliage
+
+/// A tree as game assets draw one: a tapered trunk with four branches
+/// (untextured bark, 16-sided cylinders) and a crown of `cards` leaf cards,
+/// each a 0.35 m square of two triangles at a random place in an ellipsoid
+/// and a random orientation, all showing one 128 × 128 leaf texture whose
+/// alpha cuts the leaf shape out (`MASK`, cutoff 0.5, double-sided, one
+/// part).
+///
+/// Stresses: hundreds of tiny disconnected parts whose whole look is their
+/// texture's alpha. A card stretched across the crown (merged by a virtual
+/// edge) or its UVs moved draws leaves where none were; a LOD draws fewer
+/// cards, each whole.
+pub fn foliage_tree(cards: usize) -> Scene {
+    let mut b = Builder::new(false, false);
+    b.part("bark", 0);
+    let limb = |b: &mut Builder, from: DVec3, to: DVec3, r0: f64, r1: f64, rings: usize| {
+        let axis_dir = (to - from).normalize();
+        let side = if axis_dir.y.abs() < 0.9 {
+            DVec3::Y
+        } else {
+            DVec3::X
+        };
+        let e1 = axis_dir.cross(side).normalize();
+        let e2 = axis_dir.cross(e1);
+        let at = |i: usize, j: usize| {
+            let t = j as f64 / rings as f64;
+            let a = TAU * (i % 16) as f64 / 16.0;
+            let r = lerp(r0, r1, t);
+            lerp3(from, to, t) + (e1 * a.cos() + e2 * a.sin()) * r
+        };
+        for j in 0..rings {
+            for i in 0..16 {
+                let n = |i: usize| {
+                    let a = TAU * (i % 16) as f64 / 16.0;
+                    e1 * a.cos() + e2 * a.sin()
+                };
+                b.smooth_tri([
+                    (at(i, j), n(i)),
+                    (at(i + 1, j), n(i + 1)),
+                    (at(i + 1, j + 1), n(i + 1)),
+                ]);
+                b.smooth_tri([
+                    (at(i, j), n(i)),
+                    (at(i + 1, j + 1), n(i + 1)),
+                    (at(i, j + 1), n(i)),
+                ]);
+            }
+        }
+    };
+    limb(
+        &mut b,
+        DVec3::ZERO,
+        DVec3::new(0.0, 3.0, 0.0),
+        0.25,
+        0.15,
+        12,
+    );
+    for k in 0..4 {
+        let a = TAU * (k as f64 + 0.3) / 4.0;
+        let from = DVec3::new(0.0, 2.2 + 0.2 * k as f64, 0.0);
+        let to = DVec3::new(1.6 * a.cos(), 3.4 + 0.3 * k as f64, 1.6 * a.sin());
+        limb(&mut b, from, to, 0.08, 0.03, 6);
+    }
+    b.part("leaves", 1);
+    let mut rng = SplitMix64(0x1eaf);
+    for _ in 0..cards {
+        // A point in the crown's ellipsoid (rejection sampling).
+        let c = loop {
+            let q = DVec3::new(
+                rng.next_f64() * 2.0 - 1.0,
+                rng.next_f64() * 2.0 - 1.0,
+                rng.next_f64() * 2.0 - 1.0,
+            );
+            if q.length_squared() <= 1.0 {
+                break DVec3::new(2.0 * q.x, 3.8 + 1.4 * q.y, 2.0 * q.z);
+            }
+        };
+        let n = loop {
+            let q = DVec3::new(
+                rng.next_f64() * 2.0 - 1.0,
+                rng.next_f64() * 2.0 - 1.0,
+                rng.next_f64() * 2.0 - 1.0,
+            );
+            let l = q.length();
+            if l > 0.1 && l <= 1.0 {
+                break q / l;
+            }
+        };
+        let side = if n.y.abs() < 0.9 { DVec3::Y } else { DVec3::X };
+        let u = n.cross(side).normalize() * 0.175;
+        let v = n.cross(u);
+        let corner = |su: f64, sv: f64, uv: [f64; 2]| Corner {
+            p: c + u * su + v * sv,
+            uv: Some(uv),
+            n: Some(n),
+        };
+        let q = [
+            corner(-1.0, -1.0, [0.0, 1.0]),
+            corner(1.0, -1.0, [1.0, 1.0]),
+            corner(1.0, 1.0, [1.0, 0.0]),
+            corner(-1.0, 1.0, [0.0, 0.0]),
+        ];
+        b.face(&[q[0], q[1], q[2]]);
+        b.face(&[q[0], q[2], q[3]]);
+    }
+    // A leaf along the diagonal: an ellipse, a darker midrib, transparent
+    // around it.
+    let leaf = png_texture_rgba("leaf", 128, 128, |x, y| {
+        let (s, t) = ((x as f64 + 0.5) / 64.0 - 1.0, (y as f64 + 0.5) / 64.0 - 1.0);
+        let (a, b) = ((s + t) * FRAC_1_SQRT_2, (s - t) * FRAC_1_SQRT_2);
+        let inside = (a / 0.95).powi(2) + (b / 0.42).powi(2) <= 1.0;
+        let rib = b.abs() < 0.03;
+        let shade = (40.0 * (1.0 - a)) as u8;
+        match (inside, rib) {
+            (false, _) => [30, 90, 30, 0],
+            (true, true) => [120, 160, 60, 255],
+            (true, false) => [40 + shade, 120 + shade / 2, 35, 255],
+        }
+    });
+    let leaves = Material {
+        base_color_texture: Some(TextureRef {
+            texture: 0,
+            tex_coord: 0,
+        }),
+        base_color: [1.0; 4],
+        alpha_mode: AlphaMode::Mask,
+        alpha_cutoff: 0.5,
+        double_sided: true,
+        ..material("leaves", [1.0; 3])
+    };
+    scene(
+        b.mesh("tree"),
+        vec![material("bark", [0.35, 0.25, 0.15]), leaves],
+        vec![leaf],
+    )
+}
+
+/// [`png_texture`] with an alpha channel.
+fn png_texture_rgba(
+    name: &str,
+    width: u32,
+    height: u32,
+    pixel: impl Fn(u32, u32) -> [u8; 4],
+) -> Texture {
+    let mut raw = Vec::with_capacity(width as usize * height as usize * 4);
+    for y in 0..height {
+        for x in 0..width {
+            raw.extend_from_slice(&pixel(x, y));
+        }
+    }
+    let img =
+        image::RgbaImage::from_raw(width, height, raw).expect("buffer of width × height pixels");
+    let mut bytes = std::io::Cursor::new(Vec::new());
+    img.write_to(&mut bytes, image::ImageFormat::Png)
+        .expect("PNG encoding into memory");
+    Texture {
+        name: name.into(),
+        source: ImageSource::Embedded {
+            bytes: bytes.into_inner(),
+            mime_type: "image/png".into(),
+        },
+        sampler: Default::default(),
+    }
 }
 
 #[cfg(test)]

@@ -25,7 +25,46 @@ fn all() -> Vec<(&'static str, Scene)> {
         ("uv_fold_mesh", scenes::uv_fold_mesh()),
         ("double_sided_sheet", scenes::double_sided_sheet()),
         ("morph_sphere", scenes::morph_sphere(16, 5)),
+        ("foliage_tree", scenes::foliage_tree(200)),
     ]
+}
+
+#[test]
+fn the_tree_is_a_trunk_and_branches_and_one_card_per_leaf_all_on_one_image() {
+    use wildlod_mesh::AlphaMode;
+    let s = scenes::foliage_tree(200);
+    let m = &s.meshes[0];
+    // Trunk and four branches, then two triangles per card.
+    let bark = 16 * 2 * (12 + 4 * 6);
+    assert_eq!(m.faces.len(), bark + 2 * 200);
+    let mut sets = DisjointSets::new(m.positions.len());
+    for f in m.faces.iter() {
+        for w in f.windows(2) {
+            sets.union(w[0], w[1]);
+        }
+    }
+    let roots: HashSet<u32> = (0..m.positions.len() as u32)
+        .map(|v| sets.find(v))
+        .collect();
+    assert_eq!(roots.len(), 5 + 200, "one component per limb and card");
+    // Every card's UVs span the whole image once: the image repeats.
+    let uv = m.attribute(&Semantic::TexCoord(0)).unwrap();
+    for f in bark..m.faces.len() {
+        let start = m.faces.offsets[f] as usize;
+        let us: Vec<&[f32]> = (start..start + 3)
+            .map(|c| uv.corner_value(c).unwrap())
+            .collect();
+        let span = |k: usize| {
+            let lo = us.iter().map(|u| u[k]).fold(f32::INFINITY, f32::min);
+            let hi = us.iter().map(|u| u[k]).fold(f32::NEG_INFINITY, f32::max);
+            hi - lo
+        };
+        assert_eq!((span(0), span(1)), (1.0, 1.0));
+    }
+    assert_eq!(s.textures.len(), 1);
+    let leaves = &s.materials[1];
+    assert_eq!(leaves.alpha_mode, AlphaMode::Mask);
+    assert!(leaves.double_sided && leaves.base_color_texture.is_some());
 }
 
 #[test]
