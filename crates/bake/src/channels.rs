@@ -19,7 +19,8 @@ use std::sync::OnceLock;
 
 use glam::Vec3;
 use wildlod_mesh::{
-    Attribute, Material, Mesh, Rgba8Image, Sampler, Semantic, Texture, TextureRef, Wrap, ABSENT,
+    AlphaMode, Attribute, Material, Mesh, Rgba8Image, Sampler, Semantic, Texture, TextureRef, Wrap,
+    ABSENT,
 };
 
 use crate::mapping::SurfacePoint;
@@ -370,6 +371,9 @@ pub(crate) fn texel_footprint(positions: [[f32; 3]; 3], uvs: [[f32; 2]; 3]) -> O
 #[derive(Clone, Copy, Debug, Default)]
 pub(crate) struct PointChannels {
     pub base: [f32; 4],
+    /// For an alpha-tested (`MASK`) material: whether the input point
+    /// passes the test unfiltered (a point sample; see `alpha_coverage.rs`).
+    pub passes_alpha_test: Option<bool>,
     pub metal: f32,
     pub rough: f32,
     pub occlusion: f32,
@@ -537,16 +541,28 @@ impl<'a> InputChannels<'a> {
             Some(tex.sample_filtered(uv, axes, &self.mips.slots[*slot], &self.lut))
         };
         let mut base = m.base_color;
+        let mut point_alpha = m.base_color[3];
         if let Some(t) = sample(Channel::BaseColor) {
             for k in 0..4 {
                 base[k] *= t[k];
+            }
+            if m.alpha_mode == AlphaMode::Mask {
+                point_alpha *= r.textures[Channel::BaseColor.index()]
+                    .as_ref()
+                    .and_then(|(tex, uv, _)| {
+                        Some(tex.sample(Self::interpolate::<2>(uv, s)?, &self.lut)[3])
+                    })
+                    .unwrap_or(1.0);
             }
         }
         if let Some(c) = self.colors.and_then(|a| Self::interpolate::<4>(a, s)) {
             for k in 0..4 {
                 base[k] *= c[k];
             }
+            point_alpha *= c[3];
         }
+        let passes_alpha_test =
+            (m.alpha_mode == AlphaMode::Mask).then_some(point_alpha >= m.alpha_cutoff);
         let (mut metal, mut rough) = (m.metallic, m.roughness);
         if let Some(t) = sample(Channel::MetallicRoughness) {
             rough *= t[1];
@@ -578,6 +594,7 @@ impl<'a> InputChannels<'a> {
         }
         PointChannels {
             base,
+            passes_alpha_test,
             metal,
             rough,
             occlusion,

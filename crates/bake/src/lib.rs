@@ -36,6 +36,7 @@
 //! - [`bake_mesh`] (`bake.rs`): the same for one mesh; `interface.rs`
 //!   holds the options and results both share.
 
+mod alpha_coverage;
 mod atlas;
 mod bake;
 mod channels;

@@ -18,6 +18,7 @@ use wildlod_mesh::tangents::generate_tangents;
 use wildlod_mesh::{AlphaMode, Material, Mesh, Rgba8Image, Semantic, TextureRef};
 use wildlod_simplify::Options;
 
+use crate::alpha_coverage::keep_coverage;
 use crate::channels::{
     corner_normals, encode, texel_footprint, Channel, Footprint, Frame, InputChannels, MipCache,
 };
@@ -470,6 +471,9 @@ impl GroupBake<'_, '_> {
         let mut pixels: Vec<Vec<[u8; 4]>> = vec![vec![[0u8; 4]; w * w]; chans.len()];
         let mut mapped = vec![false; w * w];
         let mut texels_mapped = 0;
+        // Owned texels evaluated, and those whose input point passes the
+        // alpha test (MASK).
+        let (mut alpha_evaluated, mut alpha_passing) = (0usize, 0usize);
         let mut y0 = 0u32;
         while y0 < size {
             let y1 = (y0 + BAND_ROWS).min(size);
@@ -477,7 +481,7 @@ impl GroupBake<'_, '_> {
             let surface = self.map_band(&coverage);
             // One texel of the band: every channel evaluated at its input
             // point, each texture averaged over the texel's footprint.
-            let texel = |i: usize| -> Option<[[u8; 4]; 5]> {
+            let texel = |i: usize| -> Option<TexelValues> {
                 let hit = surface[i].as_ref()?;
                 let owner = coverage.triangle[i] as usize;
                 let (m, t) = self.group.members[owner];
@@ -501,22 +505,21 @@ impl GroupBake<'_, '_> {
                 for (slot, &ch) in out.iter_mut().zip(chans.iter()) {
                     *slot = encode(ch, &v, frame.as_ref(), orm);
                 }
-                Some(out)
+                Some((out, v.passes_alpha_test.unwrap_or(false)))
             };
-            let band: Vec<Vec<[[u8; 4]; 5]>> = (0..(y1 - y0) as usize)
+            let band: Vec<Vec<Option<TexelValues>>> = (0..(y1 - y0) as usize)
                 .into_par_iter()
-                .map(|r| {
-                    (0..w)
-                        .map(|x| texel(r * w + x).unwrap_or_default())
-                        .collect()
-                })
+                .map(|r| (0..w).map(|x| texel(r * w + x)).collect())
                 .collect();
             let at = y0 as usize * w;
             for (r, row) in band.into_iter().enumerate() {
-                for (x, values) in row.into_iter().enumerate() {
+                for (x, cell) in row.into_iter().enumerate() {
+                    let (values, passes) = cell.unwrap_or_default();
                     for (ci, px) in pixels.iter_mut().enumerate() {
                         px[at + r * w + x] = values[ci];
                     }
+                    alpha_evaluated += usize::from(cell.is_some());
+                    alpha_passing += usize::from(passes);
                 }
             }
             for (m, &t) in mapped[at..].iter_mut().zip(&coverage.triangle) {
@@ -549,6 +552,15 @@ impl GroupBake<'_, '_> {
                 pixels: std::mem::take(&mut pixels[ci]),
             };
             apply_fill(&mut image, &fill);
+            if ch == Channel::BaseColor && material.alpha_mode == AlphaMode::Mask {
+                keep_coverage(
+                    &mut image.pixels,
+                    w,
+                    &mapped,
+                    alpha_passing as f64 / alpha_evaluated.max(1) as f64,
+                    material.alpha_cutoff,
+                );
+            }
             let r = Some(TextureRef {
                 texture: (first_image + images.len()) as u32,
                 tex_coord: 0,
@@ -672,6 +684,10 @@ impl GroupBake<'_, '_> {
         out
     }
 }
+
+/// One texel's encoded value in every baked channel, and whether its
+/// input point passes the alpha test (`MASK` materials).
+type TexelValues = ([[u8; 4]; 5], bool);
 
 /// The output material of a group: the group's first material with no
 /// texture yet; the caller sets each baked channel's texture and factor.

@@ -2,7 +2,7 @@
 //! export, a filleted CAD part, a flat mixed-arity tiling, a city block, a
 //! skinned and animated tube, a terrain with far outliers, a texture atlas
 //! of many small islands, a double-sided sheet, a sky dome over small
-//! parts, a blend-shape rig and a tree of leaf cards.
+//! parts, a blend-shape rig, a tree of leaf cards and a chain-link fence.
 //!
 //! Each generator is deterministic (the same scene, and the same bytes
 //! when written, on every run and machine), returns a [`Scene`] that
@@ -2126,6 +2126,63 @@ pub fn foliage_tree(cards: usize) -> Scene {
         vec![material("bark", [0.35, 0.25, 0.15]), leaves],
         vec![leaf],
     )
+}
+
+/// A chain-link fence: a 120° arc of radius 5 and height 2 with a gentle
+/// wave, 96 × 16 quads as triangles, its UVs one unique chart over a
+/// 1024 × 256 image of diagonal wires 3 texels wide every 24 texels, opaque
+/// on the wires and transparent between them (`MASK`, cutoff 0.5,
+/// double-sided), the same grey everywhere as painters dilate colour under
+/// transparent texels.
+///
+/// Stresses: what an alpha test shows. Averaged to a smaller atlas, thin
+/// wires' alpha falls under the cutoff and the fence vanishes, while its
+/// colour, and every colour metric, say nothing changed.
+pub fn chain_link_fence() -> Scene {
+    const NX: usize = 96;
+    const NY: usize = 16;
+    let mut b = Builder::new(false, false);
+    b.part("fence", 0);
+    let corner = |i: usize, j: usize| {
+        let (u, v) = (i as f64 / NX as f64, j as f64 / NY as f64);
+        let a = (u - 0.5) * TAU / 3.0;
+        let r = 5.0 + 0.15 * (3.0 * TAU * u).sin();
+        let p = DVec3::new(r * a.sin(), 2.0 * v, r * a.cos());
+        let n = DVec3::new(a.sin(), 0.0, a.cos());
+        Corner {
+            p,
+            uv: Some([u, 1.0 - v]),
+            n: Some(n),
+        }
+    };
+    for j in 0..NY {
+        for i in 0..NX {
+            let c = |di, dj| corner(i + di, j + dj);
+            b.face(&[c(0, 0), c(1, 0), c(1, 1)]);
+            b.face(&[c(0, 0), c(1, 1), c(0, 1)]);
+        }
+    }
+    let wires = png_texture_rgba("chain_link", 1024, 256, |x, y| {
+        let on = |t: u32| t % 24 < 3;
+        let alpha = if on(x + y) || on(x + 1024 - y) {
+            255
+        } else {
+            0
+        };
+        [150, 152, 158, alpha]
+    });
+    let mat = Material {
+        base_color_texture: Some(TextureRef {
+            texture: 0,
+            tex_coord: 0,
+        }),
+        base_color: [1.0; 4],
+        alpha_mode: AlphaMode::Mask,
+        alpha_cutoff: 0.5,
+        double_sided: true,
+        ..material("chain_link", [1.0; 3])
+    };
+    scene(b.mesh("fence"), vec![mat], vec![wires])
 }
 
 /// [`png_texture`] with an alpha channel.

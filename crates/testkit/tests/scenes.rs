@@ -26,7 +26,31 @@ fn all() -> Vec<(&'static str, Scene)> {
         ("double_sided_sheet", scenes::double_sided_sheet()),
         ("morph_sphere", scenes::morph_sphere(16, 5)),
         ("foliage_tree", scenes::foliage_tree(200)),
+        ("chain_link_fence", scenes::chain_link_fence()),
     ]
+}
+
+#[test]
+fn the_fence_is_an_opaque_wire_mesh_over_transparent_texels() {
+    use wildlod_mesh::AlphaMode;
+    let s = scenes::chain_link_fence();
+    assert_eq!(s.meshes[0].faces.len(), 2 * 96 * 16);
+    let m = &s.materials[0];
+    assert_eq!((m.alpha_mode, m.alpha_cutoff), (AlphaMode::Mask, 0.5));
+    let wildlod_mesh::ImageSource::Embedded { bytes, .. } = &s.textures[0].source else {
+        panic!("embedded image");
+    };
+    let img = image::load_from_memory(bytes).unwrap().to_rgba8();
+    assert_eq!(img.dimensions(), (1024, 256));
+    // Alpha is 0 or 255; wires 3 texels of every 24 along both
+    // diagonals. x + y and x − y have one parity: on even diagonals 2 of
+    // 12 residues are wire in each family, on odd ones 1 of 12, so
+    // 1 − ((10/12)² + (11/12)²) / 2 = 67/288 of the texels are opaque.
+    let opaque = img.pixels().filter(|p| p[3] == 255).count();
+    assert!(img.pixels().all(|p| p[3] == 0 || p[3] == 255));
+    let expected = 67.0 / 288.0;
+    let got = opaque as f64 / (1024.0 * 256.0);
+    assert!((got - expected).abs() < 1e-3, "{got} {expected}");
 }
 
 #[test]

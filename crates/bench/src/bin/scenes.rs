@@ -2,10 +2,10 @@
 //! (a house, a filleted CAD part, a flat tiling, a city block, a bent
 //! skinned tube, a terrain with outliers, a many-island textured ball, a
 //! double-sided sheet, a sky dome over 40 small parts, a sphere with 52
-//! blend shapes, a tree of 1,500 leaf cards) as glTF, and the
-//! quad-dominant ones also as OBJ (glTF stores triangles only), for the
-//! CLI, `../shared/peers` and the renders to run on assets unlike the
-//! corpus.
+//! blend shapes, a tree of 1,500 leaf cards, an alpha-tested fence) as
+//! glTF, and the quad-dominant ones also as OBJ (glTF stores triangles
+//! only), for the CLI, `../shared/peers` and the renders to run on assets
+//! unlike the corpus.
 //!
 //! ```text
 //! cargo run --release -p wildlod-bench --bin scenes -- /tmp/scenes
@@ -52,6 +52,7 @@ fn run(args: &Args) -> anyhow::Result<()> {
         ("domed_scene", scenes::domed_scene(40), false),
         ("morph_sphere", scenes::morph_sphere(115, 52), false),
         ("foliage_tree", scenes::foliage_tree(1500), false),
+        ("chain_link_fence", scenes::chain_link_fence(), false),
     ];
     for (name, scene, quads) in all {
         let mut exts = vec!["glb"];
