@@ -1246,75 +1246,6 @@ fn leaf_cards_sharing_one_image_never_get_an_atlas_larger_than_it() {
     }
 }
 
-/// The fraction of a file's surface that an alpha test draws: its first
-/// mesh's triangles sampled at 64 random points each (weighted by area:
-/// a grid would alias with a periodic texture), each point's alpha looked
-/// up bilinearly (clamped) in its material's base colour image at the
-/// interpolated UV, passing where it is at least the material's cutoff,
-/// as a renderer draws a texel a pixel.
-fn alpha_tested_coverage(path: &Path) -> f64 {
-    let doc = wildlod_io::read(path).unwrap();
-    let scene = &doc.scene;
-    let mesh = &scene.meshes[0];
-    let uv = mesh.attribute(&Semantic::TexCoord(0)).unwrap();
-    let (mut drawn, mut area) = (0.0, 0.0);
-    let mut rng = wildlod_testkit::SplitMix64(7);
-    let mut images = std::collections::HashMap::new();
-    for f in 0..mesh.faces.len() {
-        let face = mesh.faces.face(f);
-        let start = mesh.faces.offsets[f] as usize;
-        let material =
-            &scene.materials[mesh.parts[mesh.face_parts[f] as usize].material.unwrap() as usize];
-        let t = material.base_color_texture.unwrap().texture as usize;
-        let img = images
-            .entry(t)
-            .or_insert_with(|| wildlod_io::decode_image_rgba8(&scene.textures[t].source).unwrap());
-        for k in 1..face.len() - 1 {
-            let c = [start, start + k, start + k + 1];
-            let p = c.map(|c| mesh.positions[mesh.faces.indices[c] as usize].map(f64::from));
-            let (e1, e2) = (
-                [0, 1, 2].map(|d| p[1][d] - p[0][d]),
-                [0, 1, 2].map(|d| p[2][d] - p[0][d]),
-            );
-            let cross = [
-                e1[1] * e2[2] - e1[2] * e2[1],
-                e1[2] * e2[0] - e1[0] * e2[2],
-                e1[0] * e2[1] - e1[1] * e2[0],
-            ];
-            let q = c.map(|c| uv.corner_value(c).unwrap().to_vec());
-            let a = 0.5 * cross.iter().map(|x| x * x).sum::<f64>().sqrt();
-            let n = 64;
-            let mut pass = 0;
-            for _ in 0..n {
-                let (mut u, mut v) = (rng.next_f64(), rng.next_f64());
-                if u + v > 1.0 {
-                    (u, v) = (1.0 - u, 1.0 - v);
-                }
-                let at = |d: usize| {
-                    (1.0 - u - v) * q[0][d] as f64 + u * q[1][d] as f64 + v * q[2][d] as f64
-                };
-                let (w, h) = (img.width as f64, img.height as f64);
-                let (x, y) = (at(0) * w - 0.5, at(1) * h - 0.5);
-                let (x0, y0) = (x.floor(), y.floor());
-                let alpha = |xi: f64, yi: f64| {
-                    let xi = xi.clamp(0.0, w - 1.0) as usize;
-                    let yi = yi.clamp(0.0, h - 1.0) as usize;
-                    img.pixels[yi * img.width as usize + xi][3] as f64 / 255.0
-                };
-                let (fx, fy) = (x - x0, y - y0);
-                let top = alpha(x0, y0) * (1.0 - fx) + alpha(x0 + 1.0, y0) * fx;
-                let bottom = alpha(x0, y0 + 1.0) * (1.0 - fx) + alpha(x0 + 1.0, y0 + 1.0) * fx;
-                if top * (1.0 - fy) + bottom * fy >= f64::from(material.alpha_cutoff) {
-                    pass += 1;
-                }
-            }
-            drawn += a * pass as f64 / n as f64;
-            area += a;
-        }
-    }
-    drawn / area
-}
-
 /// A chain-link fence whose wires are 3 texels of 24: re-baked into a
 /// smaller atlas, averaged alpha fell under the cutoff and half the wires
 /// vanished (coverage 0.11 of the surface against the input's 0.234 at
@@ -1330,8 +1261,21 @@ fn a_rebaked_alpha_tested_fence_keeps_its_wires() {
         &WriteOptions::default(),
     )
     .unwrap();
-    let before = alpha_tested_coverage(&input);
-    assert!((before - 0.234).abs() < 0.01, "{before}");
+    // `compare` measures the fraction of the alpha-tested surface drawn
+    // (bilinear alpha at the cutoff, as a renderer draws a level).
+    let coverage = |out: &Path| {
+        let o = wildlod(&["compare", s(&input), s(out), "--json"]);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let j: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+        [
+            j["alpha_coverage_reference"].as_f64().unwrap(),
+            j["alpha_coverage_candidate"].as_f64().unwrap(),
+        ]
+    };
+    let [before, itself] = coverage(&input);
+    // Wires 3 texels of 24 along both diagonals: 67/288 of the texels.
+    assert!((before - 0.233).abs() < 0.01, "{before}");
+    assert!((itself - before).abs() < 0.01, "{itself} {before}");
     for ratio in ["0.1", "0.01"] {
         let out = dir.path().join(format!("fence{ratio}.glb"));
         let o = wildlod(&[
@@ -1354,7 +1298,7 @@ fn a_rebaked_alpha_tested_fence_keeps_its_wires() {
         // A smaller atlas than the input's 1024 × 256: its texels average
         // several of the input's.
         assert!(img.width <= 512, "{}", img.width);
-        let after = alpha_tested_coverage(&out);
+        let [_, after] = coverage(&out);
         assert!(
             (after - before).abs() <= 0.1 * before,
             "{ratio}: coverage {after} against the input's {before}"

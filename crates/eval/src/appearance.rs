@@ -38,6 +38,8 @@ struct Look {
     normal: DVec3,
     /// Shading normal (normal map applied).
     shading: DVec3,
+    /// Whether an alpha test draws it (`None`: not alpha-tested).
+    drawn: Option<bool>,
 }
 
 /// The paired metrics of a comparison.
@@ -50,6 +52,10 @@ pub(crate) struct Appearance {
     pub(crate) normal: Option<Paired>,
     /// Shading-normal Chamfer distance in degrees.
     pub(crate) shading: Option<Paired>,
+    /// The fraction of the alpha-tested surface an alpha test draws, on
+    /// the reference and on the candidate: `None` on a side with no
+    /// alpha-tested material (both `None` unless one side has one).
+    pub(crate) coverage: [Option<f64>; 2],
 }
 
 /// All three metrics with `n` samples per set, or all `None` when either
@@ -65,6 +71,7 @@ pub(crate) fn appearance(
     }
     let textured = reference.0.has_texture() && candidate.0.has_texture();
     let mapped = reference.0.has_normal_map() || candidate.0.has_normal_map();
+    let tested = reference.0.alpha_tested() || candidate.0.alpha_tested();
     let sets = sample_sets(
         reference,
         candidate,
@@ -85,9 +92,22 @@ pub(crate) fn appearance(
                 } else {
                     normal
                 },
+                drawn: if tested {
+                    m.passes_alpha_test(t, bary)
+                } else {
+                    None
+                },
             }
         },
     );
+    let coverage = [&sets[0], &sets[1]].map(|set| {
+        let (drawn, tested) = set
+            .values()
+            .iter()
+            .filter_map(|l| l.drawn)
+            .fold((0usize, 0usize), |(d, n), x| (d + usize::from(x), n + 1));
+        (tested > 0).then(|| drawn as f64 / tested as f64)
+    });
     let [texture, normal, shading] =
         Paired::measure([&sets[0], &sets[1], &sets[2]], &|a: &Look, b: &Look| {
             let normal = unoriented_angle(a.normal, b.normal);
@@ -105,6 +125,7 @@ pub(crate) fn appearance(
         texture: textured.then_some(texture),
         normal: Some(normal),
         shading: Some(shading),
+        coverage,
     }
 }
 

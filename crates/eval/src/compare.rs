@@ -181,6 +181,15 @@ pub struct Comparison {
     pub shading_normal_chamfer_cand_to_ref: Option<f64>,
     /// The shading-normal Chamfer distance's sampling floor.
     pub shading_normal_chamfer_floor: Option<f64>,
+    /// The fraction of the reference's alpha-tested (`MASK`) surface that
+    /// an alpha test draws: its base color alpha (image times factor,
+    /// bilinear) at least the material's cutoff, over the texture
+    /// samples. `None` when it has no alpha-tested material. A LOD whose
+    /// re-baked atlas averaged thin strokes under the cutoff draws less
+    /// (a fence loses its wires), which no colour distance shows.
+    pub alpha_coverage_reference: Option<f64>,
+    /// The same on the candidate.
+    pub alpha_coverage_candidate: Option<f64>,
     /// Reference vertices that are outliers (see above).
     pub outliers_reference: usize,
     /// Candidate vertices beyond the reference's outlier limit (0 when
@@ -613,6 +622,8 @@ pub fn compare(reference: &EvalMesh, candidate: &EvalMesh, options: &CompareOpti
         shading_normal_chamfer_ref_to_cand: shading.map(|t| t.ref_to_cand),
         shading_normal_chamfer_cand_to_ref: shading.map(|t| t.cand_to_ref),
         shading_normal_chamfer_floor: shading.map(|t| t.floor),
+        alpha_coverage_reference: looks.coverage[0],
+        alpha_coverage_candidate: looks.coverage[1],
         outliers_reference: bounds.outliers.len(),
         outliers_candidate: cand_outliers,
         outlier_triangles_reference: ref_dropped,

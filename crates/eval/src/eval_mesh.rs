@@ -11,7 +11,7 @@ use wildlod_mesh::shapes::triangulate;
 use wildlod_mesh::tangents::generate_tangents;
 use wildlod_mesh::transform::transformed;
 use wildlod_mesh::weld::weld_positions;
-use wildlod_mesh::{Attribute, ComponentFormat, Image, Mesh, Scene, Semantic};
+use wildlod_mesh::{AlphaMode, Attribute, ComponentFormat, Image, Mesh, Scene, Semantic};
 
 /// Face counts as the file has them (before triangulation).
 ///
@@ -64,6 +64,8 @@ pub struct InstanceCounts {
 struct ColorSource<'a> {
     image: Option<&'a Image>,
     factor: [f32; 4],
+    /// The alpha cutoff of an alpha-tested (`MASK`) material.
+    cutoff: Option<f32>,
 }
 
 impl std::fmt::Debug for ColorSource<'_> {
@@ -72,6 +74,7 @@ impl std::fmt::Debug for ColorSource<'_> {
         f.debug_struct("ColorSource")
             .field("image", &self.image.map(|i| (i.width, i.height)))
             .field("factor", &self.factor)
+            .field("cutoff", &self.cutoff)
             .finish()
     }
 }
@@ -200,6 +203,7 @@ impl<'a> EvalMesh<'a> {
             colors: vec![ColorSource {
                 image: None,
                 factor: [1.0; 4],
+                cutoff: None,
             }],
             ..EvalMesh::default()
         };
@@ -211,6 +215,7 @@ impl<'a> EvalMesh<'a> {
             out.colors.push(ColorSource {
                 image,
                 factor: m.base_color,
+                cutoff: (m.alpha_mode == AlphaMode::Mask).then_some(m.alpha_cutoff),
             });
             let normal_map = m.normal_texture.and_then(|t| {
                 let image = images.get(t.texture as usize)?.as_ref()?;
@@ -255,6 +260,7 @@ impl<'a> EvalMesh<'a> {
             colors: vec![ColorSource {
                 image: None,
                 factor: [1.0; 4],
+                cutoff: None,
             }],
             ..EvalMesh::default()
         };
@@ -479,6 +485,39 @@ impl<'a> EvalMesh<'a> {
             .any(|&s| self.colors[s as usize].image.is_some())
     }
 
+    /// Whether some triangle's material is alpha-tested (`MASK`).
+    pub fn alpha_tested(&self) -> bool {
+        self.sources
+            .iter()
+            .any(|&s| self.colors[s as usize].cutoff.is_some())
+    }
+
+    /// Whether an alpha test draws the point at barycentrics `bary` of
+    /// triangle `t`: its alpha (the base color image's, bilinear at the
+    /// interpolated UV, times the factor's) at least its material's cutoff.
+    /// `None` where the material is not alpha-tested.
+    pub fn passes_alpha_test(&self, t: usize, bary: [f64; 3]) -> Option<bool> {
+        let src = &self.colors[self.sources[t] as usize];
+        let cutoff = src.cutoff?;
+        let texel = match src.image {
+            Some(img) => img.sample_bilinear(self.uv_at(t, bary))[3],
+            None => 1.0,
+        };
+        Some(texel * src.factor[3] >= cutoff)
+    }
+
+    /// The interpolated UV (base color set) at barycentrics `bary` of
+    /// triangle `t`.
+    fn uv_at(&self, t: usize, bary: [f64; 3]) -> [f32; 2] {
+        let uv = &self.uvs[3 * t..3 * t + 3];
+        let mut at = [0.0f64; 2];
+        for (corner, &w) in uv.iter().zip(&bary) {
+            at[0] += w * f64::from(corner[0]);
+            at[1] += w * f64::from(corner[1]);
+        }
+        [at[0] as f32, at[1] as f32]
+    }
+
     /// Color (RGB in [0, 1], sRGB-encoded as images store it) at
     /// barycentrics `bary` of triangle `t`: the base color image looked up
     /// bilinearly at the interpolated UV, times the base color factor.
@@ -490,15 +529,7 @@ impl<'a> EvalMesh<'a> {
     pub fn color_at(&self, t: usize, bary: [f64; 3]) -> [f32; 3] {
         let src = &self.colors[self.sources[t] as usize];
         let texel = match src.image {
-            Some(img) => {
-                let uv = &self.uvs[3 * t..3 * t + 3];
-                let mut at = [0.0f64; 2];
-                for (corner, &w) in uv.iter().zip(&bary) {
-                    at[0] += w * f64::from(corner[0]);
-                    at[1] += w * f64::from(corner[1]);
-                }
-                img.sample_bilinear([at[0] as f32, at[1] as f32])
-            }
+            Some(img) => img.sample_bilinear(self.uv_at(t, bary)),
             None => [1.0; 4],
         };
         std::array::from_fn(|k| {

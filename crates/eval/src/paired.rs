@@ -54,6 +54,11 @@ impl<T: Send + Sync> SampleSet<T> {
         }
     }
 
+    /// The value of every sample, in drawing order.
+    pub(crate) fn values(&self) -> &[T] {
+        &self.values
+    }
+
     /// Means over these samples of the `N` differences `diff` gives
     /// between a sample's value and that of the nearest sample of `to`
     /// (nearest by position; the lowest index on ties): one nearest-sample

@@ -107,6 +107,16 @@ pub fn text(c: &Comparison) -> String {
             floored(c.shading_normal_chamfer, c.shading_normal_chamfer_floor)
         ),
     );
+    if c.alpha_coverage_reference.is_some() || c.alpha_coverage_candidate.is_some() {
+        s += &row(
+            "alpha-tested coverage",
+            format!(
+                "reference {}, candidate {} (fraction of the alpha-tested surface drawn)",
+                opt(c.alpha_coverage_reference),
+                opt(c.alpha_coverage_candidate)
+            ),
+        );
+    }
     s += &row("reference", faces(&c.reference));
     s += &row("candidate", faces(&c.candidate));
     for n in &c.notes {
