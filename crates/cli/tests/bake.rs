@@ -18,6 +18,19 @@ use wildlod_mesh::{
 };
 use wildlod_testkit::{corpus, short};
 
+/// `scene` written as `dir/name` (glTF by its extension): a generated
+/// input for the CLI.
+fn scene_file(dir: &Path, name: &str, scene: Scene) -> PathBuf {
+    let path = dir.join(name);
+    wildlod_io::write(
+        &Document::from_scene(scene),
+        &path,
+        &WriteOptions::default(),
+    )
+    .unwrap();
+    path
+}
+
 /// A textured torus (2304 triangles, every quad its own UV island) whose
 /// texture is the file `texture` (written by the caller or missing).
 fn torus_gltf(dir: &Path, texture: &Path, ext: &str) -> PathBuf {
@@ -851,13 +864,11 @@ fn file_excess(reference: &Path, candidate: &Path) -> f64 {
 #[test]
 fn a_rebake_shares_one_budget_over_the_file_as_keeping_the_uvs_does() {
     let dir = tempfile::tempdir().unwrap();
-    let input = dir.path().join("domed.glb");
-    wildlod_io::write(
-        &Document::from_scene(wildlod_testkit::scenes::domed_scene(40)),
-        &input,
-        &WriteOptions::default(),
-    )
-    .unwrap();
+    let input = scene_file(
+        dir.path(),
+        "domed.glb",
+        wildlod_testkit::scenes::domed_scene(40),
+    );
     let run = |mode: &str| {
         let out = dir.path().join(format!("{mode}.glb"));
         let mut args = vec![
@@ -976,13 +987,7 @@ fn an_outlier_terrain_rebakes_in_bounded_memory() {
         texture: 0,
         tex_coord: 0,
     });
-    let input = dir.path().join("terrain.glb");
-    wildlod_io::write(
-        &Document::from_scene(scene),
-        &input,
-        &WriteOptions::default(),
-    )
-    .unwrap();
+    let input = scene_file(dir.path(), "terrain.glb", scene);
     let out = dir.path().join("lod.glb");
     let (status, peak, err) = peak_memory(&[
         "simplify",
@@ -1012,15 +1017,9 @@ fn an_outlier_terrain_rebakes_in_bounded_memory() {
 #[test]
 fn a_rebake_removes_the_meshes_the_file_budget_removes() {
     let dir = tempfile::tempdir().unwrap();
-    let input = dir.path().join("domed.glb");
     let scene = wildlod_testkit::scenes::domed_scene(40);
     let input_meshes = scene.meshes.len();
-    wildlod_io::write(
-        &Document::from_scene(scene),
-        &input,
-        &WriteOptions::default(),
-    )
-    .unwrap();
+    let input = scene_file(dir.path(), "domed.glb", scene);
     let run = |mode: &str| {
         let out = dir.path().join(format!("{mode}.glb"));
         let o = wildlod(&[
@@ -1063,14 +1062,12 @@ const PER_MESH_ATLAS_TEXTURE_CHAMFER: f64 = 0.0155;
 #[test]
 fn a_rebake_packs_one_atlas_per_material_across_meshes() {
     let dir = tempfile::tempdir().unwrap();
-    let input = dir.path().join("domed.glb");
     let parts = 40;
-    wildlod_io::write(
-        &Document::from_scene(wildlod_testkit::scenes::domed_scene(parts)),
-        &input,
-        &WriteOptions::default(),
-    )
-    .unwrap();
+    let input = scene_file(
+        dir.path(),
+        "domed.glb",
+        wildlod_testkit::scenes::domed_scene(parts),
+    );
     let out = dir.path().join("lod.glb");
     let o = wildlod(&[
         "simplify",
@@ -1130,14 +1127,12 @@ fn a_rebake_packs_one_atlas_per_material_across_meshes() {
 #[test]
 fn a_rebake_keeps_blend_shapes_as_simplifying_does() {
     let dir = tempfile::tempdir().unwrap();
-    let input = dir.path().join("morphs.glb");
     let targets = 4;
-    wildlod_io::write(
-        &Document::from_scene(wildlod_testkit::scenes::morph_sphere(24, targets)),
-        &input,
-        &WriteOptions::default(),
-    )
-    .unwrap();
+    let input = scene_file(
+        dir.path(),
+        "morphs.glb",
+        wildlod_testkit::scenes::morph_sphere(24, targets),
+    );
     let run = |extra: &[&str], name: &str| {
         let out = dir.path().join(name);
         let mut args = vec!["simplify", s(&input), "-o", s(&out), "--ratio", "0.1", "-q"];
@@ -1190,13 +1185,11 @@ fn a_rebake_keeps_blend_shapes_as_simplifying_does() {
 #[test]
 fn leaf_cards_sharing_one_image_never_get_an_atlas_larger_than_it() {
     let dir = tempfile::tempdir().unwrap();
-    let input = dir.path().join("tree.glb");
-    wildlod_io::write(
-        &Document::from_scene(wildlod_testkit::scenes::foliage_tree(1500)),
-        &input,
-        &WriteOptions::default(),
-    )
-    .unwrap();
+    let input = scene_file(
+        dir.path(),
+        "tree.glb",
+        wildlod_testkit::scenes::foliage_tree(1500),
+    );
     let sides = |out: &Path| -> Vec<u32> {
         let doc = wildlod_io::read(out).unwrap();
         doc.scene
@@ -1254,13 +1247,11 @@ fn leaf_cards_sharing_one_image_never_get_an_atlas_larger_than_it() {
 #[test]
 fn a_rebaked_alpha_tested_fence_keeps_its_wires() {
     let dir = tempfile::tempdir().unwrap();
-    let input = dir.path().join("fence.glb");
-    wildlod_io::write(
-        &Document::from_scene(wildlod_testkit::scenes::chain_link_fence()),
-        &input,
-        &WriteOptions::default(),
-    )
-    .unwrap();
+    let input = scene_file(
+        dir.path(),
+        "fence.glb",
+        wildlod_testkit::scenes::chain_link_fence(),
+    );
     // `compare` measures the fraction of the alpha-tested surface drawn
     // (bilinear alpha at the cutoff, as a renderer draws a level).
     let coverage = |out: &Path| {

@@ -488,14 +488,13 @@ fn png_texture(
     height: u32,
     pixel: impl Fn(u32, u32) -> [u8; 3],
 ) -> Texture {
-    let mut raw = Vec::with_capacity(width as usize * height as usize * 3);
-    for y in 0..height {
-        for x in 0..width {
-            raw.extend_from_slice(&pixel(x, y));
-        }
-    }
-    let img =
-        image::RgbImage::from_raw(width, height, raw).expect("buffer of width × height pixels");
+    let img = image::RgbImage::from_fn(width, height, |x, y| image::Rgb(pixel(x, y)));
+    embedded_png(name, image::DynamicImage::ImageRgb8(img))
+}
+
+/// A texture whose image is `img`, PNG-encoded and embedded in the
+/// scene; repeat sampling.
+fn embedded_png(name: &str, img: image::DynamicImage) -> Texture {
     let mut bytes = std::io::Cursor::new(Vec::new());
     img.write_to(&mut bytes, image::ImageFormat::Png)
         .expect("PNG encoding into memory");
@@ -2192,25 +2191,8 @@ fn png_texture_rgba(
     height: u32,
     pixel: impl Fn(u32, u32) -> [u8; 4],
 ) -> Texture {
-    let mut raw = Vec::with_capacity(width as usize * height as usize * 4);
-    for y in 0..height {
-        for x in 0..width {
-            raw.extend_from_slice(&pixel(x, y));
-        }
-    }
-    let img =
-        image::RgbaImage::from_raw(width, height, raw).expect("buffer of width × height pixels");
-    let mut bytes = std::io::Cursor::new(Vec::new());
-    img.write_to(&mut bytes, image::ImageFormat::Png)
-        .expect("PNG encoding into memory");
-    Texture {
-        name: name.into(),
-        source: ImageSource::Embedded {
-            bytes: bytes.into_inner(),
-            mime_type: "image/png".into(),
-        },
-        sampler: Default::default(),
-    }
+    let img = image::RgbaImage::from_fn(width, height, |x, y| image::Rgba(pixel(x, y)));
+    embedded_png(name, image::DynamicImage::ImageRgba8(img))
 }
 
 #[cfg(test)]
