@@ -83,6 +83,17 @@ fn texture() -> Texture {
     }
 }
 
+/// A material whose base colour is texture 0 through UV set 0.
+fn textured_material() -> Material {
+    Material {
+        base_color_texture: Some(TextureRef {
+            texture: 0,
+            tex_coord: 0,
+        }),
+        ..Material::default()
+    }
+}
+
 /// `n × n` quads on [0, 1]², triangulated, with UVs `uv(x, y)`.
 fn plane(n: usize, uv: impl Fn(f32, f32) -> [f32; 2]) -> Mesh {
     let mut m = triangulate(&quad_grid(n, n));
@@ -160,13 +171,7 @@ fn flat_plane_at_one_percent_reproduces_the_input_image_at_every_texel() {
         *p = [(h >> 24) as u8, (h >> 16) as u8, (h >> 8) as u8, 255];
     }
     let mesh = plane(40, |x, y| [x, 1.0 - y]);
-    let materials = [Material {
-        base_color_texture: Some(TextureRef {
-            texture: 0,
-            tex_coord: 0,
-        }),
-        ..Material::default()
-    }];
+    let materials = [textured_material()];
     let textures = [texture()];
     let images = [Some(img.clone())];
     let input = BakeInput {
@@ -267,13 +272,7 @@ fn island_cube(n: usize) -> (Mesh, Rgba8Image, [[u8; 4]; 6]) {
 #[test]
 fn no_background_color_at_any_mip_level_on_an_island_cube() {
     let (mesh, img, _) = island_cube(8);
-    let materials = [Material {
-        base_color_texture: Some(TextureRef {
-            texture: 0,
-            tex_coord: 0,
-        }),
-        ..Material::default()
-    }];
+    let materials = [textured_material()];
     let textures = [texture()];
     let images = [Some(img)];
     let input = BakeInput {
@@ -503,34 +502,42 @@ fn an_untextured_mesh_bakes_only_a_normal_map_and_keeps_its_factors() {
     assert_eq!(plain.materials, materials.to_vec());
 }
 
+/// The atlas side a bake of `mesh` at `ratio` chooses (no
+/// `texture_size`, no normal map), its one texture's image `img`, the
+/// density following the level or not.
+fn chosen_side(
+    mesh: &Mesh,
+    materials: &[Material],
+    textures: &[Texture],
+    img: Rgba8Image,
+    follow: bool,
+    ratio: f64,
+) -> u32 {
+    let images = [Some(img)];
+    let input = BakeInput {
+        mesh,
+        materials,
+        textures,
+        images: &images,
+    };
+    let options = BakeOptions {
+        texture_size: None,
+        density_follows_level: follow,
+        bake_normals: false,
+        ..options(ratio, 0)
+    };
+    bake_mesh(&input, &options).expect("bakes").report.atlases[0].size
+}
+
 #[test]
 fn a_levels_atlas_follows_the_level_unless_the_texture_has_fine_detail() {
     // A plane whose 1024² texture maps onto it once: the input's density
     // asks for a 1024² atlas at any ratio.
     let mesh = plane(24, |x, y| [x, y]);
-    let materials = [Material {
-        base_color_texture: Some(TextureRef {
-            texture: 0,
-            tex_coord: 0,
-        }),
-        ..Material::default()
-    }];
+    let materials = [textured_material()];
     let textures = [texture()];
     let atlas_side = |img: Rgba8Image, follow: bool| {
-        let images = [Some(img)];
-        let input = BakeInput {
-            mesh: &mesh,
-            materials: &materials,
-            textures: &textures,
-            images: &images,
-        };
-        let options = BakeOptions {
-            texture_size: None,
-            density_follows_level: follow,
-            bake_normals: false,
-            ..options(0.01, 0)
-        };
-        bake_mesh(&input, &options).expect("bakes").report.atlases[0].size
+        chosen_side(&mesh, &materials, &textures, img, follow, 0.01)
     };
     let n = 1024u32;
     let image = |f: &dyn Fn(u32, u32) -> [u8; 4]| Rgba8Image {
@@ -560,37 +567,19 @@ fn an_atlas_never_holds_more_texels_than_the_images_it_replaces() {
     // for the same 512²: the bound is on the images, not the density.
     let atlas_side = |repeats: f32, n: u32| {
         let mesh = plane(16, |x, y| [x * repeats, y * repeats]);
-        let materials = [Material {
-            base_color_texture: Some(TextureRef {
-                texture: 0,
-                tex_coord: 0,
-            }),
-            ..Material::default()
-        }];
+        let materials = [textured_material()];
         let textures = [Texture {
             sampler: Sampler::default(),
             ..texture()
         }];
-        let images = [Some(Rgba8Image {
+        let img = Rgba8Image {
             width: n,
             height: n,
             pixels: (0..n * n)
                 .map(|i| [(i % n * 4) as u8, (i / n * 4) as u8, 90, 255])
                 .collect(),
-        })];
-        let input = BakeInput {
-            mesh: &mesh,
-            materials: &materials,
-            textures: &textures,
-            images: &images,
         };
-        let options = BakeOptions {
-            texture_size: None,
-            density_follows_level: false,
-            bake_normals: false,
-            ..options(0.5, 0)
-        };
-        bake_mesh(&input, &options).expect("bakes").report.atlases[0].size
+        chosen_side(&mesh, &materials, &textures, img, false, 0.5)
     };
     assert_eq!(atlas_side(8.0, 64), 64);
     assert_eq!(atlas_side(1.0, 512), 512);
@@ -604,13 +593,7 @@ fn an_atlas_too_small_for_the_charts_is_an_error_and_a_chosen_size_grows() {
     for (k, p) in mesh.positions.iter_mut().enumerate() {
         p[2] = 0.3 * ((k * 7919) % 13) as f32 / 13.0;
     }
-    let materials = [Material {
-        base_color_texture: Some(TextureRef {
-            texture: 0,
-            tex_coord: 0,
-        }),
-        ..Material::default()
-    }];
+    let materials = [textured_material()];
     let textures = [texture()];
     let images = [Some(Rgba8Image::filled(8, 8, [200, 100, 50, 255]))];
     let input = BakeInput {
@@ -785,13 +768,7 @@ fn logo_density_and_share(baked: &Baked, size: u32) -> (f64, f64, Vec<bool>) {
 #[test]
 fn a_small_high_detail_island_keeps_its_texel_density_and_share_of_the_atlas() {
     let (mesh, img, input_share) = logo_box();
-    let materials = [Material {
-        base_color_texture: Some(TextureRef {
-            texture: 0,
-            tex_coord: 0,
-        }),
-        ..Material::default()
-    }];
+    let materials = [textured_material()];
     let textures = [texture()];
     let images = [Some(img.clone())];
     let input = BakeInput {

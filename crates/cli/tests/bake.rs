@@ -9,7 +9,7 @@
 mod support;
 
 use std::path::{Path, PathBuf};
-use support::{s, wildlod};
+use support::{s, wildlod, wildlod_ok};
 
 use wildlod_eval::{compare, CompareOptions, EvalMesh};
 use wildlod_io::{Document, WriteOptions};
@@ -1206,7 +1206,7 @@ fn leaf_cards_sharing_one_image_never_get_an_atlas_larger_than_it() {
     };
     for ratio in ["0.5", "0.1"] {
         let out = dir.path().join(format!("bake{ratio}.glb"));
-        let o = wildlod(&[
+        wildlod_ok(&[
             "simplify",
             s(&input),
             "-o",
@@ -1215,7 +1215,6 @@ fn leaf_cards_sharing_one_image_never_get_an_atlas_larger_than_it() {
             ratio,
             "--bake",
         ]);
-        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
         let baked = sides(&out);
         assert!(
             !baked.is_empty() && baked.iter().all(|&n| n <= 512),
@@ -1223,7 +1222,7 @@ fn leaf_cards_sharing_one_image_never_get_an_atlas_larger_than_it() {
         );
 
         let out = dir.path().join(format!("auto{ratio}.glb"));
-        let o = wildlod(&[
+        let o = wildlod_ok(&[
             "simplify",
             s(&input),
             "-o",
@@ -1232,7 +1231,6 @@ fn leaf_cards_sharing_one_image_never_get_an_atlas_larger_than_it() {
             ratio,
             "--json",
         ]);
-        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
         let j: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
         assert_eq!(j["textures"]["chosen"], "keep", "{}", j["textures"]);
         assert_eq!(sides(&out), vec![128], "the input's leaf image");
@@ -1255,8 +1253,7 @@ fn a_rebaked_alpha_tested_fence_keeps_its_wires() {
     // `compare` measures the fraction of the alpha-tested surface drawn
     // (bilinear alpha at the cutoff, as a renderer draws a level).
     let coverage = |out: &Path| {
-        let o = wildlod(&["compare", s(&input), s(out), "--json"]);
-        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let o = wildlod_ok(&["compare", s(&input), s(out), "--json"]);
         let j: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
         [
             j["alpha_coverage_reference"].as_f64().unwrap(),
@@ -1269,7 +1266,7 @@ fn a_rebaked_alpha_tested_fence_keeps_its_wires() {
     assert!((itself - before).abs() < 0.01, "{itself} {before}");
     for ratio in ["0.1", "0.01"] {
         let out = dir.path().join(format!("fence{ratio}.glb"));
-        let o = wildlod(&[
+        wildlod_ok(&[
             "simplify",
             s(&input),
             "-o",
@@ -1278,7 +1275,6 @@ fn a_rebaked_alpha_tested_fence_keeps_its_wires() {
             ratio,
             "--bake",
         ]);
-        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
         let doc = wildlod_io::read(&out).unwrap();
         let m = &doc.scene.materials[0];
         assert_eq!(m.alpha_mode, wildlod_mesh::AlphaMode::Mask);

@@ -1904,6 +1904,17 @@ pub fn domed_scene(parts: usize) -> Scene {
     scene
 }
 
+/// [`textured`], alpha-tested at 0.5 and double-sided, as cards and cut-out
+/// sheets are.
+fn alpha_tested(name: &str) -> Material {
+    Material {
+        alpha_mode: AlphaMode::Mask,
+        alpha_cutoff: 0.5,
+        double_sided: true,
+        ..textured(name)
+    }
+}
+
 /// A white material sampling texture 0 through UV set 0.
 fn textured(name: &str) -> Material {
     Material {
@@ -2109,17 +2120,7 @@ pub fn foliage_tree(cards: usize) -> Scene {
             (true, false) => [40 + shade, 120 + shade / 2, 35, 255],
         }
     });
-    let leaves = Material {
-        base_color_texture: Some(TextureRef {
-            texture: 0,
-            tex_coord: 0,
-        }),
-        base_color: [1.0; 4],
-        alpha_mode: AlphaMode::Mask,
-        alpha_cutoff: 0.5,
-        double_sided: true,
-        ..material("leaves", [1.0; 3])
-    };
+    let leaves = alpha_tested("leaves");
     scene(
         b.mesh("tree"),
         vec![material("bark", [0.35, 0.25, 0.15]), leaves],
@@ -2170,17 +2171,7 @@ pub fn chain_link_fence() -> Scene {
         };
         [150, 152, 158, alpha]
     });
-    let mat = Material {
-        base_color_texture: Some(TextureRef {
-            texture: 0,
-            tex_coord: 0,
-        }),
-        base_color: [1.0; 4],
-        alpha_mode: AlphaMode::Mask,
-        alpha_cutoff: 0.5,
-        double_sided: true,
-        ..material("chain_link", [1.0; 3])
-    };
+    let mat = alpha_tested("chain_link");
     scene(b.mesh("fence"), vec![mat], vec![wires])
 }
 

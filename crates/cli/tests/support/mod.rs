@@ -18,6 +18,13 @@ pub fn wildlod(args: &[&str]) -> Output {
         .expect("run wildlod")
 }
 
+/// Runs wildlod and fails the test, with its stderr, unless it succeeds.
+pub fn wildlod_ok(args: &[&str]) -> Output {
+    let o = wildlod(args);
+    assert!(o.status.success(), "wildlod {args:?}: {}", stderr(&o));
+    o
+}
+
 pub fn stdout(o: &Output) -> String {
     String::from_utf8_lossy(&o.stdout).into_owned()
 }
