@@ -1292,3 +1292,63 @@ fn a_rebaked_alpha_tested_fence_keeps_its_wires() {
         );
     }
 }
+
+/// A material extension's texture (here `KHR_materials_clearcoat`'s) is
+/// laid out on the input's UVs and indexes the input's textures. A re-bake
+/// that kept the material as it was left it naming a texture the output
+/// does not have (the Khronos validator: `UNRESOLVED_REFERENCE`), or one of
+/// the new atlases; it is now dropped with a warning, the extension's
+/// factors kept.
+#[test]
+fn a_rebake_drops_extension_textures_it_does_not_bake() {
+    let dir = tempfile::tempdir().unwrap();
+    let plain = scene_file(
+        dir.path(),
+        "sheet.gltf",
+        wildlod_testkit::scenes::double_sided_sheet(),
+    );
+    let mut json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&plain).unwrap()).unwrap();
+    // A second texture on the same image, named only by the extension.
+    let textures = json["textures"].as_array_mut().unwrap();
+    textures.push(textures[0].clone());
+    let extra = textures.len() - 1;
+    json["materials"][0]["extensions"] = serde_json::json!({
+        "KHR_materials_clearcoat": {
+            "clearcoatFactor": 0.75,
+            "clearcoatTexture": {"index": extra}
+        }
+    });
+    json["extensionsUsed"] = serde_json::json!(["KHR_materials_clearcoat"]);
+    let input = dir.path().join("clearcoat.gltf");
+    std::fs::write(&input, serde_json::to_vec(&json).unwrap()).unwrap();
+
+    let out = dir.path().join("lod.glb");
+    let o = wildlod_ok(&[
+        "simplify",
+        s(&input),
+        "-o",
+        s(&out),
+        "--ratio",
+        "0.1",
+        "--bake",
+    ]);
+    let err = support::stderr(&o);
+    assert!(
+        err.contains("KHR_materials_clearcoat.clearcoatTexture"),
+        "{err}"
+    );
+    let doc = wildlod_io::read(&out).unwrap();
+    let written = doc.scene.textures.len();
+    // The written JSON: the factor stays, the texture is gone.
+    let bytes = std::fs::read(&out).unwrap();
+    let n = u32::from_le_bytes(bytes[12..16].try_into().unwrap()) as usize;
+    let j: serde_json::Value = serde_json::from_slice(&bytes[20..20 + n]).unwrap();
+    let coat = &j["materials"][0]["extensions"]["KHR_materials_clearcoat"];
+    assert_eq!(coat["clearcoatFactor"], 0.75, "{j}");
+    assert!(coat.get("clearcoatTexture").is_none(), "{coat}");
+    assert!(written >= 1, "the re-baked atlases");
+    if let Some(v) = support::validate(&out) {
+        assert_eq!(v["errors"], 0, "{v}");
+    }
+}

@@ -60,7 +60,7 @@ pub(crate) fn from_passthrough(
     out.insert("meshes".into(), Value::Array(meshes.json));
     remap_references(&mut out, src, &meshes.map, &acc_map);
     bin.section = Section::Textures;
-    materials_and_images(&mut out, scene, p, bin, images)?;
+    materials_and_images(&mut out, scene, p, bin, images, warnings)?;
     bin.section = Section::Shared;
     Ok((Value::Object(out), meshes.used_quantization, meshes.map))
 }
@@ -291,6 +291,52 @@ fn copy_accessors(
     map
 }
 
+/// The extension names used by any of `materials`, sorted, each once.
+fn extension_names(materials: &[Value]) -> Vec<String> {
+    let mut names: Vec<String> = materials
+        .iter()
+        .filter_map(|m| m.get("extensions").and_then(Value::as_object))
+        .flat_map(|e| e.keys().cloned())
+        .collect();
+    names.sort();
+    names.dedup();
+    names
+}
+
+/// Removes from material `m`'s extensions every texture reference (an
+/// object with an `index`) that no longer names the texture it named in
+/// the source, noting `extension.key` in `dropped`.
+fn drop_stale_extension_textures(
+    m: &mut Value,
+    scene: &Scene,
+    p: &Passthrough,
+    dropped: &mut Vec<String>,
+) {
+    let Some(exts) = m.get_mut("extensions").and_then(Value::as_object_mut) else {
+        return;
+    };
+    for (name, ext) in exts.iter_mut() {
+        let Some(ext) = ext.as_object_mut() else {
+            continue;
+        };
+        let stale: Vec<String> = ext
+            .iter()
+            .filter_map(|(key, v)| {
+                let i = index(v.get("index"))?;
+                let same = matches!(
+                    (scene.textures.get(i), p.read.textures.get(i)),
+                    (Some(a), Some(b)) if a == b
+                );
+                (!same).then(|| key.clone())
+            })
+            .collect();
+        for key in stale {
+            ext.remove(&key);
+            dropped.push(format!("{name}.{key}"));
+        }
+    }
+}
+
 /// Removes Draco data from an object's extensions: the compressed buffer
 /// views it points to are not written, the uncompressed data is.
 fn strip_draco(obj: &mut Map<String, Value>) {
@@ -460,12 +506,64 @@ fn materials_and_images(
     p: &Passthrough,
     bin: &mut Bin,
     images: &mut ImageWriter,
+    warnings: &mut Vec<String>,
 ) -> Result<(), ErrorKind> {
+    let source = array(&p.json, "materials");
+    let mut lost: Vec<String> = Vec::new();
     if scene.materials != p.read.materials {
-        out.insert(
-            "materials".into(),
-            Value::Array(scene_json::materials(&scene.materials)),
-        );
+        // Rebuilt (re-baked or merged): a material keeps the extensions
+        // (clearcoat, sheen, transmission…) of the one source material of
+        // its name, if there is exactly one.
+        let mut rebuilt = scene_json::materials(&scene.materials);
+        for (m, json) in scene.materials.iter().zip(rebuilt.iter_mut()) {
+            let mut named = p
+                .read
+                .materials
+                .iter()
+                .enumerate()
+                .filter(|(_, s)| s.name == m.name);
+            let ext = match (named.next(), named.next()) {
+                (Some((i, _)), None) => source.get(i).and_then(|s| s.get("extensions")),
+                _ => None,
+            };
+            if let (Some(ext), Some(o)) = (ext, json.as_object_mut()) {
+                o.insert("extensions".into(), ext.clone());
+            }
+        }
+        let carried = extension_names(&rebuilt);
+        lost = extension_names(source)
+            .into_iter()
+            .filter(|n| !carried.contains(n))
+            .collect();
+        out.insert("materials".into(), Value::Array(rebuilt));
+    }
+    if !lost.is_empty() {
+        warnings.push(format!(
+            "materials were rebuilt (re-baked or merged) without a source material of their \
+             name: their extensions ({}) are not carried over",
+            lost.join(", ")
+        ));
+    }
+    if scene.textures != p.read.textures {
+        // Textures were replaced (a re-bake): a texture an extension names
+        // is an index into the source's textures, laid out on the source's
+        // UVs.
+        let mut dropped = Vec::new();
+        if let Some(Value::Array(materials)) = out.get_mut("materials") {
+            for m in materials.iter_mut() {
+                drop_stale_extension_textures(m, scene, p, &mut dropped);
+            }
+        }
+        if !dropped.is_empty() {
+            dropped.sort();
+            dropped.dedup();
+            warnings.push(format!(
+                "textures were re-baked: material extension textures ({}) are dropped, \
+                 only base colour, metallic-roughness, normal, occlusion and emissive are \
+                 re-baked; the extensions' factors stay",
+                dropped.join(", ")
+            ));
+        }
     }
     if scene.textures == p.read.textures {
         let view = |v: usize| source_view(p, v);
