@@ -1352,3 +1352,67 @@ fn a_rebake_drops_extension_textures_it_does_not_bake() {
         assert_eq!(v["errors"], 0, "{v}");
     }
 }
+
+/// `KHR_materials_variants` maps a primitive to other materials by index.
+/// A re-bake rebuilds the materials (one per atlas), so a mapping to a
+/// variant material named one the output did not have (the Khronos
+/// validator: `UNRESOLVED_REFERENCE`). Mappings now follow their material
+/// by name into the rebuilt list, and those with no counterpart go, with
+/// a warning.
+#[test]
+fn a_rebake_keeps_material_variants_pointing_at_materials_that_exist() {
+    let dir = tempfile::tempdir().unwrap();
+    let plain = scene_file(
+        dir.path(),
+        "sheet.gltf",
+        wildlod_testkit::scenes::double_sided_sheet(),
+    );
+    let mut json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&plain).unwrap()).unwrap();
+    let mut faded = json["materials"][0].clone();
+    faded["name"] = "faded".into();
+    json["materials"].as_array_mut().unwrap().push(faded);
+    json["extensions"] = serde_json::json!({
+        "KHR_materials_variants": {"variants": [{"name": "new"}, {"name": "old"}]}
+    });
+    json["meshes"][0]["primitives"][0]["extensions"] = serde_json::json!({
+        "KHR_materials_variants": {"mappings": [
+            {"material": 0, "variants": [0]},
+            {"material": 1, "variants": [1]}
+        ]}
+    });
+    json["extensionsUsed"] = serde_json::json!(["KHR_materials_variants"]);
+    let input = dir.path().join("variants.gltf");
+    std::fs::write(&input, serde_json::to_vec(&json).unwrap()).unwrap();
+
+    let out = dir.path().join("lod.glb");
+    let o = wildlod_ok(&[
+        "simplify",
+        s(&input),
+        "-o",
+        s(&out),
+        "--ratio",
+        "0.1",
+        "--bake",
+    ]);
+    assert!(support::stderr(&o).contains("KHR_materials_variants"));
+    let bytes = std::fs::read(&out).unwrap();
+    let n = u32::from_le_bytes(bytes[12..16].try_into().unwrap()) as usize;
+    let j: serde_json::Value = serde_json::from_slice(&bytes[20..20 + n]).unwrap();
+    let materials = j["materials"].as_array().unwrap().len();
+    let mappings = j["meshes"][0]["primitives"][0]["extensions"]["KHR_materials_variants"]
+        ["mappings"]
+        .as_array()
+        .unwrap();
+    // The default material's mapping follows it; "faded" was not re-baked.
+    assert_eq!(mappings.len(), 1, "{j}");
+    let m = mappings[0]["material"].as_u64().unwrap() as usize;
+    assert!(m < materials, "{j}");
+    assert_eq!(
+        j["materials"][m]["name"], json["materials"][0]["name"],
+        "{j}"
+    );
+    if let Some(v) = support::validate(&out) {
+        assert_eq!(v["errors"], 0, "{v}");
+    }
+}

@@ -56,7 +56,8 @@ pub(crate) fn from_passthrough(
     let view_map = copy_views(p, &keep, bin)?;
     let acc_map = copy_accessors(src, &keep, &view_map, bin);
     bin.section = Section::Level(0);
-    let meshes = rebuild_meshes(scene, p, &acc_map, bin, warnings)?;
+    let material_map = (scene.materials != p.read.materials).then(|| material_map(scene, p));
+    let meshes = rebuild_meshes(scene, p, &acc_map, material_map.as_deref(), bin, warnings)?;
     out.insert("meshes".into(), Value::Array(meshes.json));
     remap_references(&mut out, src, &meshes.map, &acc_map);
     bin.section = Section::Textures;
@@ -364,9 +365,11 @@ fn rebuild_meshes(
     scene: &Scene,
     p: &Passthrough,
     acc_map: &[Option<usize>],
+    material_map: Option<&[Option<usize>]>,
     bin: &mut Bin,
     warnings: &mut Vec<String>,
 ) -> Result<Meshes, ErrorKind> {
+    let mut lost_variants = false;
     let opts = EncodeOptions {
         quantization: p.quantization,
     };
@@ -402,6 +405,9 @@ fn rebuild_meshes(
                 }
             }
             strip_draco(&mut prim);
+            if let Some(map) = material_map {
+                lost_variants |= remap_variants(&mut prim, map);
+            }
             prims.push(Value::Object(prim));
         }
         for prim in source
@@ -413,6 +419,19 @@ fn rebuild_meshes(
             remap_primitive(&mut prim, acc_map);
             if let Some(o) = prim.as_object_mut() {
                 strip_draco(o);
+                if let Some(map) = material_map {
+                    // A kept primitive's material, in the rebuilt list.
+                    match index(o.get("material")).map(|m| map.get(m).copied().flatten()) {
+                        Some(Some(n)) => {
+                            o.insert("material".into(), json!(n));
+                        }
+                        Some(None) => {
+                            o.remove("material");
+                        }
+                        None => {}
+                    }
+                    lost_variants |= remap_variants(o, map);
+                }
             }
             prims.push(prim);
         }
@@ -437,7 +456,65 @@ fn rebuild_meshes(
         out.map[mi] = Some(out.json.len());
         out.json.push(Value::Object(m));
     }
+    if lost_variants {
+        warnings.push(
+            "materials were rebuilt (re-baked or merged): material variants \
+             (KHR_materials_variants) whose material has no rebuilt counterpart of its name \
+             are dropped"
+                .into(),
+        );
+    }
     Ok(out)
+}
+
+/// Source material index → rebuilt material index, matched by name where
+/// exactly one source and at least one rebuilt material carry it (the
+/// first of those); `None` for a source material with no counterpart.
+fn material_map(scene: &Scene, p: &Passthrough) -> IndexMap {
+    p.read
+        .materials
+        .iter()
+        .map(|m| {
+            let unique = p.read.materials.iter().filter(|s| s.name == m.name).count() == 1;
+            unique
+                .then(|| scene.materials.iter().position(|s| s.name == m.name))
+                .flatten()
+        })
+        .collect()
+}
+
+/// Points a primitive's `KHR_materials_variants` mappings at the rebuilt
+/// materials through `map`, dropping mappings (and the extension, once
+/// empty) whose material has none; true when something was dropped.
+fn remap_variants(prim: &mut Map<String, Value>, map: &[Option<usize>]) -> bool {
+    let Some(ext) = prim.get_mut("extensions").and_then(Value::as_object_mut) else {
+        return false;
+    };
+    let Some(mappings) = ext
+        .get_mut("KHR_materials_variants")
+        .and_then(|v| v.get_mut("mappings"))
+        .and_then(Value::as_array_mut)
+    else {
+        return false;
+    };
+    let before = mappings.len();
+    mappings.retain_mut(|m| {
+        match index(m.get("material")).and_then(|i| map.get(i).copied().flatten()) {
+            Some(n) => {
+                m["material"] = json!(n);
+                true
+            }
+            None => false,
+        }
+    });
+    let dropped = mappings.len() < before;
+    if mappings.is_empty() {
+        ext.remove("KHR_materials_variants");
+        if ext.is_empty() {
+            prim.remove("extensions");
+        }
+    }
+    dropped
 }
 
 /// Points nodes, skins and animations at the moved meshes and accessors.
