@@ -541,7 +541,9 @@ fn input_texels(input: &BakeInput) -> ((f64, f64), Vec<u32>) {
         let Some(uv) = mesh.attribute(&Semantic::TexCoord(r.tex_coord)) else {
             continue;
         };
-        used.push(r.texture);
+        if used.last() != Some(&r.texture) {
+            used.push(r.texture);
+        }
         let start = mesh.faces.offsets[f] as usize;
         let face = mesh.faces.face(f);
         for k in 1..face.len().saturating_sub(1) {

@@ -273,8 +273,10 @@ fn member_densities(
 }
 
 /// The side of the smallest square power-of-two atlas that holds every
-/// texel of the input images the group's faces read (each image once,
-/// however often the UVs repeat it); `None` when they read none.
+/// texel of the input images its member meshes' textured faces read (each
+/// image once, however often the UVs repeat it; the meshes, as for
+/// [`density_size`], so that a group baking only a normal map shares its
+/// mesh's bound); `None` when they read none.
 fn unique_side(group: &SharedGroup, prepared: &[Prepared]) -> Option<u32> {
     let mut seen: Vec<u32> = Vec::new();
     let mut texels = 0.0f64;
