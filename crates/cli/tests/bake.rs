@@ -93,14 +93,7 @@ fn torus_with_uvs(dir: &Path, texture: &Path, ext: &str, continuous: bool) -> Pa
         source: ImageSource::Path(texture.to_path_buf()),
         sampler: Default::default(),
     });
-    let path = dir.join(format!("torus.{ext}"));
-    wildlod_io::write(
-        &Document::from_scene(scene),
-        &path,
-        &WriteOptions::default(),
-    )
-    .unwrap();
-    path
+    scene_file(dir, &format!("torus.{ext}"), scene)
 }
 
 fn write_image(path: &Path) {
@@ -1206,15 +1199,7 @@ fn leaf_cards_sharing_one_image_never_get_an_atlas_larger_than_it() {
     };
     for ratio in ["0.5", "0.1"] {
         let out = dir.path().join(format!("bake{ratio}.glb"));
-        wildlod_ok(&[
-            "simplify",
-            s(&input),
-            "-o",
-            s(&out),
-            "--ratio",
-            ratio,
-            "--bake",
-        ]);
+        rebake(&input, &out, ratio);
         let baked = sides(&out);
         assert!(
             !baked.is_empty() && baked.iter().all(|&n| n <= 512),
@@ -1266,15 +1251,7 @@ fn a_rebaked_alpha_tested_fence_keeps_its_wires() {
     assert!((itself - before).abs() < 0.01, "{itself} {before}");
     for ratio in ["0.1", "0.01"] {
         let out = dir.path().join(format!("fence{ratio}.glb"));
-        wildlod_ok(&[
-            "simplify",
-            s(&input),
-            "-o",
-            s(&out),
-            "--ratio",
-            ratio,
-            "--bake",
-        ]);
+        rebake(&input, &out, ratio);
         let doc = wildlod_io::read(&out).unwrap();
         let m = &doc.scene.materials[0];
         assert_eq!(m.alpha_mode, wildlod_mesh::AlphaMode::Mask);
@@ -1291,6 +1268,20 @@ fn a_rebaked_alpha_tested_fence_keeps_its_wires() {
             "{ratio}: coverage {after} against the input's {before}"
         );
     }
+}
+
+/// `wildlod simplify INPUT -o OUT --ratio RATIO --bake`, which must
+/// succeed.
+fn rebake(input: &Path, out: &Path, ratio: &str) -> std::process::Output {
+    wildlod_ok(&[
+        "simplify",
+        s(input),
+        "-o",
+        s(out),
+        "--ratio",
+        ratio,
+        "--bake",
+    ])
 }
 
 /// The double-sided sheet written as `.gltf` with `edit` applied to its
@@ -1314,15 +1305,7 @@ fn sheet_gltf_with(dir: &Path, name: &str, edit: impl FnOnce(&mut serde_json::Va
 /// without error.
 fn rebake_to_glb_json(input: &Path, dir: &Path) -> (String, serde_json::Value) {
     let out = dir.join("lod.glb");
-    let o = wildlod_ok(&[
-        "simplify",
-        s(input),
-        "-o",
-        s(&out),
-        "--ratio",
-        "0.1",
-        "--bake",
-    ]);
+    let o = rebake(input, &out, "0.1");
     if let Some(v) = support::validate(&out) {
         assert_eq!(v["errors"], 0, "{v}");
     }
