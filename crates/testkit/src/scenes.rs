@@ -2,7 +2,8 @@
 //! export, a filleted CAD part, a flat mixed-arity tiling, a city block, a
 //! skinned and animated tube, a terrain with far outliers, a texture atlas
 //! of many small islands, a double-sided sheet, a sky dome over small
-//! parts, a blend-shape rig, a tree of leaf cards and a chain-link fence.
+//! parts, a blend-shape rig, a tree of leaf cards, a chain-link fence and
+//! a wall with decals.
 //!
 //! Each generator is deterministic (the same scene, and the same bytes
 //! when written, on every run and machine), returns a [`Scene`] that
@@ -2173,6 +2174,82 @@ pub fn chain_link_fence() -> Scene {
     });
     let mat = alpha_tested("chain_link");
     scene(b.mesh("fence"), vec![mat], vec![wires])
+}
+
+// ---------------------------------------------------------------------------
+// A wall with decals
+
+/// The gap between [`decal_wall`]'s decals and its wall, in metres.
+pub const DECAL_GAP: f64 = 0.002;
+
+/// The height of [`decal_wall`]'s wall in front of the plane z = 0.
+pub fn decal_wall_height(x: f64, y: f64) -> f64 {
+    0.05 * (TAU * x / 4.0 + 0.5).sin() * (TAU * y / 3.0).sin()
+        + 0.006 * (TAU * x / 1.1).sin() * (TAU * y / 0.9).cos()
+}
+
+/// A plastered wall with 24 decals, as environment art places them: a
+/// 10 × 6 m wall (x right, y up, facing +z) of 100 × 60 quads whose surface
+/// waves by up to 5.6 cm ([`decal_wall_height`]), and 24 mesh decals
+/// (posters, stains, signs) 0.3 to 0.8 m wide, each its own grid of cells
+/// at most 0.1 m wide conforming to the wall [`DECAL_GAP`] (2 mm) in front
+/// of it along z, facing the same way. Parts "wall" (material 0, grey) and
+/// "decals" (material 1, red, opaque). About 12,000 + 1,900 triangles.
+///
+/// Stresses: sheets lying on another part. Nothing ties a decal to the
+/// wall under it, and at 10% the wall moves by more than the gap: the
+/// decals must move with it rather than sink behind it.
+pub fn decal_wall() -> Scene {
+    const NX: usize = 100;
+    const NY: usize = 60;
+    let mut b = Builder::new(false, false);
+    let at = |x: f64, y: f64, lift: f64| Corner {
+        p: DVec3::new(x, y, decal_wall_height(x, y) + lift),
+        uv: None,
+        n: None,
+    };
+    b.part("wall", 0);
+    for j in 0..NY {
+        for i in 0..NX {
+            let (x0, y0) = (i as f64 * 0.1, j as f64 * 0.1);
+            let (x1, y1) = (x0 + 0.1, y0 + 0.1);
+            b.face(&[
+                at(x0, y0, 0.0),
+                at(x1, y0, 0.0),
+                at(x1, y1, 0.0),
+                at(x0, y1, 0.0),
+            ]);
+        }
+    }
+    b.part("decals", 1);
+    let mut rng = SplitMix64(0xdeca1);
+    for _ in 0..24 {
+        let w = 0.3 + 0.5 * rng.next_f64();
+        let h = 0.3 + 0.5 * rng.next_f64();
+        let x0 = 0.2 + (9.6 - w) * rng.next_f64();
+        let y0 = 0.2 + (5.6 - h) * rng.next_f64();
+        let (nx, ny) = ((w / 0.1).ceil() as usize, (h / 0.1).ceil() as usize);
+        let c = |i: usize, j: usize| {
+            at(
+                x0 + w * i as f64 / nx as f64,
+                y0 + h * j as f64 / ny as f64,
+                DECAL_GAP,
+            )
+        };
+        for j in 0..ny {
+            for i in 0..nx {
+                b.face(&[c(i, j), c(i + 1, j), c(i + 1, j + 1), c(i, j + 1)]);
+            }
+        }
+    }
+    scene(
+        b.mesh("decal_wall"),
+        vec![
+            material("wall", [0.7, 0.7, 0.68]),
+            material("decal", [0.8, 0.1, 0.1]),
+        ],
+        Vec::new(),
+    )
 }
 
 /// [`png_texture`] with an alpha channel.

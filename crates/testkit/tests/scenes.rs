@@ -27,7 +27,38 @@ fn all() -> Vec<(&'static str, Scene)> {
         ("morph_sphere", scenes::morph_sphere(16, 5)),
         ("foliage_tree", scenes::foliage_tree(200)),
         ("chain_link_fence", scenes::chain_link_fence()),
+        ("decal_wall", scenes::decal_wall()),
     ]
+}
+
+#[test]
+fn the_decals_are_separate_grids_two_millimetres_in_front_of_the_wall() {
+    let s = scenes::decal_wall();
+    let m = &s.meshes[0];
+    let mut sets = DisjointSets::new(m.positions.len());
+    for f in m.faces.iter() {
+        for w in f.windows(2) {
+            sets.union(w[0], w[1]);
+        }
+    }
+    let roots: HashSet<u32> = m.faces.iter().map(|f| sets.find(f[0])).collect();
+    assert_eq!(roots.len(), 1 + 24, "the wall and one component per decal");
+    assert_eq!(m.parts.len(), 2);
+    let mut decal_vertices = 0;
+    for (f, ids) in m.faces.iter().enumerate() {
+        let lift = if m.face_parts[f] == 1 {
+            decal_vertices += ids.len();
+            scenes::DECAL_GAP
+        } else {
+            0.0
+        };
+        for &v in ids {
+            let p = m.positions[v as usize].map(f64::from);
+            let z = scenes::decal_wall_height(p[0], p[1]) + lift;
+            assert!((p[2] - z).abs() < 1e-6, "{p:?} against {z}");
+        }
+    }
+    assert!(decal_vertices > 24 * 4 * 9);
 }
 
 #[test]

@@ -53,6 +53,7 @@ fn run(args: &Args) -> anyhow::Result<()> {
         ("morph_sphere", scenes::morph_sphere(115, 52), false),
         ("foliage_tree", scenes::foliage_tree(1500), false),
         ("chain_link_fence", scenes::chain_link_fence(), false),
+        ("decal_wall", scenes::decal_wall(), false),
     ];
     for (name, scene, quads) in all {
         let mut exts = vec!["glb"];
