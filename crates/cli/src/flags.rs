@@ -157,6 +157,15 @@ pub struct TuningArgs {
     /// sheets and blended (see-through) materials keep both sides.
     #[arg(long)]
     pub keep_hidden_twins: bool,
+    /// Let decals sink into the simplified surface under them
+    ///
+    /// An open sheet lying a little in front of another part and facing the
+    /// same way (a decal, a sticker, a road marking) is a layer: by default
+    /// it moves with the simplified surface under it and keeps its offset
+    /// from it, instead of sinking behind it once the surface's error
+    /// exceeds the gap. --classic turns this off too.
+    #[arg(long)]
+    pub no_layers: bool,
     /// Classic quadric error simplification, for comparisons
     ///
     /// No virtual edges, no area term.

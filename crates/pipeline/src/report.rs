@@ -59,6 +59,10 @@ pub struct MeshJson {
     /// exporter wrote): left where they were; errors are relative to the
     /// rest's diagonal.
     pub outliers: usize,
+    /// Vertices of decals and other layers (open sheets lying on another
+    /// part) placed at their input offset from the simplified surface
+    /// under them (`--no-layers` lets them sink).
+    pub layer_vertices: usize,
     /// The virtual-edge radius (relative to the diagonal) that separate
     /// parts were bridged at when the requested `--virtual-radius` would
     /// have made more virtual edges than the search's budget, which is
@@ -89,6 +93,7 @@ impl MeshJson {
             twin_slack: r.report.twin_slack,
             uv_damage: r.report.uv_damage,
             outliers: r.report.outliers.len(),
+            layer_vertices: r.report.layer_vertices,
             virtual_radius_reduced: r.report.virtual_radius_reduced,
             steering: r.report.steering.map(|s| SteeringJson {
                 kept: s.kept,

@@ -214,6 +214,7 @@ pub fn whole_report(r: &SceneReport) -> Report {
         evaluations: r.groups.iter().map(|g| g.report.evaluations).sum(),
         faces_tested: r.groups.iter().map(|g| g.report.faces_tested).sum(),
         stray_normals: r.groups.iter().map(|g| g.report.stray_normals).sum(),
+        layer_vertices: r.groups.iter().map(|g| g.report.layer_vertices).sum(),
         outliers: r
             .groups
             .iter()

@@ -106,6 +106,10 @@ pub struct Tuning {
     /// Keep the reversed copies of faces that cannot be seen
     /// (`Guards::drop_hidden_twins` off).
     pub keep_hidden_twins: bool,
+    /// Let layers (decals and other sheets lying on a part) sink with the
+    /// surface under them (`Metric::keep_layers` off); `classic` turns
+    /// the layer pass off too.
+    pub no_layers: bool,
 }
 
 impl Default for Tuning {
@@ -141,6 +145,7 @@ impl Default for Tuning {
             normals: NormalSetting::Fit,
             refit_sweeps: options.metric.refit_sweeps,
             keep_hidden_twins: !options.guards.drop_hidden_twins,
+            no_layers: !options.metric.keep_layers,
         }
     }
 }
@@ -227,6 +232,7 @@ impl Tuning {
         // Classic QEM is the plain algorithm, for comparisons.
         options.metric.refit_sweeps = if self.classic { 0 } else { self.refit_sweeps };
         options.guards.drop_hidden_twins = !self.keep_hidden_twins;
+        options.metric.keep_layers = !self.classic && !self.no_layers;
         options.attributes = AttributeOptions {
             tex_coord_weight: self.uv_weight,
             normal_weight: self.normal_weight,
@@ -327,6 +333,20 @@ mod tests {
             },
             "area_floor"
         ));
+    }
+
+    #[test]
+    fn layers_are_kept_unless_asked_or_classic() {
+        let on = |t: Tuning| t.options().expect("valid").metric.keep_layers;
+        assert!(on(Tuning::default()));
+        assert!(!on(Tuning {
+            no_layers: true,
+            ..Tuning::default()
+        }));
+        assert!(!on(Tuning {
+            classic: true,
+            ..Tuning::default()
+        }));
     }
 
     #[test]

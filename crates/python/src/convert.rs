@@ -8,7 +8,7 @@ use wildlod_pipeline::{NormalSetting, SeamSetting, Tuning};
 
 /// The names `**options` accepts: the fields of [`Tuning`], and
 /// `normal_mode` for `normals` (in `simplify`, `normals` is the stream).
-pub const OPTION_NAMES: [&str; 28] = [
+pub const OPTION_NAMES: [&str; 29] = [
     "virtual_radius",
     "keep_topology",
     "lock_borders",
@@ -28,6 +28,7 @@ pub const OPTION_NAMES: [&str; 28] = [
     "crease_area_weight",
     "refit_sweeps",
     "keep_hidden_twins",
+    "no_layers",
     "classic",
     "uv_weight",
     "normal_weight",
@@ -110,6 +111,7 @@ pub fn tuning(py: Python<'_>, options: Option<&Bound<'_, PyDict>>) -> PyResult<T
             "crease_area_weight" => t.crease_area_weight = value.extract()?,
             "refit_sweeps" => t.refit_sweeps = value.extract()?,
             "keep_hidden_twins" => t.keep_hidden_twins = value.extract()?,
+            "no_layers" => t.no_layers = value.extract()?,
             "classic" => t.classic = value.extract()?,
             "uv_weight" => t.uv_weight = value.extract()?,
             "normal_weight" => t.normal_weight = value.extract()?,

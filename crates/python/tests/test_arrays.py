@@ -301,3 +301,30 @@ def test_crease_settings_reach_the_simplifier():
         with pytest.raises(ValueError, match=name):
             wildlod.simplify(pos, quads, ratio=0.1, **{name: bad})
         assert name in wildlod.option_names()
+
+
+def test_a_decal_is_lifted_off_a_simplified_floor_unless_no_layers():
+    # A bumpy floor of quads and a decal: a 6 x 6 grid 0.02 above its
+    # middle, facing the same way. At 10% the floor moves by more than the
+    # gap; by default the decal is lifted to clear it, with no_layers it
+    # is left where its own simplification put it.
+    pos, quads = grid(24)
+    pos[:, 2] = 0.4 * np.sin(pos[:, 0] * 0.7) * np.cos(pos[:, 1] * 0.5)
+    dpos, dquads = grid(6)
+    dpos[:, :2] += 9.0
+    dpos[:, 2] = 0.4 * np.sin(dpos[:, 0] * 0.7) * np.cos(dpos[:, 1] * 0.5) + 0.02
+    allpos = np.concatenate([pos, dpos])
+    allquads = np.concatenate([quads, dquads + len(pos)])
+    kept = wildlod.simplify(allpos, allquads, ratio=0.1, no_quads=True)
+    sunk = wildlod.simplify(allpos, allquads, ratio=0.1, no_quads=True, no_layers=True)
+    assert kept["report"]["layer_vertices"] > 0
+    assert sunk["report"]["layer_vertices"] == 0
+    assert np.array_equal(kept["indices"], sunk["indices"])
+    moved = np.any(kept["positions"] != sunk["positions"], axis=1)
+    # Only decal vertices move (the decal lies over x, y in [9, 15]; a lift
+    # along its mean normal, which leans a little, moves them sideways a
+    # little).
+    xy = sunk["positions"][:, :2]
+    inside = np.all((xy >= 8.9) & (xy <= 15.1), axis=1)
+    assert moved.any() and np.all(inside[moved])
+    assert "no_layers" in wildlod.option_names()

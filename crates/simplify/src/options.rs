@@ -279,6 +279,13 @@ pub struct Metric {
     /// peer, Chamfer 1.30 → 1.13×; a second sweep gets 1.34× and 1.13× for
     /// twice the time.
     pub refit_sweeps: u32,
+    /// Keep layers in front of what they lie on (see `assemble/layers.rs`):
+    /// an open sheet lying a little in front of another part, facing the
+    /// same way (a decal, a sticker, a road marking), moves with the
+    /// simplified surface under it and keeps its offset from it, instead of
+    /// sinking behind it once the surface's error exceeds the gap.
+    /// Default: on (off in [`Options::classic_qem`]).
+    pub keep_layers: bool,
 }
 
 impl Default for Metric {
@@ -301,6 +308,7 @@ impl Default for Metric {
             area_exponent: 1.0,
             face_weight_floor: 0.5,
             refit_sweeps: 1,
+            keep_layers: true,
         }
     }
 }
@@ -833,6 +841,7 @@ impl Options {
                 pinch_cost: 0.0,
                 face_weight_floor: 0.0,
                 refit_sweeps: 0,
+                keep_layers: false,
                 ..Metric::default()
             },
             guards: Guards {

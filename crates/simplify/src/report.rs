@@ -141,6 +141,10 @@ pub struct Report {
     /// they shade and were replaced by their faces' normal (see
     /// [`crate::simplify_mesh`]).
     pub stray_normals: usize,
+    /// Output vertices of layers (decals and other sheets lying on another
+    /// part, see [`crate::Metric::keep_layers`]) placed at their input
+    /// offset from the simplified surface under them.
+    pub layer_vertices: usize,
     /// The share (0 to 1) of the output's textured surface whose kept UVs
     /// fold over or stretch beyond 4× the input's texel density (see
     /// [`crate::simplify_mesh`]): where the input's textures no longer show

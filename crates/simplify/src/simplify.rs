@@ -10,6 +10,7 @@ use glam::DVec3;
 use wildlod_mesh::Faces;
 
 use crate::assemble::fidelity::Reference;
+use crate::assemble::layers::keep_layers;
 use crate::assemble::{assemble, Simplified};
 use crate::collapse::Run;
 use crate::error::Error;
@@ -301,6 +302,9 @@ fn simplify_once(
     refit_run(&mut collapsed, positions, faces, &kept);
     progress(1.0);
     let mut out = assemble(collapsed, positions, attributes);
+    if options.metric.keep_layers {
+        out.report.layer_vertices = keep_layers(positions, faces, &mut out);
+    }
     if let Some(s) = &split {
         out.map_back(s);
     }

@@ -211,6 +211,7 @@ pub(crate) fn tuning(t: &TuningArgs) -> Tuning {
         crease_area_weight: t.crease_area_weight,
         refit_sweeps: t.refit_sweeps,
         keep_hidden_twins: t.keep_hidden_twins,
+        no_layers: t.no_layers,
         classic: t.classic,
         uv_weight: t.uv_weight,
         normal_weight: t.normal_weight,
@@ -452,6 +453,13 @@ pub fn summary(name: &str, r: &Report, seconds: f64) -> String {
             "; {} hidden twin face{} dropped (reversed copies that cannot be seen; --keep-hidden-twins keeps them)",
             r.hidden_twins,
             if r.hidden_twins == 1 { "" } else { "s" },
+        ));
+    }
+    if r.layer_vertices > 0 {
+        s.push_str(&format!(
+            "; {} vert{} of decals and other layers kept at their offset from the surface under them",
+            r.layer_vertices,
+            if r.layer_vertices == 1 { "ex" } else { "ices" },
         ));
     }
     if !r.outliers.is_empty() {

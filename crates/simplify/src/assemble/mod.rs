@@ -6,6 +6,7 @@
 //! measure an assembled output against its input.
 
 pub(crate) mod fidelity;
+pub(crate) mod layers;
 pub(crate) mod uv_health;
 
 use wildlod_mesh::Faces;
