@@ -6,7 +6,7 @@
 mod support;
 
 use std::path::{Path, PathBuf};
-use support::{s, stderr, stdout, wildlod};
+use support::{s, stderr, stdout, wildlod, wildlod_ok};
 
 use wildlod_io::{Document, WriteOptions};
 use wildlod_mesh::{shapes, Scene};
@@ -633,4 +633,51 @@ fn simplify_json_reports_the_loops_work_and_its_refusals() {
     for key in ["flat_border", "topology", "locked_border", "overshoot"] {
         assert!(m["rejected"][key].is_u64(), "{key}: {m}");
     }
+}
+
+#[test]
+fn a_decal_is_kept_in_front_of_its_floor_unless_no_layers_and_the_json_counts_it() {
+    // A bumpy floor of 24 × 24 quads and a decal of 6 × 6 quads 0.02 above
+    // its middle, facing the same way: at 10% the floor moves by more
+    // than the gap.
+    let dir = tempfile::tempdir().unwrap();
+    let height = |x: f64, y: f64| 0.4 * (0.7 * x).sin() * (0.5 * y).cos();
+    let mut obj = String::new();
+    let mut grid = |n: usize, at: f64, lift: f64, base: usize| {
+        for i in 0..=n {
+            for j in 0..=n {
+                let (x, y) = (at + i as f64, at + j as f64);
+                obj.push_str(&format!("v {x} {y} {}\n", height(x, y) + lift));
+            }
+        }
+        for i in 0..n {
+            for j in 0..n {
+                let a = base + i * (n + 1) + j + 1;
+                obj.push_str(&format!("f {} {} {} {}\n", a, a + n + 1, a + n + 2, a + 1));
+            }
+        }
+    };
+    grid(24, 0.0, 0.0, 0);
+    grid(6, 9.0, 0.02, 25 * 25);
+    let input = dir.path().join("decal.obj");
+    std::fs::write(&input, obj).unwrap();
+    let run = |extra: &[&str]| {
+        let out = dir.path().join("out.obj");
+        let mut args = vec![
+            "simplify",
+            s(&input),
+            "-o",
+            s(&out),
+            "--ratio",
+            "0.1",
+            "--json",
+        ];
+        args.extend_from_slice(extra);
+        let o = wildlod_ok(&args);
+        let v: serde_json::Value = serde_json::from_str(&stdout(&o)).unwrap();
+        v["meshes"][0]["layer_vertices"].as_u64().unwrap()
+    };
+    assert!(run(&[]) > 0);
+    assert_eq!(run(&["--no-layers"]), 0);
+    assert_eq!(run(&["--classic"]), 0);
 }
