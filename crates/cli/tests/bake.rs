@@ -216,10 +216,12 @@ fn a_webp_texture_bakes_as_the_same_png_does() {
 
 #[test]
 fn auto_keeps_the_uvs_of_a_texture_it_cannot_decode_and_says_why() {
-    // A KTX2 image (KHR_texture_basisu): wildlod does not decode it, so
-    // `auto` cannot measure the keep-UV result. It keeps the UVs (a
-    // re-bake would sample nothing) and says why, in the summary and in
-    // `--json`, rather than calling the error "below the visible".
+    // A KTX2 file that is only a header (a broken or unsupported image):
+    // it does not decode, so `auto` cannot measure the keep-UV result. It
+    // keeps the UVs (a re-bake would sample nothing) and says why, in the
+    // summary and in `--json`, rather than calling the error "below the
+    // visible". A KTX2 texture that decodes is measured
+    // (`a_ktx2_basisu_texture_is_measured_and_rebaked_into_png`).
     let dir = tempfile::tempdir().unwrap();
     let ktx = dir.path().join("paint.ktx2");
     let mut bytes = b"\xABKTX 20\xBB\r\n\x1A\n".to_vec();
@@ -1388,4 +1390,127 @@ fn a_rebake_keeps_material_variants_pointing_at_materials_that_exist() {
     let m = mappings[0]["material"].as_u64().unwrap() as usize;
     assert!(m < materials, "{j}");
     assert_eq!(j["materials"][m]["name"], default_name, "{j}");
+}
+
+/// A textured 16 × 16 grid whose base color texture is a KTX2 file under
+/// `KHR_texture_basisu` (as `gltfpack -tc` writes them): a 64² texture of
+/// 4 × 4 blocks, each one color.
+fn basisu_grid(dir: &Path) -> PathBuf {
+    let colors: Vec<[u8; 4]> = (0..256u32)
+        .map(|b| {
+            let (x, y) = (b % 16, b / 16);
+            [
+                (x * 16) as u8,
+                (y * 16) as u8,
+                if (x + y) % 2 == 0 { 32 } else { 128 },
+                255,
+            ]
+        })
+        .collect();
+    std::fs::write(
+        dir.join("tex.ktx2"),
+        wildlod_testkit::ktx2::solid_astc(64, 64, &colors),
+    )
+    .unwrap();
+    let n = 16u32;
+    let mut bin = Vec::new();
+    for j in 0..=n {
+        for i in 0..=n {
+            let (u, v) = (i as f32 / n as f32, j as f32 / n as f32);
+            for c in [u, 0.2 * (4.0 * u).sin() * (3.0 * v).cos(), v] {
+                bin.extend_from_slice(&c.to_le_bytes());
+            }
+        }
+    }
+    let uv_at = bin.len();
+    for j in 0..=n {
+        for i in 0..=n {
+            for c in [i as f32 / n as f32, j as f32 / n as f32] {
+                bin.extend_from_slice(&c.to_le_bytes());
+            }
+        }
+    }
+    let index_at = bin.len();
+    for j in 0..n {
+        for i in 0..n {
+            let a = j * (n + 1) + i;
+            for k in [a, a + n + 1, a + 1, a + 1, a + n + 1, a + n + 2] {
+                bin.extend_from_slice(&k.to_le_bytes());
+            }
+        }
+    }
+    std::fs::write(dir.join("grid.bin"), &bin).unwrap();
+    let vertices = (n + 1) * (n + 1);
+    let gltf = serde_json::json!({
+        "asset": {"version": "2.0"},
+        "extensionsUsed": ["KHR_texture_basisu"],
+        "extensionsRequired": ["KHR_texture_basisu"],
+        "scene": 0, "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}],
+        "meshes": [{"primitives": [{"attributes": {"POSITION": 0, "TEXCOORD_0": 1}, "indices": 2, "material": 0}]}],
+        "materials": [{"name": "m", "pbrMetallicRoughness": {"baseColorTexture": {"index": 0}, "metallicFactor": 0.0}}],
+        "textures": [{"extensions": {"KHR_texture_basisu": {"source": 0}}}],
+        "images": [{"uri": "tex.ktx2", "mimeType": "image/ktx2"}],
+        "buffers": [{"uri": "grid.bin", "byteLength": bin.len()}],
+        "bufferViews": [
+            {"buffer": 0, "byteOffset": 0, "byteLength": uv_at},
+            {"buffer": 0, "byteOffset": uv_at, "byteLength": index_at - uv_at},
+            {"buffer": 0, "byteOffset": index_at, "byteLength": bin.len() - index_at}
+        ],
+        "accessors": [
+            {"bufferView": 0, "componentType": 5126, "count": vertices, "type": "VEC3",
+             "min": [0.0, -0.2, 0.0], "max": [1.0, 0.2, 1.0]},
+            {"bufferView": 1, "componentType": 5126, "count": vertices, "type": "VEC2"},
+            {"bufferView": 2, "componentType": 5125, "count": 6 * n * n, "type": "SCALAR"}
+        ]
+    });
+    let path = dir.join("grid.gltf");
+    std::fs::write(&path, gltf.to_string()).unwrap();
+    path
+}
+
+#[test]
+fn a_ktx2_basisu_texture_is_measured_and_rebaked_into_png() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = basisu_grid(dir.path());
+    // Keeping the UVs: the texture decodes, so the choice is measured.
+    let out = dir.path().join("keep.glb");
+    let o = wildlod_ok(&[
+        "simplify",
+        s(&input),
+        "-o",
+        s(&out),
+        "--ratio",
+        "0.1",
+        "--json",
+    ]);
+    let v: serde_json::Value = serde_json::from_str(&support::stdout(&o)).unwrap();
+    let t = &v["textures"];
+    assert!(t["keep_uv_excess"].is_number(), "{t}");
+    assert!(t.get("unmeasured").is_none(), "{t}");
+    // Re-baked: PNG images, the extension gone, the input's colors in them.
+    let (_, json) = rebake_to_glb_json(&input, dir.path());
+    assert!(!json.to_string().contains("KHR_texture_basisu"), "{json}");
+    assert!(json["images"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .all(|i| i["mimeType"] == "image/png"));
+    let reference = wildlod_io::read(&input).unwrap().scene;
+    let lod = wildlod_io::read(dir.path().join("lod.glb")).unwrap().scene;
+    let images = |scene: &wildlod_mesh::Scene| -> Vec<_> {
+        scene
+            .textures
+            .iter()
+            .map(|t| wildlod_io::decode_image(&t.source).ok())
+            .collect()
+    };
+    let c = compare(
+        &EvalMesh::from_scene(&reference, &images(&reference)),
+        &EvalMesh::from_scene(&lod, &images(&lod)),
+        &CompareOptions::default(),
+    );
+    let tex = c
+        .texture_chamfer
+        .expect("both sides have a decoded texture");
+    assert!(tex < 0.1, "re-baked texture Chamfer {tex}");
 }

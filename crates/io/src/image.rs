@@ -1,4 +1,5 @@
-//! Decoding texture images (PNG, JPEG, WebP) for metrics and re-baking.
+//! Decoding texture images (PNG, JPEG, WebP, and KTX2 with Basis
+//! Universal payloads) for metrics and re-baking.
 
 use std::path::Path;
 
@@ -16,7 +17,7 @@ use crate::{Error, ErrorKind};
 ///
 /// # Errors
 /// An error naming the file (or "embedded image") when it cannot be read or
-/// is not a PNG, JPEG or WebP image.
+/// is not a PNG, JPEG, WebP or KTX2 (Basis Universal) image.
 pub fn decode_image(source: &ImageSource) -> Result<Image, Error> {
     match source {
         ImageSource::Path(p) => {
@@ -55,11 +56,14 @@ pub fn decode_image_rgba8(source: &ImageSource) -> Result<Rgba8Image, Error> {
 }
 
 fn decode_rgba8(bytes: &[u8]) -> Result<Rgba8Image, String> {
+    if crate::ktx2::is_ktx2(bytes) {
+        return crate::ktx2::decode_rgba8(bytes);
+    }
     let reader = image::ImageReader::new(std::io::Cursor::new(bytes))
         .with_guessed_format()
         .map_err(|e| e.to_string())?;
     if reader.format().is_none() {
-        return Err("not a PNG, JPEG or WebP image".into());
+        return Err("not a PNG, JPEG, WebP or KTX2 image".into());
     }
     let rgba = reader.decode().map_err(|e| e.to_string())?.into_rgba8();
     let (width, height) = rgba.dimensions();
@@ -147,11 +151,23 @@ fn rgb(img: &Rgba8Image) -> Option<image::RgbImage> {
 }
 
 fn decode_bytes(bytes: &[u8]) -> Result<Image, String> {
+    if crate::ktx2::is_ktx2(bytes) {
+        let rgba = crate::ktx2::decode_rgba8(bytes)?;
+        return Ok(Image {
+            width: rgba.width,
+            height: rgba.height,
+            pixels: rgba
+                .pixels
+                .iter()
+                .map(|p| p.map(|c| f32::from(c) / 255.0))
+                .collect(),
+        });
+    }
     let reader = image::ImageReader::new(std::io::Cursor::new(bytes))
         .with_guessed_format()
         .map_err(|e| e.to_string())?;
     if reader.format().is_none() {
-        return Err("not a PNG, JPEG or WebP image".into());
+        return Err("not a PNG, JPEG, WebP or KTX2 image".into());
     }
     let decoded = reader.decode().map_err(|e| e.to_string())?;
     let rgba = decoded.to_rgba32f();

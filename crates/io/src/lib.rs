@@ -14,6 +14,7 @@ mod far;
 mod format;
 mod gltf;
 mod image;
+mod ktx2;
 mod obj;
 mod off;
 mod ply;

@@ -10,6 +10,7 @@
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
+pub mod ktx2;
 pub mod scenes;
 
 pub use scenes::{
