@@ -1473,17 +1473,7 @@ fn a_ktx2_basisu_texture_is_measured_and_rebaked_into_png() {
     let dir = tempfile::tempdir().unwrap();
     let input = basisu_grid(dir.path());
     // Keeping the UVs: the texture decodes, so the choice is measured.
-    let out = dir.path().join("keep.glb");
-    let o = wildlod_ok(&[
-        "simplify",
-        s(&input),
-        "-o",
-        s(&out),
-        "--ratio",
-        "0.1",
-        "--json",
-    ]);
-    let v: serde_json::Value = serde_json::from_str(&support::stdout(&o)).unwrap();
+    let v = support::simplify_json(&input, &dir.path().join("keep.glb"), &["--ratio", "0.1"]);
     let t = &v["textures"];
     assert!(t["keep_uv_excess"].is_number(), "{t}");
     assert!(t.get("unmeasured").is_none(), "{t}");

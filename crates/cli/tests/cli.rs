@@ -6,7 +6,7 @@
 mod support;
 
 use std::path::{Path, PathBuf};
-use support::{s, stderr, stdout, wildlod, wildlod_ok};
+use support::{s, simplify_json, stderr, stdout, wildlod};
 
 use wildlod_io::{Document, WriteOptions};
 use wildlod_mesh::{shapes, Scene};
@@ -661,20 +661,9 @@ fn a_decal_is_kept_in_front_of_its_floor_unless_no_layers_and_the_json_counts_it
     grid(6, 9.0, 0.02, 25 * 25);
     let input = dir.path().join("decal.obj");
     std::fs::write(&input, obj).unwrap();
+    let out = dir.path().join("out.obj");
     let run = |extra: &[&str]| {
-        let out = dir.path().join("out.obj");
-        let mut args = vec![
-            "simplify",
-            s(&input),
-            "-o",
-            s(&out),
-            "--ratio",
-            "0.1",
-            "--json",
-        ];
-        args.extend_from_slice(extra);
-        let o = wildlod_ok(&args);
-        let v: serde_json::Value = serde_json::from_str(&stdout(&o)).unwrap();
+        let v = simplify_json(&input, &out, &[&["--ratio", "0.1"], extra].concat());
         v["meshes"][0]["layer_vertices"].as_u64().unwrap()
     };
     assert!(run(&[]) > 0);

@@ -25,6 +25,15 @@ pub fn wildlod_ok(args: &[&str]) -> Output {
     o
 }
 
+/// `wildlod simplify INPUT -o OUTPUT ARGS… --json` (which must succeed)
+/// and the report it prints.
+pub fn simplify_json(input: &Path, output: &Path, args: &[&str]) -> serde_json::Value {
+    let mut all = vec!["simplify", s(input), "-o", s(output), "--json"];
+    all.extend_from_slice(args);
+    let o = wildlod_ok(&all);
+    serde_json::from_slice(&o.stdout).unwrap_or_else(|e| panic!("{e}: {}", stdout(&o)))
+}
+
 pub fn stdout(o: &Output) -> String {
     String::from_utf8_lossy(&o.stdout).into_owned()
 }
