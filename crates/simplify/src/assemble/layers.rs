@@ -251,6 +251,22 @@ pub(crate) fn keep_layers(positions: &[[f32; 3]], faces: &Faces, out: &mut Simpl
         let n = under.normals[i as usize];
         (n.dot(layer.normal) >= FACING).then(|| (y - q).dot(n).max(0.0))
     };
+    // The layer of every vertex only layers use, and its gap, once each.
+    let mut vertex_layer: Vec<Option<Layer>> = vec![None; out.positions.len()];
+    for (f, ids) in out.faces.iter().enumerate() {
+        if let Some(layer) = layer_of(out.face_origin[f]) {
+            for &v in ids {
+                if !shared[v as usize] {
+                    vertex_layer[v as usize] = Some(layer);
+                }
+            }
+        }
+    }
+    let gaps: Vec<Option<f64>> = vertex_layer
+        .par_iter()
+        .enumerate()
+        .map(|(v, layer)| layer.and_then(|l| gap(v as u32, &l)))
+        .collect();
     // How far simplifying may have moved a surface: a bound on how far off
     // a layer triangle's box a surface point can ask it to lift (a layer
     // as large as the file would otherwise look at the whole file for each
@@ -268,11 +284,13 @@ pub(crate) fn keep_layers(positions: &[[f32; 3]], faces: &Faces, out: &mut Simpl
             if ids.iter().any(|&v| shared[v as usize]) {
                 return Vec::new();
             }
-            let gaps: Option<Vec<f64>> = ids.iter().map(|&v| gap(v, &layer)).collect();
-            let Some(gaps) = gaps else {
+            let Some(g) = ids
+                .iter()
+                .map(|&v| gaps[v as usize])
+                .try_fold(f64::INFINITY, |g, v| v.map(|v| g.min(v)))
+            else {
                 return Vec::new();
             };
-            let g = gaps.iter().copied().fold(f64::INFINITY, f64::min);
             let mut lifts = Vec::new();
             for k in 1..ids.len().saturating_sub(1) {
                 let tri = [ids[0], ids[k], ids[k + 1]];
@@ -295,19 +313,12 @@ pub(crate) fn keep_layers(positions: &[[f32; 3]], faces: &Faces, out: &mut Simpl
     for &(v, d) in lifts.iter().flatten() {
         lift[v as usize] = lift[v as usize].max(d);
     }
-    let mut normal = vec![DVec3::ZERO; out.positions.len()];
-    for (f, ids) in out.faces.iter().enumerate() {
-        if let Some(layer) = layer_of(out.face_origin[f]) {
-            for &v in ids {
-                normal[v as usize] = layer.normal;
-            }
-        }
-    }
     drop(lifts);
     let mut lifted = 0;
     for (v, &d) in lift.iter().enumerate() {
         if d > 0.0 {
-            let x = DVec3::from(out.positions[v].map(f64::from)) + normal[v] * d;
+            let n = vertex_layer[v].map_or(DVec3::ZERO, |l| l.normal);
+            let x = DVec3::from(out.positions[v].map(f64::from)) + n * d;
             out.positions[v] = x.as_vec3().to_array();
             lifted += 1;
         }
