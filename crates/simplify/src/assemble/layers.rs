@@ -440,7 +440,7 @@ mod tests {
     }
 
     /// A closed box over `lo`–`hi` in x and y, from z = 0 to `height`,
-    /// its faces facing out.
+    /// its faces facing out ([`wildlod_mesh::shapes::cuboid`]), appended.
     fn closed_box(
         positions: &mut Vec<[f32; 3]>,
         faces: &mut Faces,
@@ -448,26 +448,11 @@ mod tests {
         hi: [f32; 2],
         height: f32,
     ) {
+        let cube = wildlod_mesh::shapes::cuboid([lo[0], lo[1], 0.0], [hi[0], hi[1], height]);
         let c = positions.len() as u32;
-        for z in [0.0, height] {
-            for (x, y) in [
-                (lo[0], lo[1]),
-                (hi[0], lo[1]),
-                (hi[0], hi[1]),
-                (lo[0], hi[1]),
-            ] {
-                positions.push([x, y, z]);
-            }
-        }
-        for q in [
-            [0, 3, 2, 1],
-            [4, 5, 6, 7],
-            [0, 1, 5, 4],
-            [1, 2, 6, 5],
-            [2, 3, 7, 6],
-            [3, 0, 4, 7],
-        ] {
-            faces.push(&q.map(|k| c + k));
+        positions.extend_from_slice(&cube.positions);
+        for ids in cube.faces.iter() {
+            faces.push(&ids.iter().map(|&v| c + v).collect::<Vec<_>>());
         }
     }
 
