@@ -212,7 +212,6 @@ fn pack_shapes_largest(
         .iter()
         .map(|p| (&p.coords[..], p.width, p.height))
         .collect();
-    let mut found = pack_cells(&shapes, start, pad, size, cell)?;
     // Upper bound: the charts' own area fills the atlas inside its border.
     let area: f64 = placed
         .iter()
@@ -229,25 +228,24 @@ fn pack_shapes_largest(
     } else {
         start
     };
-    // The search runs first on a grid twice as coarse (a quarter of the
-    // bits to scan), where the scale it finds is a little below the fine
-    // grid's (whole cells and rounded-up padding waste a little room: 0.5%
-    // on the 20k torus's 26 charts in 2048²); the fine grid then searches
-    // only the 2% above it. Most of the packings a search tries fail, and
-    // a failing one scans the whole atlas for a chart that has no place.
-    let (mut lo, mut top) = (start, hi);
+    // The search runs on a grid twice as coarse where the atlas is large
+    // (a quarter of the bits to scan, and most packings a search tries
+    // fail, each scanning the whole atlas for a chart that has no place).
+    // Its packing holds on the fine grid as it is: whole cells and
+    // rounded-up padding only waste room. Measured against searching the
+    // 2% above it on the fine grid: the same atlas use or up to two points
+    // less (sofa, truck, tea set, Avocado, CesiumMan, the 20k torus in
+    // 2048², the sofa in 4096²), for 2 to 5 times less layout time (the
+    // torus's 0.42 s became 0.09 s).
     let coarse = 2 * cell;
-    if size / coarse >= MIN_COARSE_SIDE && pack_cells(&shapes, start, pad, size, coarse).is_some() {
-        let (c, _) = largest_fit(&shapes, start, hi, pad, size, coarse);
-        match pack_cells(&shapes, c, pad, size, cell) {
-            Some(at) if c > start => {
-                (lo, top) = (c, hi.min(c * 1.02));
-                found = at;
-            }
-            _ => top = c,
+    if size / coarse >= MIN_COARSE_SIDE {
+        if let Some(found) = pack_cells(&shapes, start, pad, size, coarse) {
+            let (s, more) = largest_fit(&shapes, start, hi, pad, size, coarse);
+            return Some((s, more.unwrap_or(found)));
         }
     }
-    let (s, more) = largest_fit(&shapes, lo, top, pad, size, cell);
+    let found = pack_cells(&shapes, start, pad, size, cell)?;
+    let (s, more) = largest_fit(&shapes, start, hi, pad, size, cell);
     Some((s, more.unwrap_or(found)))
 }
 
