@@ -1,6 +1,7 @@
 //! Welding: one id per distinct position, so that connectivity survives
 //! attribute seams (a glTF vertex duplicated for two UVs) and triangle soups
-//! (an STL file's three private vertices per triangle).
+//! (an STL file's three private vertices per triangle); and merging points
+//! that differ by rounding noise only.
 
 use std::collections::HashMap;
 use std::hash::{BuildHasherDefault, Hasher};
@@ -9,8 +10,10 @@ use std::hash::{BuildHasherDefault, Hasher};
 /// in order of first appearance. Returns `(remap, distinct count)`.
 ///
 /// Equality is exact on the `f32` bits, with `-0.0` treated as `0.0`; a
-/// tolerance would merge vertices that the author kept apart, and changes
-/// the mesh: welding within a distance is what virtual edges are for.
+/// tolerance of real size would merge vertices that the author kept apart,
+/// and changes the mesh: welding across a gap is what virtual edges are
+/// for. Differences below what the numbers can hold are
+/// [`merge_within`]'s.
 pub fn weld_positions(positions: &[[f32; 3]]) -> (Vec<u32>, usize) {
     let mut map: HashMap<[u32; 3], u32, BuildHasherDefault<PositionHasher>> =
         HashMap::with_capacity_and_hasher(positions.len(), Default::default());
@@ -22,6 +25,70 @@ pub fn weld_positions(positions: &[[f32; 3]]) -> (Vec<u32>, usize) {
     }
     let n = map.len();
     (remap, n)
+}
+
+/// Merges points closer than `tol` in every coordinate: `points` are
+/// `(id, position)` with ids below `n`, ascending; each point goes to the
+/// first earlier point within `tol` of it, if any (no chains: a point joins
+/// a representative, never a point that itself joined one). Returns every
+/// id's new id, numbered in order of first appearance, and their count;
+/// `None` when nothing merges.
+///
+/// For positions that are equal to the precision of their numbers but not
+/// bit for bit (a height computed as `sin(π)`, `1e-17` on one side of a
+/// grid line and `-1e-17` on the other); the simplifier passes a quarter of
+/// the `f32` spacing at the model's largest coordinate.
+pub fn merge_within(points: &[(u32, [f64; 3])], n: usize, tol: f64) -> Option<(Vec<u32>, usize)> {
+    if !(tol > 0.0 && tol.is_finite()) {
+        return None;
+    }
+    let cell = |p: &[f64; 3]| p.map(|c| (c / tol).floor() as i64);
+    let mut reps: HashMap<[i64; 3], Vec<(u32, [f64; 3])>> = HashMap::new();
+    let mut target: Vec<u32> = (0..n as u32).collect();
+    let mut merged = false;
+    for &(id, p) in points {
+        if !p.iter().all(|c| c.is_finite()) {
+            continue;
+        }
+        let k = cell(&p);
+        let mut found = None;
+        'search: for dx in -1..=1 {
+            for dy in -1..=1 {
+                for dz in -1..=1 {
+                    let key = [k[0] + dx, k[1] + dy, k[2] + dz];
+                    for &(r, q) in reps.get(&key).map_or(&[][..], |v| &v[..]) {
+                        if (0..3).all(|a| (p[a] - q[a]).abs() <= tol) {
+                            found = Some(r);
+                            break 'search;
+                        }
+                    }
+                }
+            }
+        }
+        match found {
+            Some(r) => {
+                target[id as usize] = r;
+                merged = true;
+            }
+            None => {
+                reps.entry(k).or_default().push((id, p));
+            }
+        }
+    }
+    if !merged {
+        return None;
+    }
+    let mut new_id = vec![u32::MAX; n];
+    let mut count = 0u32;
+    for id in 0..n {
+        let t = target[id] as usize;
+        if t == id {
+            new_id[id] = count;
+            count += 1;
+        }
+    }
+    let remap = (0..n).map(|id| new_id[target[id] as usize]).collect();
+    Some((remap, count as usize))
 }
 
 /// Bit pattern of a position with signed zeros folded together.
@@ -80,6 +147,31 @@ mod tests {
         let (remap, n) = weld_positions(&p);
         assert_eq!(remap, vec![0, 0, 1, 0]);
         assert_eq!(n, 2);
+    }
+
+    #[test]
+    fn points_within_the_tolerance_join_the_first_and_do_not_chain() {
+        // 0 and 1 are 0.6 apart, 1 and 2 too, 0 and 2 are 1.2 apart; 3 is
+        // far. With a tolerance of 1, 1 joins 0, and 2 stays: it is within
+        // the tolerance of 1 only, which is not a representative.
+        let pts = [
+            (0, [0.0, 0.0, 0.0]),
+            (1, [0.6, 0.0, 0.0]),
+            (2, [1.2, 0.0, 0.0]),
+            (4, [5.0, 5.0, 5.0]),
+        ];
+        let (remap, n) = merge_within(&pts, 5, 1.0).expect("one merge");
+        // Id 3 is not among the points: it keeps its own new id.
+        assert_eq!(remap, vec![0, 0, 1, 2, 3]);
+        assert_eq!(n, 4);
+        // Every coordinate must be within it: 0.6 in x and 1.1 in y is not.
+        let apart = [(0, [0.0, 0.0, 0.0]), (1, [0.6, 1.1, 0.0])];
+        assert_eq!(merge_within(&apart, 2, 1.0), None);
+        // Across a cell border: -1e-17 and 1e-17 with cells of 1e-6.
+        let grid = [(0, [4.4, 1.5, -1e-17]), (1, [4.4, 1.5, 1e-17])];
+        assert_eq!(merge_within(&grid, 2, 1e-6), Some((vec![0, 0], 1)));
+        // No tolerance, no merge.
+        assert_eq!(merge_within(&grid, 2, 0.0), None);
     }
 
     #[test]

@@ -174,3 +174,90 @@ fn two_lone_quads_at_one_vertex_each_keep_a_face_at_half() {
         );
     }
 }
+
+#[test]
+fn a_grid_line_split_by_rounding_noise_does_not_open_into_a_crack() {
+    // A wavy 4 × 2.4 sheet of 40 × 24 quads. Its height crosses zero
+    // along y = 1.2, where a generator computing sin(π) per quad leaves
+    // the quads below the line their own copies of two vertices in three
+    // on it, at z = +1e-17, and those above theirs at -1e-17 (the third
+    // comes out 0 on both sides). One surface to the eye; to an exact
+    // welder one part with slits along the line, and no virtual edge
+    // bridges a part to itself. Simplified, the slits opened into a crack
+    // with sideways slivers.
+    let (nx, ny, line) = (40usize, 24usize, 12usize);
+    let height = |i: usize, j: usize| -> f32 {
+        let (x, y) = (i as f32 * 0.1, j as f32 * 0.1);
+        let wave = 0.05 * (std::f32::consts::TAU * x / 4.0 + 0.5).sin();
+        let ripple = 0.006 * (std::f32::consts::TAU * x / 1.1).sin();
+        (wave + ripple) * (std::f32::consts::TAU * y / 2.4).sin()
+    };
+    let mut positions = Vec::new();
+    let mut quads = wildlod_mesh::Faces::new();
+    let mut vertex = |i: usize, j: usize, below: bool| -> u32 {
+        let z = match (j == line && i % 3 != 0, below) {
+            (true, true) => 1e-17,
+            (true, false) => -1e-17,
+            _ => height(i, j),
+        };
+        positions.push([i as f32 * 0.1, j as f32 * 0.1, z]);
+        positions.len() as u32 - 1
+    };
+    for j in 0..ny {
+        for i in 0..nx {
+            let below = j < line;
+            let q = [
+                vertex(i, j, below),
+                vertex(i + 1, j, below),
+                vertex(i + 1, j + 1, below),
+                vertex(i, j + 1, below),
+            ];
+            quads.push(&q);
+        }
+    }
+    let sheet = wildlod_mesh::Mesh::from_polygons(positions, quads);
+    // The exact welder sees the slits: both sides of the 40 edges along
+    // the line are border edges, besides the rim's 2 × (40 + 24), and the
+    // sheet is still one part.
+    assert_eq!(topo(&sheet).boundary_edges, 2 * (nx + ny) + 2 * nx);
+    assert_eq!(topo(&sheet).components, 1);
+    let (out, rep) = simplify_mesh(&sheet, &ratio(0.1)).unwrap();
+    let t = topo(&out);
+    assert_eq!(t.components, 1, "{rep:?}");
+    // Every border edge of the output lies along the sheet's rim (whose
+    // vertices the wave lets slide by a fraction of a millimetre).
+    let on_rim = |p: [f32; 3]| {
+        let d = p[0]
+            .abs()
+            .min((p[0] - 4.0).abs())
+            .min(p[1].abs())
+            .min((p[1] - 2.4).abs());
+        d < 0.01
+    };
+    let (weld, _) = wildlod_mesh::weld::weld_positions(&out.positions);
+    let mut uses = std::collections::HashMap::new();
+    for f in out.faces.iter() {
+        for k in 0..f.len() {
+            let (a, b) = (weld[f[k] as usize], weld[f[(k + 1) % f.len()] as usize]);
+            *uses.entry((a.min(b), a.max(b))).or_insert(0) += 1;
+        }
+    }
+    let rep_of = |w: u32| out.positions[weld.iter().position(|&x| x == w).unwrap()];
+    let inner: Vec<_> = uses
+        .iter()
+        .filter(|&(&(a, b), &n)| n == 1 && !(on_rim(rep_of(a)) && on_rim(rep_of(b))))
+        .map(|(&(a, b), _)| (rep_of(a), rep_of(b)))
+        .collect();
+    assert!(
+        inner.is_empty(),
+        "{} border edges inside the sheet: {:?}",
+        inner.len(),
+        &inner[..inner.len().min(3)]
+    );
+    // And no face stands sideways out of a sheet that tilts by at most 10°.
+    for f in out.faces.iter() {
+        let p = [0, 1, 2].map(|k| glam::Vec3::from(out.positions[f[k] as usize]));
+        let n = (p[1] - p[0]).cross(p[2] - p[0]).normalize_or_zero();
+        assert!(n.z.abs() > 0.9, "a face with normal {n}");
+    }
+}

@@ -20,7 +20,7 @@ pub(crate) mod twins;
 
 use glam::DVec3;
 use wildlod_mesh::bounds::{robust_bounds, OutlierRule};
-use wildlod_mesh::weld::weld_positions;
+use wildlod_mesh::weld::{merge_within, weld_positions};
 use wildlod_mesh::Faces;
 
 use crate::error::Error;
@@ -177,6 +177,17 @@ pub(crate) struct Prepared {
     pub appearance_budget: f64,
 }
 
+/// The first input vertex of each of the `n` welded vertices.
+fn first_copies(weld: &[u32], n: usize) -> Vec<u32> {
+    let mut rep = vec![u32::MAX; n];
+    for (v, &w) in weld.iter().enumerate() {
+        if rep[w as usize] == u32::MAX {
+            rep[w as usize] = v as u32;
+        }
+    }
+    rep
+}
+
 pub(crate) fn prepare(
     positions: &[[f32; 3]],
     faces: &Faces,
@@ -185,13 +196,8 @@ pub(crate) fn prepare(
     see_through: &dyn Fn(u32) -> bool,
     instances: Vec<u32>,
 ) -> Prepared {
-    let (weld, nw) = weld_positions(positions);
-    let mut rep = vec![u32::MAX; nw];
-    for (v, &w) in weld.iter().enumerate() {
-        if rep[w as usize] == u32::MAX {
-            rep[w as usize] = v as u32;
-        }
-    }
+    let (mut weld, mut nw) = weld_positions(positions);
+    let mut rep = first_copies(&weld, nw);
     // Normalize by the bounds of the bulk of the vertices faces use: a
     // vertex far from all the others (a height of -1e30 an exporter wrote)
     // would otherwise set the unit, and every real error would vanish
@@ -207,9 +213,40 @@ pub(crate) fn prepare(
             .map(|&w| positions[rep[w as usize] as usize].map(f64::from)),
         &OutlierRule::default(),
     );
-    let mut outliers = vec![false; if bounds.outliers.is_empty() { 0 } else { nw }];
-    for &k in &bounds.outliers {
-        outliers[used_ids[k] as usize] = true;
+    let mut outlier_ids: Vec<u32> = bounds.outliers.iter().map(|&k| used_ids[k]).collect();
+    // Positions equal to the precision of the file's numbers but not bit
+    // for bit are one point: a generator's `sin(π)` leaves 1e-17 on one
+    // side of a grid line and -1e-17 on the other, and the surface is slit
+    // along it (no virtual edge bridges a part to itself), a crack the
+    // simplified level opens. The tolerance is a quarter of the `f32`
+    // spacing at the bulk's largest coordinate: below any difference a
+    // point there can hold, so no two vertices an author could place apart
+    // anywhere in the model's extent merge.
+    let largest = bounds
+        .min
+        .iter()
+        .chain(&bounds.max)
+        .fold(0.0f64, |m, c| m.max(c.abs()));
+    outlier_ids.sort_unstable();
+    let is_outlier = |w: u32| outlier_ids.binary_search(&w).is_ok();
+    let bulk: Vec<(u32, [f64; 3])> = used_ids
+        .iter()
+        .filter(|&&w| !is_outlier(w))
+        .map(|&w| (w, positions[rep[w as usize] as usize].map(f64::from)))
+        .collect();
+    if let Some((remap, n)) = merge_within(&bulk, nw, largest * 2f64.powi(-25)) {
+        for w in &mut weld {
+            *w = remap[*w as usize];
+        }
+        for w in &mut outlier_ids {
+            *w = remap[*w as usize];
+        }
+        nw = n;
+        rep = first_copies(&weld, nw);
+    }
+    let mut outliers = vec![false; if outlier_ids.is_empty() { 0 } else { nw }];
+    for &w in &outlier_ids {
+        outliers[w as usize] = true;
     }
     let (lo, hi) = (DVec3::from(bounds.min), DVec3::from(bounds.max));
     let (center, diag) = if bounds.is_empty() {
@@ -260,11 +297,11 @@ pub(crate) fn prepare(
     }
     Prepared {
         appearance_budget: f64::INFINITY,
-        outlier_inputs: bounds
-            .outliers
-            .iter()
-            .map(|&k| rep[used_ids[k] as usize])
-            .collect(),
+        outlier_inputs: {
+            let mut inputs: Vec<u32> = outlier_ids.iter().map(|&w| rep[w as usize]).collect();
+            inputs.sort_unstable();
+            inputs
+        },
         outliers,
         rep,
         complex,
@@ -276,5 +313,55 @@ pub(crate) fn prepare(
         scale,
         input_triangles,
         weights,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn welded(positions: &[[f32; 3]], triangles: &[u32]) -> Vec<u32> {
+        let faces = Faces::from_triangles(triangles);
+        prepare(
+            positions,
+            &faces,
+            &Options::default(),
+            false,
+            &|_| false,
+            Vec::new(),
+        )
+        .weld
+    }
+
+    #[test]
+    fn rounding_noise_welds_and_one_float_step_at_the_largest_coordinate_does_not() {
+        // Two triangles over the edge (4.4, 1.5)–(4.4, 3): the lower one's
+        // copies of its ends sit at z = ±1e-17, the upper one's at 0, as a
+        // generator's sin(π) leaves them. One point to anything a float
+        // can hold at a coordinate of 10.
+        let noisy = [
+            [4.4, 1.5, 1e-17],
+            [4.4, 3.0, -1e-17],
+            [0.0, 2.0, 0.0],
+            [4.4, 1.5, 0.0],
+            [4.4, 3.0, 0.0],
+            [10.0, 2.0, 0.0],
+        ];
+        let w = welded(&noisy, &[0, 1, 2, 3, 5, 4]);
+        assert_eq!((w[0], w[1]), (w[3], w[4]), "{w:?}");
+        assert_eq!(w.iter().max(), Some(&3));
+        // One f32 step apart at x = 10, the largest coordinate: two points
+        // an author can place apart, so two vertices.
+        let step = f32::from_bits(10f32.to_bits() + 1);
+        let apart = [
+            [10.0, 0.0, 0.0],
+            [10.0, 1.0, 0.0],
+            [0.0, 0.5, 0.0],
+            [step, 0.0, 0.0],
+            [step, 1.0, 0.0],
+            [5.0, 0.5, 0.0],
+        ];
+        let w = welded(&apart, &[0, 1, 2, 3, 5, 4]);
+        assert_eq!(w, vec![0, 1, 2, 3, 4, 5]);
     }
 }
