@@ -42,25 +42,48 @@ pub fn merge_within(points: &[(u32, [f64; 3])], n: usize, tol: f64) -> Option<(V
     if !(tol > 0.0 && tol.is_finite()) {
         return None;
     }
-    let cell = |p: &[f64; 3]| p.map(|c| (c / tol).floor() as i64);
-    let mut reps: HashMap<[i64; 3], Vec<(u32, [f64; 3])>> = HashMap::new();
+    // Cells far wider than the tolerance: a point looks into a neighbour
+    // cell only where it lies within the tolerance of that side, so almost
+    // every point costs one lookup. Representatives of a cell are chained
+    // through `next` (no allocation per cell).
+    let size = 64.0 * tol;
+    let mut head: HashMap<[i64; 3], u32, BuildHasherDefault<PositionHasher>> =
+        HashMap::with_capacity_and_hasher(points.len(), Default::default());
+    let mut reps: Vec<(u32, [f64; 3], u32)> = Vec::with_capacity(points.len());
     let mut target: Vec<u32> = (0..n as u32).collect();
     let mut merged = false;
     for &(id, p) in points {
         if !p.iter().all(|c| c.is_finite()) {
             continue;
         }
-        let k = cell(&p);
+        let k = p.map(|c| (c / size).floor() as i64);
+        // Per axis, the cells within the tolerance: this one, and the one
+        // before or after where the point is that close to the side.
+        let near = |a: usize| -> [i64; 3] {
+            let f = p[a] - k[a] as f64 * size;
+            [
+                0,
+                if f <= tol { -1 } else { 0 },
+                if f >= size - tol { 1 } else { 0 },
+            ]
+        };
+        let (nx, ny, nz) = (near(0), near(1), near(2));
         let mut found = None;
-        'search: for dx in -1..=1 {
-            for dy in -1..=1 {
-                for dz in -1..=1 {
-                    let key = [k[0] + dx, k[1] + dy, k[2] + dz];
-                    for &(r, q) in reps.get(&key).map_or(&[][..], |v| &v[..]) {
+        'search: for (i, &dx) in nx.iter().enumerate() {
+            for (j, &dy) in ny.iter().enumerate() {
+                for (l, &dz) in nz.iter().enumerate() {
+                    // Offsets that repeat 0 name the same cell again.
+                    if (i > 0 && dx == 0) || (j > 0 && dy == 0) || (l > 0 && dz == 0) {
+                        continue;
+                    }
+                    let mut at = head.get(&[k[0] + dx, k[1] + dy, k[2] + dz]).copied();
+                    while let Some(r) = at {
+                        let (rid, q, next) = reps[r as usize];
                         if (0..3).all(|a| (p[a] - q[a]).abs() <= tol) {
-                            found = Some(r);
+                            found = Some(rid);
                             break 'search;
                         }
+                        at = (next != u32::MAX).then_some(next);
                     }
                 }
             }
@@ -71,7 +94,9 @@ pub fn merge_within(points: &[(u32, [f64; 3])], n: usize, tol: f64) -> Option<(V
                 merged = true;
             }
             None => {
-                reps.entry(k).or_default().push((id, p));
+                let slot = reps.len() as u32;
+                let previous = head.insert(k, slot).unwrap_or(u32::MAX);
+                reps.push((id, p, previous));
             }
         }
     }
@@ -170,6 +195,11 @@ mod tests {
         // Across a cell border: -1e-17 and 1e-17 with cells of 1e-6.
         let grid = [(0, [4.4, 1.5, -1e-17]), (1, [4.4, 1.5, 1e-17])];
         assert_eq!(merge_within(&grid, 2, 1e-6), Some((vec![0, 0], 1)));
+        let flipped = [(0, [4.4, 1.5, 1e-17]), (1, [4.4, 1.5, -1e-17])];
+        assert_eq!(merge_within(&flipped, 2, 1e-6), Some((vec![0, 0], 1)));
+        // Diagonally across a cell corner.
+        let corner = [(0, [-1e-9, -1e-9, -1e-9]), (1, [1e-9, 1e-9, 1e-9])];
+        assert_eq!(merge_within(&corner, 2, 1e-6), Some((vec![0, 0], 1)));
         // No tolerance, no merge.
         assert_eq!(merge_within(&grid, 2, 0.0), None);
     }
