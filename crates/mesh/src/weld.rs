@@ -47,7 +47,16 @@ pub fn merge_within(points: &[(u32, [f64; 3])], n: usize, tol: f64) -> Option<(V
     // every point costs one lookup. Representatives of a cell are chained
     // through `next` (no allocation per cell).
     let size = 64.0 * tol;
-    let mut head: HashMap<[i64; 3], u32, BuildHasherDefault<PositionHasher>> =
+    let inverse = 1.0 / size;
+    // A cell's key: its three indices mixed into one word. Two cells may
+    // share a key; their points then share a chain, and the distance test
+    // tells them apart.
+    let key = |c: [i64; 3]| -> u64 {
+        (c[0] as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15)
+            ^ (c[1] as u64).wrapping_mul(0xC2B2_AE3D_27D4_EB4F)
+            ^ (c[2] as u64).wrapping_mul(0x1656_67B1_9E37_79F9)
+    };
+    let mut head: HashMap<u64, u32, BuildHasherDefault<PositionHasher>> =
         HashMap::with_capacity_and_hasher(points.len(), Default::default());
     let mut reps: Vec<(u32, [f64; 3], u32)> = Vec::with_capacity(points.len());
     let mut target: Vec<u32> = (0..n as u32).collect();
@@ -56,7 +65,7 @@ pub fn merge_within(points: &[(u32, [f64; 3])], n: usize, tol: f64) -> Option<(V
         if !p.iter().all(|c| c.is_finite()) {
             continue;
         }
-        let k = p.map(|c| (c / size).floor() as i64);
+        let k = p.map(|c| (c * inverse).floor() as i64);
         // Per axis, the cells within the tolerance: this one, and the one
         // before or after where the point is that close to the side.
         let near = |a: usize| -> [i64; 3] {
@@ -68,23 +77,51 @@ pub fn merge_within(points: &[(u32, [f64; 3])], n: usize, tol: f64) -> Option<(V
             ]
         };
         let (nx, ny, nz) = (near(0), near(1), near(2));
+        let chain = |mut at: Option<u32>| {
+            while let Some(r) = at {
+                let (rid, q, next) = reps[r as usize];
+                if (0..3).all(|a| (p[a] - q[a]).abs() <= tol) {
+                    return Some(rid);
+                }
+                at = (next != u32::MAX).then_some(next);
+            }
+            None
+        };
+        // The neighbour cells first (rare: only near a side), then the
+        // point's own cell through one entry, which also files it there.
         let mut found = None;
         'search: for (i, &dx) in nx.iter().enumerate() {
             for (j, &dy) in ny.iter().enumerate() {
                 for (l, &dz) in nz.iter().enumerate() {
-                    // Offsets that repeat 0 name the same cell again.
+                    // Offsets that repeat 0 name the same cell again; the
+                    // cell itself comes last.
                     if (i > 0 && dx == 0) || (j > 0 && dy == 0) || (l > 0 && dz == 0) {
                         continue;
                     }
-                    let mut at = head.get(&[k[0] + dx, k[1] + dy, k[2] + dz]).copied();
-                    while let Some(r) = at {
-                        let (rid, q, next) = reps[r as usize];
-                        if (0..3).all(|a| (p[a] - q[a]).abs() <= tol) {
-                            found = Some(rid);
-                            break 'search;
-                        }
-                        at = (next != u32::MAX).then_some(next);
+                    if (dx, dy, dz) == (0, 0, 0) {
+                        continue;
                     }
+                    found = chain(head.get(&key([k[0] + dx, k[1] + dy, k[2] + dz])).copied());
+                    if found.is_some() {
+                        break 'search;
+                    }
+                }
+            }
+        }
+        let slot = reps.len() as u32;
+        let mut previous = u32::MAX;
+        match head.entry(key(k)) {
+            std::collections::hash_map::Entry::Occupied(mut e) => {
+                if found.is_none() {
+                    found = chain(Some(*e.get()));
+                }
+                if found.is_none() {
+                    previous = e.insert(slot);
+                }
+            }
+            std::collections::hash_map::Entry::Vacant(e) => {
+                if found.is_none() {
+                    e.insert(slot);
                 }
             }
         }
@@ -93,11 +130,7 @@ pub fn merge_within(points: &[(u32, [f64; 3])], n: usize, tol: f64) -> Option<(V
                 target[id as usize] = r;
                 merged = true;
             }
-            None => {
-                let slot = reps.len() as u32;
-                let previous = head.insert(k, slot).unwrap_or(u32::MAX);
-                reps.push((id, p, previous));
-            }
+            None => reps.push((id, p, previous)),
         }
     }
     if !merged {
