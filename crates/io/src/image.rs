@@ -170,13 +170,26 @@ fn decode_bytes(bytes: &[u8]) -> Result<Image, String> {
         return Err("not a PNG, JPEG, WebP or KTX2 image".into());
     }
     let decoded = reader.decode().map_err(|e| e.to_string())?;
-    let rgba = decoded.to_rgba32f();
-    let (width, height) = rgba.dimensions();
-    let pixels = rgba
-        .into_raw()
-        .chunks_exact(4)
-        .map(|p| [p[0], p[1], p[2], p[3]])
-        .collect();
+    let (width, height) = (decoded.width(), decoded.height());
+    // Straight from the decoder's own depth to one `f32` buffer: going
+    // through `to_rgba32f` held two `f32` copies at once (a 4096² texture
+    // took 512 MiB to decode into 256).
+    let pixels = match decoded {
+        image::DynamicImage::ImageRgb32F(_) | image::DynamicImage::ImageRgba32F(_) => {
+            decoded.into_rgba32f().pixels().map(|p| p.0).collect()
+        }
+        // One byte a channel: PNG, JPEG and WebP mostly.
+        d if d.color().bytes_per_pixel() == d.color().channel_count() => d
+            .into_rgba8()
+            .pixels()
+            .map(|p| p.0.map(|c| f32::from(c) / 255.0))
+            .collect(),
+        d => d
+            .into_rgba16()
+            .pixels()
+            .map(|p| p.0.map(|c| f32::from(c) / 65535.0))
+            .collect(),
+    };
     Ok(Image {
         width,
         height,
@@ -210,6 +223,36 @@ mod tests {
         assert_eq!(img.pixels[0], [1.0, 0.0, 128.0 / 255.0, 1.0]);
         // 51/255 = 0.2 exactly in sRGB terms: no linearization happened.
         assert_eq!(img.pixels[1], [0.0, 0.2, 0.0, 0.0]);
+    }
+
+    /// `img` written as a PNG and decoded back.
+    fn through_png(img: image::DynamicImage) -> Image {
+        let mut out = std::io::Cursor::new(Vec::new());
+        img.write_to(&mut out, image::ImageFormat::Png)
+            .expect("encode png");
+        decode_image(&ImageSource::Embedded {
+            bytes: out.into_inner(),
+            mime_type: "image/png".into(),
+        })
+        .expect("decodes")
+    }
+
+    #[test]
+    fn sixteen_bit_and_gray_pngs_keep_their_depth_and_fill_rgba() {
+        // A 16-bit RGB PNG: channels over 65535, alpha 1.
+        let rgb16 = image::ImageBuffer::<image::Rgb<u16>, Vec<u16>>::from_raw(
+            2,
+            1,
+            vec![65535, 1, 32768, 0, 13107, 0],
+        )
+        .expect("buffer");
+        let img = through_png(image::DynamicImage::ImageRgb16(rgb16));
+        assert_eq!(img.pixels[0], [1.0, 1.0 / 65535.0, 32768.0 / 65535.0, 1.0]);
+        assert_eq!(img.pixels[1], [0.0, 0.2, 0.0, 1.0]);
+        // An 8-bit gray PNG: gray in R, G and B.
+        let gray = image::GrayImage::from_raw(1, 1, vec![51]).expect("buffer");
+        let img = through_png(image::DynamicImage::ImageLuma8(gray));
+        assert_eq!(img.pixels[0], [0.2, 0.2, 0.2, 1.0]);
     }
 
     #[test]
