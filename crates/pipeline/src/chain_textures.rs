@@ -13,6 +13,7 @@ use std::path::Path;
 use std::time::Instant;
 
 use wildlod_io::Document;
+use wildlod_mesh::Image;
 use wildlod_simplify::Options;
 
 use crate::targets::drawn_targets;
@@ -43,7 +44,10 @@ pub fn rebake_levels(
     if mode != TextureMode::Bake && !has_base_color_texture(&doc.scene) {
         return Ok(warnings);
     }
-    let (input_images, image_warnings) = load_images(doc, input);
+    // The input's images decoded for measuring (`f32`: four times their
+    // decoded size), read when a level is measured and let go while a
+    // level is re-baked, which decodes its own; `bake` measures nothing.
+    let mut measured: Option<(Vec<Option<Image>>, Vec<String>)> = None;
     let instances = doc.scene.instance_counts();
     let mut baking = mode == TextureMode::Bake;
     // Why `auto` stopped trying re-bakes (one could not be made: the
@@ -65,9 +69,11 @@ pub fn rebake_levels(
         }
         if !baking {
             let kept = level.scene(&doc.scene);
-            choice.keep_uv_excess = texture_excess(&doc.scene, &input_images, &kept, &input_images);
+            let (input_images, image_warnings) =
+                measured.get_or_insert_with(|| load_images(doc, input));
+            choice.keep_uv_excess = texture_excess(&doc.scene, input_images, &kept, input_images);
             if choice.keep_uv_excess.is_none() {
-                choice.unmeasured = Some(unmeasured_reason(&image_warnings));
+                choice.unmeasured = Some(unmeasured_reason(image_warnings));
             }
             if !worth_rebaking(choice.keep_uv_excess) {
                 level.textures = Some(choice);
@@ -79,6 +85,7 @@ pub fn rebake_levels(
         let aimed = level.runs.iter().map(|r| r.report.target_triangles).sum();
         let targets = drawn_targets(&level.meshes, &instances, aimed);
         let t0 = Instant::now();
+        measured = None;
         let mut baked = doc.clone();
         let label = format!("{stem}_lod{}", level.level);
         let (runs, more) =
@@ -102,8 +109,9 @@ pub fn rebake_levels(
         warnings.extend(more);
         if !baking {
             let (baked_images, _) = load_images(&baked, output);
+            let (input_images, _) = measured.get_or_insert_with(|| load_images(doc, input));
             choice.rebaked_excess =
-                texture_excess(&doc.scene, &input_images, &baked.scene, &baked_images);
+                texture_excess(&doc.scene, input_images, &baked.scene, &baked_images);
             if choose(choice.keep_uv_excess, choice.rebaked_excess) != TextureMode::Bake {
                 level.textures = Some(choice);
                 continue;
