@@ -153,15 +153,7 @@ fn rgb(img: &Rgba8Image) -> Option<image::RgbImage> {
 fn decode_bytes(bytes: &[u8]) -> Result<Image, String> {
     if crate::ktx2::is_ktx2(bytes) {
         let rgba = crate::ktx2::decode_rgba8(bytes)?;
-        return Ok(Image {
-            width: rgba.width,
-            height: rgba.height,
-            pixels: rgba
-                .pixels
-                .iter()
-                .map(|p| p.map(|c| f32::from(c) / 255.0))
-                .collect(),
-        });
+        return Ok(Image::from_rgba8(rgba.width, rgba.height, rgba.pixels));
     }
     let reader = image::ImageReader::new(std::io::Cursor::new(bytes))
         .with_guessed_format()
@@ -171,19 +163,16 @@ fn decode_bytes(bytes: &[u8]) -> Result<Image, String> {
     }
     let decoded = reader.decode().map_err(|e| e.to_string())?;
     let (width, height) = (decoded.width(), decoded.height());
-    // Straight from the decoder's own depth to one `f32` buffer: going
-    // through `to_rgba32f` held two `f32` copies at once (a 4096² texture
-    // took 512 MiB to decode into 256).
+    // One byte a channel (PNG, JPEG and WebP mostly) stays bytes; deeper
+    // files become one `f32` buffer straight from the decoder's own depth.
     let pixels = match decoded {
         image::DynamicImage::ImageRgb32F(_) | image::DynamicImage::ImageRgba32F(_) => {
             decoded.into_rgba32f().pixels().map(|p| p.0).collect()
         }
-        // One byte a channel: PNG, JPEG and WebP mostly.
-        d if d.color().bytes_per_pixel() == d.color().channel_count() => d
-            .into_rgba8()
-            .pixels()
-            .map(|p| p.0.map(|c| f32::from(c) / 255.0))
-            .collect(),
+        d if d.color().bytes_per_pixel() == d.color().channel_count() => {
+            let bytes = d.into_rgba8().pixels().map(|p| p.0).collect();
+            return Ok(Image::from_rgba8(width, height, bytes));
+        }
         d => d
             .into_rgba16()
             .pixels()
@@ -194,6 +183,7 @@ fn decode_bytes(bytes: &[u8]) -> Result<Image, String> {
         width,
         height,
         pixels,
+        bytes: Vec::new(),
     })
 }
 
@@ -220,9 +210,11 @@ mod tests {
         })
         .expect("decodes");
         assert_eq!((img.width, img.height), (2, 1));
-        assert_eq!(img.pixels[0], [1.0, 0.0, 128.0 / 255.0, 1.0]);
+        assert_eq!(img.texel(0, 0), [1.0, 0.0, 128.0 / 255.0, 1.0]);
         // 51/255 = 0.2 exactly in sRGB terms: no linearization happened.
-        assert_eq!(img.pixels[1], [0.0, 0.2, 0.0, 0.0]);
+        assert_eq!(img.texel(1, 0), [0.0, 0.2, 0.0, 0.0]);
+        // Held as the file's bytes: a quarter of the memory.
+        assert!(img.pixels.is_empty() && img.bytes.len() == 2);
     }
 
     /// `img` written as a PNG and decoded back.
@@ -247,12 +239,15 @@ mod tests {
         )
         .expect("buffer");
         let img = through_png(image::DynamicImage::ImageRgb16(rgb16));
-        assert_eq!(img.pixels[0], [1.0, 1.0 / 65535.0, 32768.0 / 65535.0, 1.0]);
-        assert_eq!(img.pixels[1], [0.0, 0.2, 0.0, 1.0]);
+        assert_eq!(
+            img.texel(0, 0),
+            [1.0, 1.0 / 65535.0, 32768.0 / 65535.0, 1.0]
+        );
+        assert_eq!(img.texel(1, 0), [0.0, 0.2, 0.0, 1.0]);
         // An 8-bit gray PNG: gray in R, G and B.
         let gray = image::GrayImage::from_raw(1, 1, vec![51]).expect("buffer");
         let img = through_png(image::DynamicImage::ImageLuma8(gray));
-        assert_eq!(img.pixels[0], [0.2, 0.2, 0.2, 1.0]);
+        assert_eq!(img.texel(0, 0), [0.2, 0.2, 0.2, 1.0]);
     }
 
     #[test]
@@ -282,8 +277,8 @@ mod tests {
             mime_type: "image/png".into(),
         };
         assert_eq!(
-            decode_image(&source).expect("decodes").pixels,
-            decode_image(&png_source).expect("decodes").pixels
+            decode_image(&source).expect("decodes"),
+            decode_image(&png_source).expect("decodes")
         );
     }
 

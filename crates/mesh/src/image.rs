@@ -1,15 +1,25 @@
 //! Decoded texture images, for texture metrics and re-baking.
 
-/// An RGBA image with `f32` channels in [0, 1], rows top to bottom, as
-/// stored in the file (no color-space conversion: sRGB stays sRGB).
+/// An RGBA image with channels in [0, 1], rows top to bottom, as stored
+/// in the file (no color-space conversion: sRGB stays sRGB), read through
+/// [`Image::texel`] and [`Image::sample_bilinear`].
+///
+/// Its pixels are held either as `f32` (`pixels`: images made in code,
+/// 16-bit files) or, for 8-bit files, as the bytes themselves (`bytes`,
+/// each read as `byte / 255`): a quarter of the memory, the same values.
+/// Exactly one of the two is filled.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Image {
     /// Width in pixels.
     pub width: u32,
     /// Height in pixels.
     pub height: u32,
-    /// `width × height` pixels, row-major, first row at the top.
+    /// `width × height` pixels, row-major, first row at the top; empty when
+    /// `bytes` holds them.
     pub pixels: Vec<[f32; 4]>,
+    /// `width × height` 8-bit pixels, row-major, first row at the top;
+    /// empty when `pixels` holds them.
+    pub bytes: Vec<[u8; 4]>,
 }
 
 impl Image {
@@ -19,6 +29,18 @@ impl Image {
             width,
             height,
             pixels: vec![color; width as usize * height as usize],
+            bytes: Vec::new(),
+        }
+    }
+
+    /// An image of 8-bit pixels (`width × height`, rows top to bottom),
+    /// held as they are.
+    pub fn from_rgba8(width: u32, height: u32, bytes: Vec<[u8; 4]>) -> Self {
+        Image {
+            width,
+            height,
+            pixels: Vec::new(),
+            bytes,
         }
     }
 
@@ -27,7 +49,11 @@ impl Image {
     pub fn texel(&self, x: i64, y: i64) -> [f32; 4] {
         let xi = x.clamp(0, self.width as i64 - 1) as usize;
         let yi = y.clamp(0, self.height as i64 - 1) as usize;
-        self.pixels[yi * self.width as usize + xi]
+        let i = yi * self.width as usize + xi;
+        match self.bytes.get(i) {
+            Some(b) => b.map(|c| f32::from(c) / 255.0),
+            None => self.pixels[i],
+        }
     }
 
     /// Bilinear lookup at texture coordinate `uv` with repeat wrapping, the
@@ -103,7 +129,16 @@ mod tests {
             width: 2,
             height: 1,
             pixels: vec![[0.0; 4], [1.0; 4]],
+            bytes: Vec::new(),
         };
+        // The same image as bytes samples the same.
+        let bytes = Image::from_rgba8(2, 1, vec![[0; 4], [255; 4]]);
+        for u in [0.25, 0.5, 0.6, 0.75, 1.25] {
+            assert_eq!(
+                img.sample_bilinear([u, 0.5]),
+                bytes.sample_bilinear([u, 0.5])
+            );
+        }
         assert_eq!(img.sample_bilinear([0.25, 0.5]), [0.0; 4]);
         assert_eq!(img.sample_bilinear([0.5, 0.5]), [0.5; 4]);
         assert_eq!(img.sample_bilinear([0.75, 0.5]), [1.0; 4]);
