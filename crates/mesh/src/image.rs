@@ -87,9 +87,9 @@ impl Image {
     }
 }
 
-/// An RGBA image with 8 bits per channel, rows top to bottom: a quarter of
-/// [`Image`]'s memory, for textures that are baked from or into (a 8192²
-/// texture takes 256 MiB here, 1 GiB as `f32`). Values are as stored: sRGB
+/// An RGBA image with 8 bits per channel, rows top to bottom, for textures
+/// that are baked from or into (a 8192² texture takes 256 MiB here, 1 GiB
+/// as `f32`); [`Image`] is what metrics sample. Values are as stored: sRGB
 /// stays sRGB.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Rgba8Image {
