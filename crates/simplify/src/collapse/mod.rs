@@ -364,7 +364,7 @@ impl<'o> Run<'o> {
             budget,
             &p.outliers,
         );
-        crate::terms::posed::add_pose_terms(&mut quadrics, &p, options);
+        crate::terms::posed::add_pose_terms(&mut quadrics, &p, options, &metric, budget);
         if let Some(a) = &attrs {
             let planes = a.seam_planes(&p.complex, options.attributes.seam_weight);
             for (v, (q, plane)) in quadrics.iter_mut().zip(planes).enumerate() {

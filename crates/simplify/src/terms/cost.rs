@@ -161,28 +161,7 @@ fn vertex_quadric_terms<T: Send>(
     outliers: &[bool],
     store: impl Fn(usize, Quadric) -> T + Sync,
 ) -> (Vec<T>, Vec<Isotropic>) {
-    // A face reaching an outlier vertex (see `Prepared::outliers`) is no
-    // surface to keep: its plane would outweigh every other by orders of
-    // magnitude.
-    let reaches_outlier =
-        |f: u32| !outliers.is_empty() && c.face(f).iter().any(|&v| outliers[v as usize]);
-    let planes: Vec<Option<(DVec3, f64, DVec3)>> = (0..c.faces.len() as u32)
-        .into_par_iter()
-        .map(|f| {
-            if c.faces[f as usize].len == 0 || reaches_outlier(f) {
-                None
-            } else {
-                face_plane(c, f)
-            }
-        })
-        .collect();
-    let planes = weigh_planes(
-        c,
-        planes,
-        metric.area_exponent,
-        metric.face_weight_floor,
-        budget,
-    );
+    let planes = weighed_planes(c, metric, budget, outliers);
     let tangent = if metric.tangent_weight > 0.0 {
         let normals: Vec<Option<DVec3>> = planes.iter().map(|p| p.map(|p| p.0)).collect();
         tangent_quadrics(c, &normals, importance, metric.tangent_weight)
@@ -255,6 +234,58 @@ fn vertex_quadric_terms<T: Send>(
             finish(v, q, area)
         })
         .unzip()
+}
+
+/// Every live face's plane (unit normal, weight, centroid) as the vertex
+/// quadrics take it: weighed by the metric (see [`weigh_planes`]), none
+/// for a face that reaches an outlier vertex (see `Prepared::outliers`),
+/// which is no surface to keep: its plane would outweigh every other by
+/// orders of magnitude.
+fn weighed_planes(
+    c: &Complex,
+    metric: &Metric,
+    budget: usize,
+    outliers: &[bool],
+) -> Vec<Option<(DVec3, f64, DVec3)>> {
+    let reaches_outlier =
+        |f: u32| !outliers.is_empty() && c.face(f).iter().any(|&v| outliers[v as usize]);
+    let planes: Vec<Option<(DVec3, f64, DVec3)>> = (0..c.faces.len() as u32)
+        .into_par_iter()
+        .map(|f| {
+            if c.faces[f as usize].len == 0 || reaches_outlier(f) {
+                None
+            } else {
+                face_plane(c, f)
+            }
+        })
+        .collect();
+    weigh_planes(
+        c,
+        planes,
+        metric.area_exponent,
+        metric.face_weight_floor,
+        budget,
+    )
+}
+
+/// What the vertex quadrics weigh each face's plane by, per unit of its
+/// area: 1 under W's area weighting, other values under
+/// [`Metric::area_exponent`] and [`Metric::face_weight_floor`], 0 for a
+/// face they leave out (dead, degenerate, reaching an outlier).
+pub(crate) fn plane_weight_factors(
+    c: &Complex,
+    metric: &Metric,
+    budget: usize,
+    outliers: &[bool],
+) -> Vec<f64> {
+    weighed_planes(c, metric, budget, outliers)
+        .into_par_iter()
+        .enumerate()
+        .map(|(f, weighed)| match (weighed, face_plane(c, f as u32)) {
+            (Some((_, w, _)), Some((_, a, _))) if a > 0.0 => w / a,
+            _ => 0.0,
+        })
+        .collect()
 }
 
 /// The weight each face plane carries, in place of its area (see

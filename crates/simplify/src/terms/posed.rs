@@ -19,11 +19,12 @@
 use glam::{DMat3, DMat4, DVec3};
 use rayon::prelude::*;
 
-use crate::options::Options;
+use crate::options::{Metric, Options};
 use crate::prepare::complex::Complex;
 #[cfg(test)]
 use crate::prepare::geometry::face_plane;
 use crate::prepare::Prepared;
+use crate::terms::cost::plane_weight_factors;
 use crate::terms::quadric::Quadric;
 use crate::terms::stored::StoredQuadric;
 
@@ -57,14 +58,17 @@ pub(crate) fn pulled_back(q: &Quadric, m: DMat3, t: DVec3) -> Quadric {
 }
 
 /// Every vertex's share of its faces' planes with the complex's vertices
-/// at `pos` (area / arity of each face, as the rest quadrics weigh them),
-/// pulled back by each vertex's transform (`None`: it does not move).
+/// at `pos` (area × `factor[f]` / arity of each face, as the rest quadrics
+/// weigh them, see `cost::plane_weight_factors`; empty `factor`: the area
+/// alone), pulled back by each vertex's transform (`None`: it does not
+/// move).
 fn planes_at(
     c: &Complex,
     pos: &[DVec3],
     moves: &[Option<(DMat3, DVec3)>],
     faces_of: &(dyn Fn(usize) -> Vec<u32> + Sync),
     only: Option<&[bool]>,
+    factor: &[f64],
 ) -> Vec<Quadric> {
     let wanted = |v: usize| only.map_or(true, |o| o[v]);
     let planes: Vec<Option<(DVec3, f64, DVec3)>> = (0..c.faces.len() as u32)
@@ -92,7 +96,10 @@ fn planes_at(
             for f in faces_of(v) {
                 if let Some((n, area, centroid)) = planes[f as usize] {
                     let k = c.face(f).len() as f64;
-                    q += Quadric::plane(n, centroid, area / k);
+                    let weight = area * factor.get(f as usize).copied().unwrap_or(1.0);
+                    if weight > 0.0 {
+                        q += Quadric::plane(n, centroid, weight / k);
+                    }
                 }
             }
             let q = Quadric { weight: 0.0, ..q };
@@ -126,7 +133,13 @@ struct Pose {
 
 /// What to add to each vertex's rest quadric so that its face planes are
 /// their mean over the rest pose and the `count` poses `pose_of(k)` (see
-/// the module documentation): `mean − rest`, per vertex. Every pose counts
+/// the module documentation): `mean − rest`, per vertex, each face's
+/// plane weighed by its area times `factor[f]` in every pose (see
+/// [`planes_at`]). The rest planes subtracted must not exceed what the
+/// vertex quadric holds: a face the quadric weighs below its area (every
+/// face alike, a large face) taken out by its area leaves a negative
+/// share of its plane behind, and the quadric, no longer positive,
+/// rewards moving off the surface. Every pose counts
 /// at every vertex, where it moves nothing with the rest planes: a target
 /// weighs against the rest pose by its share of all the poses. (Counting
 /// a target only where it acts, as much as the rest pose there, was
@@ -137,6 +150,7 @@ fn mean_pose_terms(
     c: &Complex,
     count: usize,
     pose_of: &(dyn Fn(usize) -> Pose + Sync),
+    factor: &[f64],
 ) -> Vec<Quadric> {
     if count == 0 || c.pos.is_empty() {
         return Vec::new();
@@ -155,7 +169,7 @@ fn mean_pose_terms(
     };
     let n = c.pos.len();
     let still = vec![None; n];
-    let rest = planes_at(c, &c.pos, &still, &faces_of, None);
+    let rest = planes_at(c, &c.pos, &still, &faces_of, None, factor);
     let mut sum = rest.clone();
     for k in 0..count {
         let Pose { mut moves, local } = pose_of(k);
@@ -179,7 +193,7 @@ fn mean_pose_terms(
             .zip(&moves)
             .map(|(&x, mv)| mv.map_or(x, |(m, t)| m * x + t))
             .collect();
-        let posed = planes_at(c, &pos, &moves, &faces_of, reached.as_deref());
+        let posed = planes_at(c, &pos, &moves, &faces_of, reached.as_deref(), factor);
         match &reached {
             None => sum.par_iter_mut().zip(posed).for_each(|(s, p)| *s += p),
             Some(r) => sum
@@ -260,18 +274,32 @@ pub(crate) fn pose_terms(
     center: DVec3,
     scale: f64,
 ) -> Vec<Quadric> {
-    mean_pose_terms(c, poses.len(), &|k| Pose {
-        moves: skin_moves(&poses[k], joints, center, scale),
-        local: false,
-    })
+    mean_pose_terms(
+        c,
+        poses.len(),
+        &|k| Pose {
+            moves: skin_moves(&poses[k], joints, center, scale),
+            local: false,
+        },
+        &[],
+    )
 }
 
 /// Adds the pose terms ([`mean_pose_terms`]) to a run's vertex quadrics:
 /// the skin's poses ([`crate::InputData::skin_poses`], each vertex moving
 /// with the influences of its first input vertex,
 /// [`crate::InputData::vertex_joints`]) and the morph targets at full
-/// weight ([`crate::InputData::morph_targets`]), all counting alike.
-pub(crate) fn add_pose_terms(quadrics: &mut [StoredQuadric], p: &Prepared, options: &Options) {
+/// weight ([`crate::InputData::morph_targets`]), all counting alike. The
+/// faces weigh as `metric` weighs them in the rest quadrics (for the
+/// `budget` the run simplifies to), and each vertex's terms are scaled by
+/// its weight as its rest quadric is (see `Prepared::weights`).
+pub(crate) fn add_pose_terms(
+    quadrics: &mut [StoredQuadric],
+    p: &Prepared,
+    options: &Options,
+    metric: &Metric,
+    budget: usize,
+) {
     let data = &options.data;
     let skin = if data.vertex_joints.is_empty() {
         &[][..]
@@ -296,6 +324,18 @@ pub(crate) fn add_pose_terms(quadrics: &mut [StoredQuadric], p: &Prepared, optio
                 .map_or(none, Vec::as_slice)
         })
         .collect();
+    // Poses take over a face's plane at most as far as the rest quadric
+    // holds it: by area where the metric weighs by area, less where it
+    // weighs a large face less (a smaller area exponent), never more. Not
+    // the lift a floor gives small faces either: that ranks collapses at
+    // rest so that fine details do not go first, and lifted in every pose
+    // as well, a grid with a twisting target and finely spaced columns
+    // kept its fine columns for 2.6× the Hausdorff distance in the coarse
+    // ones, at rest and posed alike.
+    let factor: Vec<f64> = plane_weight_factors(&p.complex, metric, budget, &p.outliers)
+        .into_iter()
+        .map(|f| f.min(1.0))
+        .collect();
     let terms = mean_pose_terms(
         &p.complex,
         skin.len() + morphs.len(),
@@ -309,8 +349,18 @@ pub(crate) fn add_pose_terms(quadrics: &mut [StoredQuadric], p: &Prepared, optio
                 local: true,
             },
         },
+        &factor,
     );
-    for ((q, t), &at) in quadrics.iter_mut().zip(terms).zip(&p.complex.pos) {
+    for (v, ((q, t), &at)) in quadrics
+        .iter_mut()
+        .zip(terms)
+        .zip(&p.complex.pos)
+        .enumerate()
+    {
+        let t = match p.weights.get(v) {
+            Some(&w) if w != 1.0 => t.scaled(w),
+            _ => t,
+        };
         *q = StoredQuadric::new(&(q.quadric(at) + t), at);
     }
 }
@@ -378,10 +428,15 @@ mod tests {
         };
         let (a, b) = (lift(2), lift(6));
         let terms = |local: bool| {
-            mean_pose_terms(&c, 2, &|k| Pose {
-                moves: morph_moves(if k == 0 { &a } else { &b }, &rep, 1.0),
-                local,
-            })
+            mean_pose_terms(
+                &c,
+                2,
+                &|k| Pose {
+                    moves: morph_moves(if k == 0 { &a } else { &b }, &rep, 1.0),
+                    local,
+                },
+                &[],
+            )
         };
         assert_eq!(terms(true), terms(false));
         assert!(terms(true)[2].a.iter().any(|x| x.abs() > 1e-6));
@@ -394,10 +449,15 @@ mod tests {
         let c = square();
         let up = vec![[0.0f32, 0.0, 2.0]; 4];
         let rep = [0u32, 1, 2, 3];
-        let terms = mean_pose_terms(&c, 1, &|_| Pose {
-            moves: morph_moves(&up, &rep, 1.0),
-            local: true,
-        });
+        let terms = mean_pose_terms(
+            &c,
+            1,
+            &|_| Pose {
+                moves: morph_moves(&up, &rep, 1.0),
+                local: true,
+            },
+            &[],
+        );
         for t in terms {
             assert!(t.a.iter().all(|x| x.abs() < 1e-12), "{t:?}");
             assert!(t.c.abs() < 1e-12 && t.b.length() < 1e-12);
@@ -414,14 +474,26 @@ mod tests {
         let mut lift = vec![[0.0f32; 3]; 4];
         lift[2] = [0.0, 0.0, 1.0];
         let rep = [0u32, 1, 2, 3];
-        let terms = mean_pose_terms(&c, 1, &|_| Pose {
-            moves: morph_moves(&lift, &rep, 1.0),
-            local: true,
-        });
+        let terms = mean_pose_terms(
+            &c,
+            1,
+            &|_| Pose {
+                moves: morph_moves(&lift, &rep, 1.0),
+                local: true,
+            },
+            &[],
+        );
         // At its own rest position corner 2 costs nothing in either pose.
         let q2 = terms[2];
         let rest_at_2 = DVec3::new(1.0, 1.0, 0.0);
-        let rest2 = planes_at(&c, &c.pos, &[None; 4], &|v| c.vert_faces[v].to_vec(), None)[2];
+        let rest2 = planes_at(
+            &c,
+            &c.pos,
+            &[None; 4],
+            &|v| c.vert_faces[v].to_vec(),
+            None,
+            &[],
+        )[2];
         assert!((q2.eval(rest_at_2) + rest2.eval(rest_at_2)).abs() < 1e-12);
         // Placed at corner 0's rest position and moved by corner 2's
         // delta, the point (0, 0, 1) is off the posed triangle 0-1-2
@@ -492,5 +564,83 @@ mod tests {
         assert!(terms[2].eval(target) > 1e-3, "{:?}", terms[2]);
         // Staying put costs nothing in any pose.
         assert!(terms[2].eval(DVec3::new(1.0, 0.0, 0.0)).abs() < 1e-12);
+    }
+
+    #[test]
+    fn pose_terms_take_out_no_more_of_a_plane_than_the_quadric_holds() {
+        use crate::terms::cost::{plane_weight_factors, vertex_quadrics};
+        use crate::terms::tangent::EdgeImportance;
+        // A large triangle (area 10) among eight small ones (0.1 each, far
+        // off): weighing every face alike (area exponent 0), the large one
+        // weighs the mean, 1.2, where its area is 10.
+        let mut pos = vec![
+            DVec3::ZERO,
+            DVec3::new(10.0, 0.0, 0.0),
+            DVec3::new(0.0, 2.0, 0.0),
+        ];
+        let mut idx = vec![0u32, 1, 2];
+        for k in 0..8 {
+            let o = DVec3::new(20.0 + 2.0 * k as f64, 0.0, 0.0);
+            let n = pos.len() as u32;
+            pos.extend([
+                o,
+                o + DVec3::new(0.2, 0.0, 0.0),
+                o + DVec3::new(0.0, 1.0, 0.0),
+            ]);
+            idx.extend([n, n + 1, n + 2]);
+        }
+        let offsets: Vec<u32> = (0..=9).map(|f| 3 * f).collect();
+        let c = Complex::new(pos, &offsets, &idx).0;
+        let metric = Metric {
+            area_exponent: 0.0,
+            face_weight_floor: 0.0,
+            regularization: 0.0,
+            border_weight: 0.0,
+            crease_weight: 0.0,
+            ..Metric::default()
+        };
+        let rest = vertex_quadrics(&c, &metric, &[], EdgeImportance::default());
+        let factor = plane_weight_factors(&c, &metric, usize::MAX, &[]);
+        assert!((factor[0] - 0.12).abs() < 1e-12 && (factor[1] - 12.0).abs() < 1e-9);
+        // A target lifts the large triangle's far corner: the triangle
+        // tilts about its edge 0-2.
+        let mut lift = vec![[0.0f32; 3]; c.pos.len()];
+        lift[1] = [0.0, 0.0, 5.0];
+        let rep: Vec<u32> = (0..c.pos.len() as u32).collect();
+        let terms = |factor: &[f64]| {
+            mean_pose_terms(
+                &c,
+                1,
+                &|_| Pose {
+                    moves: morph_moves(&lift, &rep, 1.0),
+                    local: true,
+                },
+                factor,
+            )
+        };
+        // Vertex 0 holds the large triangle's plane only: with the faces
+        // weighed alike, half of it at rest and half tilted, both at 1.2/3;
+        // a point on the tilted plane costs half the rest plane's share.
+        let on_tilted = DVec3::new(2.0, 0.0, 1.0);
+        let q = rest[0] + terms(&factor)[0];
+        let half_rest = 0.5 * 0.4 * on_tilted.z * on_tilted.z;
+        assert!(
+            (q.eval(on_tilted) - half_rest).abs() < 1e-9,
+            "{}",
+            q.eval(on_tilted)
+        );
+        // Nowhere negative.
+        for p in [
+            DVec3::new(3.0, -1.0, 0.6),
+            DVec3::new(-4.0, 2.0, -0.8),
+            on_tilted,
+        ] {
+            assert!(q.eval(p) >= -1e-12, "{p}: {}", q.eval(p));
+        }
+        // Subtracting the rest plane by its area instead (10/3, where the
+        // quadric holds 1.2/3) leaves a negative share of it: the quadric
+        // then pays for leaving the surface.
+        let wrong = rest[0] + terms(&[])[0];
+        assert!(wrong.eval(on_tilted) < -0.1, "{}", wrong.eval(on_tilted));
     }
 }
