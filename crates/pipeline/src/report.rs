@@ -69,6 +69,12 @@ pub struct MeshJson {
     /// linear in the input (many parts much smaller than the radius); null
     /// when the requested radius was used.
     pub virtual_radius_reduced: Option<f64>,
+    /// Where `--lock-borders`, `--keep-topology` or `--seams keep` kept the
+    /// run from its target: the error (relative to the diagonal of its
+    /// mesh group, the largest over groups) a run without them reaches at
+    /// the target, where this run stopped instead of making every collapse
+    /// left; null otherwise.
+    pub held_by_constraints: Option<f64>,
     /// Wall time.
     pub seconds: f64,
 }
@@ -95,6 +101,7 @@ impl MeshJson {
             outliers: r.report.outliers.len(),
             layer_vertices: r.report.layer_vertices,
             virtual_radius_reduced: r.report.virtual_radius_reduced,
+            held_by_constraints: r.report.held_by_constraints,
             steering: r.report.steering.map(|s| SteeringJson {
                 kept: s.kept,
                 hausdorff: s.hausdorff,

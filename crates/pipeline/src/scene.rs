@@ -230,6 +230,11 @@ pub fn whole_report(r: &SceneReport) -> Report {
             .iter()
             .filter_map(|g| g.report.virtual_radius_reduced)
             .reduce(f64::min),
+        held_by_constraints: r
+            .groups
+            .iter()
+            .filter_map(|g| g.report.held_by_constraints)
+            .reduce(f64::max),
         // The file's steering: kept where every group kept its own.
         steering: r
             .groups

@@ -13,7 +13,7 @@ from conftest import grid, torus
 REPORT_KEYS = {"name", "mesh", "input_triangles", "target_triangles", "output_triangles",
                "error", "stop", "collapses", "split_polygons", "hidden_twins", "twin_slack", "seconds",
                "outliers", "steering", "uv_damage", "evaluations", "faces_tested", "rejected",
-               "virtual_radius_reduced", "layer_vertices"}
+               "virtual_radius_reduced", "layer_vertices", "held_by_constraints"}
 
 
 def check_faces(out, sizes=None):

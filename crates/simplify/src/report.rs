@@ -155,6 +155,13 @@ pub struct Report {
     /// [`crate::AttributeOptions::geometry_tolerance`]). `None` when
     /// nothing steered.
     pub steering: Option<SteeringOutcome>,
+    /// Where constraints (locked borders, kept topology, kept seams) kept
+    /// the run from its triangle target: the error, relative to the
+    /// diagonal, that a run without them reaches at the target, where this
+    /// one stopped instead of making every collapse left (see
+    /// [`crate::simplify_with_attributes_and_progress`]). `None`
+    /// otherwise.
+    pub held_by_constraints: Option<f64>,
     /// With [`crate::Record::error_curve`]: after every collapse of
     /// the global loop, the triangles left and [`Report::error`] so far, in
     /// order (so both columns are monotone). Empty otherwise.

@@ -14,12 +14,14 @@ use crate::assemble::layers::keep_layers;
 use crate::assemble::{assemble, Simplified};
 use crate::collapse::Run;
 use crate::error::Error;
+use crate::input::SeamPolicy;
 use crate::input::{AttributeInput, AttributeStream, SkinStream, StreamKind};
-use crate::options::Options;
+use crate::options::{AttributeOptions, Guards, Options, Target};
 use crate::prepare::large_polygons::split_large;
 use crate::prepare::{check_input, prepare};
 use crate::refit::refit_run;
 use crate::report::SteeringOutcome;
+use crate::report::StopReason;
 use crate::terms::attributes::AttributeState;
 
 /// Simplifies polygon faces over `positions` (W §4): vertex-pair collapse on
@@ -108,7 +110,80 @@ pub fn simplify_with_attributes(
 
 /// [`simplify_with_attributes`] with a progress callback (see
 /// [`simplify_polygons_with_progress`]).
+///
+/// Constraints cost triangles, not distance: where locked borders, kept
+/// topology or kept seams keep a run from its triangle target, the run
+/// does not go on to its floor, making the collapses left whatever they
+/// cost (a sofa with its cushions' borders locked lost its whole body at
+/// 10%). It stops where its error reaches what a run without those
+/// constraints reaches at the target, and
+/// [`crate::Report::held_by_constraints`] says so.
 pub fn simplify_with_attributes_and_progress(
+    positions: &[[f32; 3]],
+    faces: &Faces,
+    attributes: &AttributeInput<'_>,
+    options: &Options,
+    progress: &dyn Fn(f64),
+) -> Result<Simplified, Error> {
+    let out = simplify_steered(positions, faces, attributes, options, progress)?;
+    let t = &options.target;
+    let counted = t.ratio.is_some() || t.triangles.is_some();
+    let r = &out.report;
+    if !constrained(options)
+        || !counted
+        || t.error.is_some()
+        || options.record.error_curve
+        || r.stop != Some(StopReason::NoCollapsibleEdges)
+        || r.output_triangles <= r.target_triangles + 1
+    {
+        return Ok(out);
+    }
+    let free = Options {
+        guards: Guards {
+            lock_borders: false,
+            keep_topology: false,
+            ..options.guards
+        },
+        attributes: AttributeOptions {
+            seams: if options.attributes.seams == SeamPolicy::Keep {
+                SeamPolicy::default()
+            } else {
+                options.attributes.seams
+            },
+            ..options.attributes
+        },
+        ..options.clone()
+    };
+    let level = simplify_steered(positions, faces, attributes, &free, &|_| {})?
+        .report
+        .error;
+    if !(level.is_finite() && out.report.error > level) {
+        return Ok(out);
+    }
+    let held = Options {
+        target: Target {
+            error: Some(level),
+            ..options.target
+        },
+        ..options.clone()
+    };
+    let mut out = simplify_steered(positions, faces, attributes, &held, &|_| {})?;
+    out.report.held_by_constraints = Some(level);
+    Ok(out)
+}
+
+/// Whether `options` hold the surface with constraints that can keep a
+/// run from its target: locked borders, kept topology, kept seams.
+fn constrained(options: &Options) -> bool {
+    options.guards.lock_borders
+        || options.guards.keep_topology
+        || options.attributes.seams == SeamPolicy::Keep
+}
+
+/// [`simplify_with_attributes_and_progress`] without the constraints'
+/// limit: the steering check (two runs, appearance within a geometric
+/// budget) around [`simplify_once`].
+fn simplify_steered(
     positions: &[[f32; 3]],
     faces: &Faces,
     attributes: &AttributeInput<'_>,

@@ -122,6 +122,58 @@ fn locked_borders_never_move_border_vertices() {
 }
 
 #[test]
+fn constraints_that_keep_the_target_out_of_reach_cost_triangles_not_distance() {
+    // Four finely tessellated flat sheets and a bumpy ball, at 5%. Without
+    // locks the sheets go to two triangles each for nothing and the ball
+    // takes the rest of the budget. With their borders locked the sheets
+    // keep 30 triangles each, more than the whole target: a run that went
+    // on to its floor would crush the ball for nothing. It stops where its
+    // error reaches the unlocked run's instead.
+    let mut parts = vec![bumpy_sphere(12)];
+    for k in 0..4 {
+        let mut sheet = shapes::quad_grid(8, 8);
+        for p in &mut sheet.positions {
+            *p = [p[0] + 1.5 + 1.2 * k as f32, p[1], 0.0];
+        }
+        parts.push(shapes::triangulate(&sheet));
+    }
+    let input = shapes::merge(&parts);
+    let free = ratio(0.05);
+    let locked = Options {
+        guards: Guards {
+            lock_borders: true,
+            ..Guards::default()
+        },
+        ..ratio(0.05)
+    };
+    let (a, ra) = simplify_mesh(&input, &free).unwrap();
+    let (b, rb) = simplify_mesh(&input, &locked).unwrap();
+    assert!(ra.held_by_constraints.is_none());
+    assert_eq!(rb.held_by_constraints, Some(ra.error), "{rb:?}");
+    assert_eq!(rb.stop, Some(StopReason::ErrorLimit));
+    assert!(rb.output_triangles > rb.target_triangles + 1);
+    assert!(rb.error <= ra.error);
+    let options = wildlod_eval::CompareOptions {
+        samples: 40_000,
+        texture_samples: 0,
+        ..wildlod_eval::CompareOptions::default()
+    };
+    let distance = |m: &Mesh| {
+        wildlod_eval::compare(
+            &wildlod_eval::EvalMesh::from_mesh(&input),
+            &wildlod_eval::EvalMesh::from_mesh(m),
+            &options,
+        )
+        .hausdorff
+    };
+    let (free_distance, locked_distance) = (distance(&a), distance(&b));
+    assert!(
+        locked_distance <= 1.5 * free_distance,
+        "locked {locked_distance} against {free_distance} unlocked"
+    );
+}
+
+#[test]
 fn error_limit_bounds_every_collapse_and_stops_early() {
     let mesh = bumpy_sphere(12);
     let tight = Options {

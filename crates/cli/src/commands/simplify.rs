@@ -425,7 +425,12 @@ pub fn summary(name: &str, r: &Report, seconds: f64) -> String {
         seconds * 1000.0
     );
     let short = r.output_triangles > r.target_triangles + 1;
-    if short && r.stop == Some(StopReason::NoCollapsibleEdges) {
+    if let (true, Some(level)) = (short, r.held_by_constraints) {
+        s.push_str(&format!(
+            " (target {} out of reach of the constraints: stopped at error {level:.4}, what the target costs without them)",
+            r.target_triangles
+        ));
+    } else if short && r.stop == Some(StopReason::NoCollapsibleEdges) {
         let j = &r.rejected;
         s.push_str(&format!(
             " (target {} not reached: no collapsible edge left; refused by normal flip {}, topology {}, locked border {}, overshoot {}, flat border {})",
