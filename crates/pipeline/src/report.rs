@@ -71,9 +71,9 @@ pub struct MeshJson {
     pub virtual_radius_reduced: Option<f64>,
     /// Where `--lock-borders`, `--keep-topology` or `--seams keep` kept the
     /// run from its target: the error (relative to the diagonal of its
-    /// mesh group, the largest over groups) a run without them reaches at
-    /// the target, where this run stopped instead of making every collapse
-    /// left; null otherwise.
+    /// mesh group, the largest over groups) a run without them has at as
+    /// many triangles as they leave, where this run stopped instead of
+    /// making every collapse left; null otherwise.
     pub held_by_constraints: Option<f64>,
     /// Wall time.
     pub seconds: f64,

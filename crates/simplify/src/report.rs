@@ -157,7 +157,8 @@ pub struct Report {
     pub steering: Option<SteeringOutcome>,
     /// Where constraints (locked borders, kept topology, kept seams) kept
     /// the run from its triangle target: the error, relative to the
-    /// diagonal, that a run without them reaches at the target, where this
+    /// diagonal, that a run without them has at as many triangles as they
+    /// leave (the constrained run's floor), where this
     /// one stopped instead of making every collapse left (see
     /// [`crate::simplify_with_attributes_and_progress`]). `None`
     /// otherwise.

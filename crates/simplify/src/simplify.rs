@@ -16,7 +16,7 @@ use crate::collapse::Run;
 use crate::error::Error;
 use crate::input::SeamPolicy;
 use crate::input::{AttributeInput, AttributeStream, SkinStream, StreamKind};
-use crate::options::{AttributeOptions, Guards, Options, Target};
+use crate::options::{AttributeOptions, Guards, Options, Partition, Record, Target};
 use crate::prepare::large_polygons::split_large;
 use crate::prepare::{check_input, prepare};
 use crate::refit::refit_run;
@@ -116,7 +116,7 @@ pub fn simplify_with_attributes(
 /// does not go on to its floor, making the collapses left whatever they
 /// cost (a sofa with its cushions' borders locked lost its whole body at
 /// 10%). It stops where its error reaches what a run without those
-/// constraints reaches at the target, and
+/// constraints reaches at as many triangles as they leave (its floor), and
 /// [`crate::Report::held_by_constraints`] says so.
 pub fn simplify_with_attributes_and_progress(
     positions: &[[f32; 3]],
@@ -152,11 +152,26 @@ pub fn simplify_with_attributes_and_progress(
             },
             ..options.attributes
         },
+        // The whole error curve: every collapse in the one loop.
+        record: Record {
+            error_curve: true,
+            ..options.record
+        },
+        partition: Partition {
+            min_triangles: usize::MAX,
+            ..options.partition
+        },
         ..options.clone()
     };
-    let level = simplify_steered(positions, faces, attributes, &free, &|_| {})?
-        .report
-        .error;
+    // Its error where it had as many triangles as the constraints leave:
+    // the held run is then no worse than the free one at the same size.
+    let floor = out.report.output_triangles;
+    let free = simplify_steered(positions, faces, attributes, &free, &|_| {})?.report;
+    let level = free
+        .error_curve
+        .iter()
+        .find(|&&(t, _)| t <= floor)
+        .map_or(free.error, |&(_, e)| e);
     if !(level.is_finite() && out.report.error > level) {
         return Ok(out);
     }
