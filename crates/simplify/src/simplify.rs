@@ -152,10 +152,11 @@ pub fn simplify_with_attributes_and_progress(
             },
             ..options.attributes
         },
-        // The whole error curve: every collapse in the one loop.
+        // The whole error curve: every collapse in the one loop; no
+        // history, as only the curve is read.
         record: Record {
             error_curve: true,
-            ..options.record
+            history: false,
         },
         partition: Partition {
             min_triangles: usize::MAX,
