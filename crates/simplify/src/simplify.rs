@@ -14,14 +14,12 @@ use crate::assemble::layers::keep_layers;
 use crate::assemble::{assemble, Simplified};
 use crate::collapse::Run;
 use crate::error::Error;
-use crate::input::SeamPolicy;
-use crate::input::{AttributeInput, AttributeStream, SkinStream, StreamKind};
+use crate::input::{AttributeInput, AttributeStream, SeamPolicy, SkinStream, StreamKind};
 use crate::options::{AttributeOptions, Guards, Options, Partition, Record, Target};
 use crate::prepare::large_polygons::split_large;
 use crate::prepare::{check_input, prepare};
 use crate::refit::refit_run;
-use crate::report::SteeringOutcome;
-use crate::report::StopReason;
+use crate::report::{SteeringOutcome, StopReason};
 use crate::terms::attributes::AttributeState;
 
 /// Simplifies polygon faces over `positions` (W §4): vertex-pair collapse on

@@ -58,10 +58,9 @@ pub(crate) fn pulled_back(q: &Quadric, m: DMat3, t: DVec3) -> Quadric {
 }
 
 /// Every vertex's share of its faces' planes with the complex's vertices
-/// at `pos` (area × `factor[f]` / arity of each face, as the rest quadrics
-/// weigh them, see `cost::plane_weight_factors`; empty `factor`: the area
-/// alone), pulled back by each vertex's transform (`None`: it does not
-/// move).
+/// at `pos` (area × `factor[f]` / arity of each face; empty `factor`: the
+/// area alone), pulled back by each vertex's transform (`None`: it does
+/// not move).
 fn planes_at(
     c: &Complex,
     pos: &[DVec3],
@@ -289,9 +288,10 @@ pub(crate) fn pose_terms(
 /// the skin's poses ([`crate::InputData::skin_poses`], each vertex moving
 /// with the influences of its first input vertex,
 /// [`crate::InputData::vertex_joints`]) and the morph targets at full
-/// weight ([`crate::InputData::morph_targets`]), all counting alike. The
-/// faces weigh as `metric` weighs them in the rest quadrics (for the
-/// `budget` the run simplifies to), and each vertex's terms are scaled by
+/// weight ([`crate::InputData::morph_targets`]), all counting alike. A
+/// face weighs by its area, or less where `metric` weighs it less in the
+/// rest quadrics (for the `budget` the run simplifies to, see
+/// `cost::plane_weight_factors`), and each vertex's terms are scaled by
 /// its weight as its rest quadric is (see `Prepared::weights`).
 pub(crate) fn add_pose_terms(
     quadrics: &mut [StoredQuadric],
