@@ -636,6 +636,59 @@ fn simplify_json_reports_the_loops_work_and_its_refusals() {
 }
 
 #[test]
+fn a_target_locked_borders_put_out_of_reach_is_held_and_the_report_says_so() {
+    // A bumpy torus and four finely tessellated flat sheets at 2%: with
+    // their borders locked the sheets alone keep more than the target.
+    let dir = tempfile::tempdir().unwrap();
+    let mut parts = vec![shapes::torus(48, 24, 1.0, 0.35)];
+    for (k, p) in parts[0].positions.iter_mut().enumerate() {
+        p[2] *= 1.0 + 0.1 * ((k % 7) as f32 / 7.0);
+    }
+    for k in 0..4 {
+        let mut sheet = shapes::quad_grid(8, 8);
+        for p in &mut sheet.positions {
+            *p = [p[0] + 2.0 + 1.2 * k as f32, p[1], 0.0];
+        }
+        parts.push(sheet);
+    }
+    let input = dir.path().join("parts.obj");
+    wildlod_io::write(
+        &Document::from_scene(Scene::from_mesh(shapes::merge(&parts))),
+        &input,
+        &WriteOptions::default(),
+    )
+    .unwrap();
+    let out = dir.path().join("out.obj");
+    let run = |extra: &[&str]| {
+        let mut args = vec!["simplify", s(&input), "-o", s(&out), "--ratio", "0.02"];
+        args.extend_from_slice(extra);
+        let o = wildlod(&args);
+        assert!(o.status.success(), "{}", stderr(&o));
+        o
+    };
+    let mesh = |o: &std::process::Output| -> serde_json::Value {
+        serde_json::from_str::<serde_json::Value>(&stdout(o)).unwrap()["meshes"][0].clone()
+    };
+    let free = mesh(&run(&["--json"]));
+    assert!(free["held_by_constraints"].is_null(), "{free}");
+    let held = mesh(&run(&["--json", "--lock-borders"]));
+    let level = held["held_by_constraints"].as_f64().unwrap_or(0.0);
+    assert!(level > 0.0, "{held}");
+    assert_eq!(held["stop"], "error_limit", "{held}");
+    let tris = |m: &serde_json::Value, key: &str| m[key].as_u64().unwrap();
+    assert!(tris(&held, "output_triangles") > tris(&held, "target_triangles") + 1);
+    assert!(held["error"].as_f64().unwrap() <= level, "{held}");
+    let o = run(&["--lock-borders"]);
+    assert!(
+        stderr(&o).contains("out of reach of the constraints")
+            || stdout(&o).contains("out of reach of the constraints"),
+        "{}{}",
+        stdout(&o),
+        stderr(&o)
+    );
+}
+
+#[test]
 fn a_decal_is_kept_in_front_of_its_floor_unless_no_layers_and_the_json_counts_it() {
     // A bumpy floor of 24 × 24 quads and a decal of 6 × 6 quads 0.02 above
     // its middle, facing the same way: at 10% the floor moves by more
