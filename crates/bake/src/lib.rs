@@ -47,6 +47,8 @@ mod interface;
 mod mapping;
 mod prepare;
 mod raster;
+mod ring_block;
+mod ring_triangle;
 mod scene_bake;
 mod shared_layout;
 mod texture_detail;

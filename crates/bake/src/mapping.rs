@@ -28,6 +28,9 @@ use wildlod_geometry::closest_point_on_triangle;
 use wildlod_mesh::Faces;
 use wildlod_simplify::History;
 
+use crate::ring_block::{RingBlock, LANES};
+use crate::ring_triangle::RingTriangle;
+
 /// A point of the input surface: an input face, three of its corners and
 /// barycentrics over them.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -75,32 +78,22 @@ pub struct SuccessiveMap<'a> {
     positions: &'a [[f32; 3]],
     faces: &'a Faces,
     /// Per face id, `touch[touch_start[f]..touch_start[f + 1]]` are the
-    /// collapses (ascending) whose vertex one-ring holds `f`.
+    /// collapses (ascending) whose vertex one-ring holds `f`, and
+    /// `touch_first` the index within that collapse's ring of `f`'s first
+    /// triangle, where a walk's search starts.
     touch_start: Vec<u32>,
     touch: Vec<u32>,
+    touch_first: Vec<u32>,
     /// The edge one-ring of every collapse as flat triangles (polygons
     /// fanned), `ring_start[k]..ring_start[k + 1]`: the hot loop reads
     /// them contiguously.
     ring_start: Vec<u32>,
     rings: Vec<RingTriangle>,
-}
-
-/// A triangle of a recorded edge one-ring, with a bounding sphere for
-/// skipping triangles that cannot be the closest.
-#[derive(Clone, Copy, Debug)]
-struct RingTriangle {
-    corners: [Vec3; 3],
-    center: Vec3,
-    radius: f32,
-    /// Unit normal (zero for a degenerate triangle) and `normal · corner`:
-    /// the distance to the plane is a second lower bound, tighter than the
-    /// sphere for the ring's tilted neighbours of a point on the surface.
-    normal: Vec3,
-    offset: f32,
-    face: u32,
-    /// Largest absolute corner coordinate: the scale of the rounding in
-    /// distances to it (see `MARGIN`).
-    mag: f32,
+    /// The same triangles as blocks of four for measuring distances,
+    /// `blocks[block_start[k]..block_start[k + 1]]` for collapse `k`
+    /// (each ring starts a new block).
+    block_start: Vec<u32>,
+    blocks: Vec<RingBlock>,
 }
 
 /// Where a walk through the history stands: the current face, the
@@ -111,11 +104,25 @@ struct Walk {
     face: u32,
     bound: u32,
     last: Option<u32>,
+    /// Where `bound` is in `face`'s touch list (an index into `touch`),
+    /// when it is there: the next step is then the entry before it, with
+    /// no search.
+    at: u32,
+    /// Ring projections made so far (for tests: how much work was
+    /// shared).
+    steps: u32,
 }
 
-/// Batches of at most this many points are walked point by point: below
-/// it a certification costs about as much as the walks it would save.
-const LEAF_POINTS: usize = 3;
+/// Batches of at most this many points are walked point by point. A
+/// certification measures the ring from the ball's center and weighs every
+/// triangle against it, about as much work as some tens of points' own
+/// steps (a step measures a ring in blocks of four, `ring_block.rs`);
+/// below this size it fails often enough on curved surfaces (where the
+/// texels of a triangle part ways) to cost more than it saves. Measured on
+/// the bake bench's truck, torus and scan at 10% and 1%: 16, 32 and 64
+/// within a few percent of each other, 3 (one certification per step down
+/// to three points) 10–40% slower on the curved ones.
+const LEAF_POINTS: usize = 32;
 
 /// A batch with at least this many points splits in two where at least
 /// `SPLIT_RISKY` ring triangles other than the candidate may be a point's
@@ -126,8 +133,8 @@ const SPLIT_RISKY: usize = 2;
 /// The margin, relative to the coordinates' magnitude, by which a ring
 /// triangle must be farther than the candidate to be ruled out for a whole
 /// batch: about 80 ulps of `f32`, far above the rounding of a distance as
-/// `closest_on_triangle` computes it, so every point of the batch picks as
-/// its own walk would.
+/// `ring_block.rs` measures it, so every point of the batch picks as its
+/// own walk would.
 const MARGIN: f32 = 1e-5;
 
 /// Side in texels of the tiles [`SuccessiveMap::map_texels`] groups
@@ -168,46 +175,45 @@ impl<'a> SuccessiveMap<'a> {
         }
         let mut ring_start = Vec::with_capacity(history.len() + 1);
         let mut rings = Vec::new();
+        let mut block_start = Vec::with_capacity(history.len() + 1);
+        let mut blocks = Vec::new();
+        let mut triangles = Vec::new();
         for k in 0..history.len() {
             ring_start.push(rings.len() as u32);
+            block_start.push(blocks.len() as u32);
+            triangles.clear();
             for rf in history.before(k) {
                 let c = history.positions(rf);
                 for t in 1..c.len().saturating_sub(1) {
                     let corners = [c[0], c[t], c[t + 1]].map(Vec3::from);
-                    let center = (corners[0] + corners[1] + corners[2]) / 3.0;
-                    let radius = corners
-                        .iter()
-                        .map(|&q| q.distance(center))
-                        .fold(0.0f32, f32::max);
-                    let normal = (corners[1] - corners[0])
-                        .cross(corners[2] - corners[0])
-                        .normalize_or_zero();
-                    rings.push(RingTriangle {
-                        corners,
-                        center,
-                        normal,
-                        offset: normal.dot(corners[0]),
-                        // Rounding of the distances above: a bound a
-                        // hair too small would skip the true closest.
-                        radius: radius * (1.0 + 1e-5) + 1e-12,
-                        face: rf.face,
-                        mag: corners
-                            .iter()
-                            .map(|q| q.abs().max_element())
-                            .fold(0.0f32, f32::max),
-                    });
+                    rings.push(RingTriangle::new(corners, rf.face));
+                    triangles.push(corners);
                 }
             }
+            RingBlock::pack(&triangles, &mut blocks);
         }
         ring_start.push(rings.len() as u32);
+        block_start.push(blocks.len() as u32);
+        let mut touch_first = vec![0u32; touch.len()];
+        for f in 0..nf {
+            let (a, b) = (touch_start[f] as usize, touch_start[f + 1] as usize);
+            for (first, &k) in touch_first[a..b].iter_mut().zip(&touch[a..b]) {
+                let ring =
+                    &rings[ring_start[k as usize] as usize..ring_start[k as usize + 1] as usize];
+                *first = ring.iter().position(|t| t.face == f as u32).unwrap_or(0) as u32;
+            }
+        }
         SuccessiveMap {
             history,
             positions,
             faces,
             touch_start,
             touch,
+            touch_first,
             ring_start,
             rings,
+            block_start,
+            blocks,
         }
     }
 
@@ -227,8 +233,9 @@ impl<'a> SuccessiveMap<'a> {
     /// id is `face` (the texels of one output triangle, say) into `out`,
     /// with the same result as [`SuccessiveMap::map`] on each, bit for
     /// bit, but walking the history once for every group of points that
-    /// follows one path through it (texels of a triangle share most of
-    /// their walk).
+    /// follows one path through it (on flat and gently curved surfaces
+    /// texels of a triangle share much of their walk; on bumpy ones they
+    /// part ways every few texels and are walked point by point).
     ///
     /// Every step of a walk picks the ring triangle closest to the point.
     /// The batch takes each step once for a ball around its points: the
@@ -240,10 +247,10 @@ impl<'a> SuccessiveMap<'a> {
     /// distances (`Above`); margins cover the `f32` rounding of the
     /// per-point distances. When nothing remains the step is shared. Else
     /// a large batch splits in two across its longest extent (a smaller
-    /// ball rules out more), and a small one lets each point pick among
-    /// the few remaining triangles, as the per-point search would, and
-    /// goes on in groups of equal picks: the walk is shared up to where
-    /// paths really part. At the end each point needs only its closest
+    /// ball rules out more), or each point takes this step of its own walk
+    /// and the batch goes on in groups of equal picks: the walk is shared
+    /// up to where paths really part. Batches of at most 32 points are
+    /// walked point by point. At the end each point needs only its closest
     /// point on the last ring triangle and its barycentrics on the input
     /// face, as [`SuccessiveMap::map`] does last.
     ///
@@ -255,8 +262,9 @@ impl<'a> SuccessiveMap<'a> {
         self.map_many_counted(face, points, out);
     }
 
-    /// [`SuccessiveMap::map_many`], returning how many points were walked
-    /// on their own (for tests: how much of the work was shared).
+    /// [`SuccessiveMap::map_many`], returning how many ring projections
+    /// it made point by point (for tests: how much of the work was shared;
+    /// [`SuccessiveMap::map`] makes one per step of every point's walk).
     fn map_many_counted(&self, face: u32, points: &[[f32; 3]], out: &mut [SurfacePoint]) -> usize {
         assert_eq!(points.len(), out.len(), "one output per point");
         let mut order: Vec<u32> = (0..points.len() as u32).collect();
@@ -340,18 +348,22 @@ impl<'a> SuccessiveMap<'a> {
             face,
             bound: self.history.len() as u32,
             last: None,
+            at: u32::MAX,
+            steps: 0,
         }
     }
 
     /// Walks `pf` from `w` down to the input.
     fn walk(&self, mut w: Walk, pf: Vec3) -> Walk {
         // Each step strictly lowers `bound`: at most one step per collapse.
-        while let Some(k) = self.previous_touch(w.face, w.bound) {
-            if let Some(i) = self.project_on_edge_ring(k as usize, w.face, pf) {
+        while let Some((k, first, at)) = self.previous_touch(&w) {
+            if let Some(i) = self.project_on_edge_ring(k as usize, first, pf) {
                 w.face = self.rings[i].face;
                 w.last = Some(i as u32);
+                w.steps += 1;
             }
             w.bound = k;
+            w.at = at;
         }
         w
     }
@@ -361,7 +373,7 @@ impl<'a> SuccessiveMap<'a> {
     /// queries always use the final position), else the point itself.
     fn finish(&self, w: Walk, pf: Vec3) -> SurfacePoint {
         let q = match w.last {
-            Some(i) => closest_on_triangle(pf, &self.rings[i as usize].corners).as_dvec3(),
+            Some(i) => self.rings[i as usize].closest(pf).as_dvec3(),
             None => pf.as_dvec3(),
         };
         self.on_input_face(w.face, q)
@@ -378,11 +390,14 @@ impl<'a> SuccessiveMap<'a> {
         out: &mut [SurfacePoint],
     ) -> usize {
         let each = |w: Walk, order: &[u32], out: &mut [SurfacePoint]| {
+            let mut steps = 0;
             for &i in order {
                 let pf = Vec3::from(points[i as usize]);
-                out[i as usize] = self.finish(self.walk(w, pf), pf);
+                let end = self.walk(w, pf);
+                steps += (end.steps - w.steps) as usize;
+                out[i as usize] = self.finish(end, pf);
             }
-            order.len()
+            steps
         };
         if order.len() <= LEAF_POINTS {
             return each(w, order, out);
@@ -411,23 +426,28 @@ impl<'a> SuccessiveMap<'a> {
         }
         let radius = radius as f32;
         let cmag = c.abs().max_element() + radius;
-        let mut risky: Vec<usize> = Vec::new();
-        while let Some(k) = self.previous_touch(w.face, w.bound) {
+        let mut dc: Vec<f32> = Vec::new();
+        // Steps taken point by point so far.
+        let mut alone = 0;
+        while let Some((k, first, at)) = self.previous_touch(&w) {
             let start = self.ring_start[k as usize] as usize;
             let ring = &self.rings[start..self.ring_start[k as usize + 1] as usize];
-            let Some(i) = self.project_on_edge_ring(k as usize, w.face, c) else {
+            let Some(i) = self.project_on_edge_ring(k as usize, first, c) else {
                 w.bound = k;
+                w.at = at;
                 continue;
             };
             // Every ring triangle is within `radius` of its distance from
             // the center at any point of the ball: those farther from the
             // center than the candidate by more than twice that (and a
             // margin) are no point's choice.
-            let first = ring.iter().position(|t| t.face == w.face).unwrap_or(0);
+            self.ring_distances(k as usize, c, &mut dc);
+            let first = first as usize;
             let best = &self.rings[i];
-            let d = c.distance(closest_on_triangle(c, &best.corners));
+            let d = dc[i - start].sqrt();
             let above = Above::new(best, c.as_dvec3(), radius as f64);
-            risky.clear();
+            // Ring triangles that may be some point's choice.
+            let mut risky = 0;
             for (j, t) in ring.iter().enumerate() {
                 if start + j == i {
                     continue;
@@ -438,20 +458,21 @@ impl<'a> SuccessiveMap<'a> {
                 if c.distance(t.center) - t.radius > tau * (1.0 + 1e-5) + 1e-12 {
                     continue;
                 }
-                if c.distance(closest_on_triangle(c, &t.corners)) > tau {
+                if dc[j].sqrt() > tau {
                     continue;
                 }
                 if !above.as_ref().is_some_and(|a| a.clears(t, margin as f64)) {
-                    risky.push(start + j);
+                    risky += 1;
                 }
             }
-            if risky.is_empty() {
+            if risky == 0 {
                 w.face = best.face;
                 w.last = Some(i as u32);
                 w.bound = k;
+                w.at = at;
                 continue;
             }
-            if risky.len() >= SPLIT_RISKY && order.len() >= SPLIT_POINTS {
+            if risky >= SPLIT_RISKY && order.len() >= SPLIT_POINTS {
                 // Many candidates: a smaller ball has fewer.
                 let axis = (hi - lo).max_position();
                 let mid = c[axis];
@@ -463,88 +484,51 @@ impl<'a> SuccessiveMap<'a> {
                     }
                 }
                 if split == 0 || split == order.len() {
-                    return each(w, order, out);
+                    return alone + each(w, order, out);
                 }
                 let (a, b) = order.split_at_mut(split);
-                return self.map_batch(w, points, a, out) + self.map_batch(w, points, b, out);
+                return alone
+                    + self.map_batch(w, points, a, out)
+                    + self.map_batch(w, points, b, out);
             }
-            // A few candidates: each point picks among them as
-            // `project_on_edge_ring` would (the early exit on the current
-            // face, else the least distance, ties to the lower index), and
-            // the points part by their pick.
-            risky.push(i);
-            risky.sort_unstable();
-            let first = start + first;
-            let early = risky.binary_search(&first).is_ok();
-            let tol2 = (1e-7 * self.rings[first].radius).powi(2);
+            // A few candidates: each point takes its own step (the step of
+            // its own walk, so the two agree by construction), and the
+            // points part by their pick.
             let mut picks: Vec<(u32, u32)> = order
                 .iter()
                 .map(|&p| {
                     let pf = Vec3::from(points[p as usize]);
-                    let dist2 = |t: usize| {
-                        pf.distance_squared(closest_on_triangle(pf, &self.rings[t].corners))
-                    };
-                    // The current face's distance once: for the early exit
-                    // and as a candidate.
-                    let d2_first = if early { dist2(first) } else { f32::INFINITY };
-                    if d2_first <= tol2 {
-                        return (first as u32, p);
-                    }
-                    // The least computed distance, ties to the lower
-                    // index, starting from the center's pick; others are
-                    // skipped by the same noise-proof bounds as in
-                    // `project_on_edge_ring`, which cannot change it.
-                    let mut pick = (if i == first { d2_first } else { dist2(i) }, i);
-                    let mut best_d = pick.0.sqrt();
-                    let mut best_mag = self.rings[i].mag;
-                    let pmag = pf.abs().max_element();
-                    for &t in &risky {
-                        if t == i {
-                            continue;
-                        }
-                        let tri = &self.rings[t];
-                        let noise = 0.25 * MARGIN * (2.0 * pmag + tri.mag + best_mag);
-                        let reach = tri.radius + best_d + noise;
-                        if t != first
-                            && (pf.distance_squared(tri.center) > reach * reach
-                                || (tri.normal.dot(pf) - tri.offset).abs()
-                                    > best_d * (1.0 + 1e-5) + 1e-12 + noise)
-                        {
-                            continue;
-                        }
-                        let d2 = if t == first { d2_first } else { dist2(t) };
-                        if d2 < pick.0 || (d2 == pick.0 && t < pick.1) {
-                            pick = (d2, t);
-                            best_d = d2.sqrt();
-                            best_mag = tri.mag;
-                        }
-                    }
-                    (pick.1 as u32, p)
+                    let pick = self.project_on_edge_ring(k as usize, first as u32, pf);
+                    // Some: the ring holds the center's pick.
+                    (pick.unwrap_or(i) as u32, p)
                 })
                 .collect();
+            alone += order.len();
             if picks.iter().all(|p| p.0 == picks[0].0) {
                 // No branch here after all: go on together.
                 let t = picks[0].0;
                 w.face = self.rings[t as usize].face;
                 w.last = Some(t);
                 w.bound = k;
+                w.at = at;
                 continue;
             }
             picks.sort_unstable();
             for (slot, pick) in order.iter_mut().zip(&picks) {
                 *slot = pick.1;
             }
-            let mut alone = 0;
-            let mut at = 0;
+            let mut from = 0;
             for run in picks.chunk_by(|a, b| a.0 == b.0) {
                 let t = run[0].0;
                 let next = Walk {
                     face: self.rings[t as usize].face,
                     bound: k,
                     last: Some(t),
+                    at,
+                    steps: w.steps,
                 };
-                alone += self.map_batch(next, points, &mut order[at..at + run.len()], out);
-                at += run.len();
+                alone += self.map_batch(next, points, &mut order[from..from + run.len()], out);
+                from += run.len();
             }
             return alone;
         }
@@ -552,66 +536,86 @@ impl<'a> SuccessiveMap<'a> {
             let pf = Vec3::from(points[i as usize]);
             out[i as usize] = self.finish(w, pf);
         }
-        0
+        alone
     }
 
-    /// The last collapse before `bound` whose vertex one-ring holds `face`.
-    fn previous_touch(&self, face: u32, bound: u32) -> Option<u32> {
-        let f = face as usize;
-        let list = &self.touch[self.touch_start[f] as usize..self.touch_start[f + 1] as usize];
-        let i = list.partition_point(|&k| k < bound);
-        i.checked_sub(1).map(|i| list[i])
+    /// The last collapse before `w.bound` whose vertex one-ring holds
+    /// `w.face`, the index within its ring of the face's first triangle,
+    /// and the collapse's index in `touch`.
+    #[inline]
+    fn previous_touch(&self, w: &Walk) -> Option<(u32, u32, u32)> {
+        let f = w.face as usize;
+        let (lo, hi) = (
+            self.touch_start[f] as usize,
+            self.touch_start[f + 1] as usize,
+        );
+        let at = w.at as usize;
+        // Lists are ascending: entries before `bound`'s own are the
+        // earlier collapses. Else (the face changed) search.
+        let end = if (lo..hi).contains(&at) && self.touch[at] == w.bound {
+            at
+        } else {
+            lo + self.touch[lo..hi].partition_point(|&k| k < w.bound)
+        };
+        let i = end.checked_sub(1).filter(|&i| i >= lo)?;
+        Some((self.touch[i], self.touch_first[i], i as u32))
     }
 
     /// The triangle (index into `rings`) of collapse `k`'s edge one-ring,
     /// as the ring recorded it (positions before the collapse), holding
-    /// the point closest to `pf`; ties keep the point's current face, then
-    /// the earlier triangle, so the answer is deterministic. The search starts
-    /// on the point's current face (in the ring: the vertex one-ring after
-    /// a collapse is part of the edge one-ring before it), usually the
-    /// answer or close to it, and skips every triangle whose bounding
-    /// sphere lies farther than the best distance so far.
-    fn project_on_edge_ring(&self, k: usize, face: u32, pf: Vec3) -> Option<usize> {
+    /// the point closest to `pf`: the least distance, ties to the earlier
+    /// triangle, so the answer is deterministic, except that a point on
+    /// triangle `first` of the ring (its current face's: the vertex
+    /// one-ring after a collapse is part of the edge one-ring before it)
+    /// stays there. `None` for an empty ring.
+    fn project_on_edge_ring(&self, k: usize, first: u32, pf: Vec3) -> Option<usize> {
         let start = self.ring_start[k] as usize;
-        let ring = &self.rings[start..self.ring_start[k + 1] as usize];
-        let first = ring.iter().position(|t| t.face == face).unwrap_or(0);
-        let t0 = ring.get(first)?;
-        let mut best_i = first;
-        let mut best_d2 = pf.distance_squared(closest_on_triangle(pf, &t0.corners));
-        // On its own face already (flat regions, untouched geometry):
-        // nothing can be closer. The tolerance is far below f32 rounding
-        // of the triangle's size, so this only skips exact ties.
-        if best_d2 <= (1e-7 * t0.radius).powi(2) {
+        let n = self.ring_start[k + 1] as usize - start;
+        let first = first as usize;
+        if first >= n {
+            return None;
+        }
+        let blocks = &self.blocks[self.block_start[k] as usize..self.block_start[k + 1] as usize];
+        // The current face's block first: a point on its own face (flat
+        // regions, untouched geometry) stays there. The tolerance is far
+        // below `f32` rounding of the triangle's size, so this only settles
+        // exact ties.
+        let fb = first / LANES;
+        let d = blocks[fb].distances(pf);
+        if d[first % LANES] <= (1e-7 * self.rings[start + first].radius).powi(2) {
             return Some(start + first);
         }
-        let mut best_d = best_d2.sqrt();
-        let mut best_mag = t0.mag;
-        let pmag = pf.abs().max_element();
-        for (i, t) in ring.iter().enumerate() {
-            // Every point of the triangle is at least |p − c| − r away, and
-            // at least as far as its plane (a hair of slack for rounding).
-            // A triangle is skipped only when it is farther by more than
-            // the rounding of the two distances as computed: the answer is
-            // then the least computed distance over the whole ring, ties
-            // to the lower index, whatever the order of the search, which
-            // `map_batch` relies on.
-            let noise = 0.25 * MARGIN * (2.0 * pmag + t.mag + best_mag);
-            let reach = t.radius + best_d + noise;
-            if i == first
-                || pf.distance_squared(t.center) > reach * reach
-                || (t.normal.dot(pf) - t.offset).abs() > best_d * (1.0 + 1e-5) + 1e-12 + noise
-            {
-                continue;
+        // Else the least distance, ties to the earlier triangle.
+        let (mut best_d2, mut best_i) = (f32::INFINITY, usize::MAX);
+        let mut take = |b: usize, d: [f32; LANES]| {
+            for (l, &d2) in d.iter().enumerate() {
+                let i = b * LANES + l;
+                if i >= n {
+                    break;
+                }
+                if d2 < best_d2 || (d2 == best_d2 && i < best_i) || best_i == usize::MAX {
+                    (best_i, best_d2) = (i, d2);
+                }
             }
-            let q = closest_on_triangle(pf, &t.corners);
-            let d2 = pf.distance_squared(q);
-            if d2 < best_d2 || (d2 == best_d2 && i < best_i) {
-                (best_i, best_d2) = (i, d2);
-                best_d = d2.sqrt();
-                best_mag = t.mag;
+        };
+        take(fb, d);
+        for (b, block) in blocks.iter().enumerate() {
+            if b != fb {
+                take(b, block.distances(pf));
             }
         }
         Some(start + best_i)
+    }
+
+    /// The squared distances from `p` to the triangles of collapse `k`'s
+    /// ring, as [`SuccessiveMap::project_on_edge_ring`] measures them.
+    fn ring_distances(&self, k: usize, p: Vec3, out: &mut Vec<f32>) {
+        let n = (self.ring_start[k + 1] - self.ring_start[k]) as usize;
+        out.clear();
+        for block in &self.blocks[self.block_start[k] as usize..self.block_start[k + 1] as usize] {
+            out.extend_from_slice(&block.distances(p));
+        }
+        out.truncate(n);
     }
 
     /// Barycentrics of `q` on input face `face` (fan-triangulated; the
@@ -654,55 +658,6 @@ impl<'a> SuccessiveMap<'a> {
     pub fn touches(&self, face: u32) -> usize {
         let f = face as usize;
         (self.touch_start[f + 1] - self.touch_start[f]) as usize
-    }
-}
-
-/// The point of triangle `t` closest to `p` (Ericson, *Real-Time Collision
-/// Detection*, §5.1.5, by Voronoi regions), in `f32`: the hot path. A
-/// degenerate triangle can divide by zero there; it then goes to the exact
-/// `f64` routine of `wildlod-geometry`.
-#[inline]
-fn closest_on_triangle(p: Vec3, t: &[Vec3; 3]) -> Vec3 {
-    let [a, b, c] = *t;
-    let (ab, ac, ap) = (b - a, c - a, p - a);
-    let (d1, d2) = (ab.dot(ap), ac.dot(ap));
-    if d1 <= 0.0 && d2 <= 0.0 {
-        return a;
-    }
-    let bp = p - b;
-    let (d3, d4) = (ab.dot(bp), ac.dot(bp));
-    if d3 >= 0.0 && d4 <= d3 {
-        return b;
-    }
-    let vc = d1 * d4 - d3 * d2;
-    if vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0 {
-        let v = d1 / (d1 - d3);
-        return a + ab * v;
-    }
-    let cp = p - c;
-    let (d5, d6) = (ab.dot(cp), ac.dot(cp));
-    if d6 >= 0.0 && d5 <= d6 {
-        return c;
-    }
-    let vb = d5 * d2 - d1 * d6;
-    if vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0 {
-        let w = d2 / (d2 - d6);
-        return a + ac * w;
-    }
-    let va = d3 * d6 - d5 * d4;
-    if va <= 0.0 && (d4 - d3) >= 0.0 && (d5 - d6) >= 0.0 {
-        let w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
-        return b + (c - b) * w;
-    }
-    let denom = 1.0 / (va + vb + vc);
-    let (v, w) = (vb * denom, vc * denom);
-    let q = a + ab * v + ac * w;
-    if q.is_finite() {
-        q
-    } else {
-        let (q, _) =
-            closest_point_on_triangle(p.as_dvec3(), a.as_dvec3(), b.as_dvec3(), c.as_dvec3());
-        q.as_vec3()
     }
 }
 
@@ -941,35 +896,6 @@ mod tests {
         );
     }
 
-    #[test]
-    fn fast_closest_point_agrees_with_the_exact_one() {
-        let t = [
-            Vec3::new(0.0, 0.0, 0.0),
-            Vec3::new(2.0, 0.1, 0.0),
-            Vec3::new(0.3, 1.5, 0.2),
-        ];
-        // A grid of query points around the triangle hits every region.
-        for i in -4..=8 {
-            for j in -4..=8 {
-                for k in -2..=2 {
-                    let p = Vec3::new(i as f32 * 0.3, j as f32 * 0.3, k as f32 * 0.4);
-                    let fast = closest_on_triangle(p, &t);
-                    let (exact, _) = closest_point_on_triangle(
-                        p.as_dvec3(),
-                        t[0].as_dvec3(),
-                        t[1].as_dvec3(),
-                        t[2].as_dvec3(),
-                    );
-                    assert!((fast.as_dvec3() - exact).length() < 1e-5, "{p:?}");
-                }
-            }
-        }
-        // Degenerate (collinear) triangles still give a point on them.
-        let flat = [Vec3::ZERO, Vec3::X, Vec3::X * 2.0];
-        let q = closest_on_triangle(Vec3::new(1.5, 1.0, 0.0), &flat);
-        assert!((q - Vec3::new(1.5, 0.0, 0.0)).length() < 1e-6, "{q:?}");
-    }
-
     /// W Fig. 17: a thin shell (two sheets 0.01 apart, the lower one
     /// collapsed first). A point on the upper sheet's face stays on the
     /// upper sheet's faces even where the lower sheet is as close.
@@ -1033,7 +959,8 @@ mod tests {
     /// Every texel of a `size`² atlas of the LOD of `mesh` with `triangles`
     /// left, mapped texel by texel and tile by tile ([`SuccessiveMap::map_texels`]):
     /// the same input face and corners, barycentrics within 1e-6. Returns
-    /// (texels, texels walked on their own by [`SuccessiveMap::map_many`]).
+    /// (point steps of the per-texel walks, the same made point by point
+    /// by [`SuccessiveMap::map_many`]).
     fn coherent_equals_per_texel(
         mesh: &wildlod_mesh::Mesh,
         triangles: usize,
@@ -1089,11 +1016,12 @@ mod tests {
         };
         let n = size as usize;
         let coherent = map.map_texels(n, 0..n, texel);
-        let mut texels = 0;
+        let (mut texels, mut steps) = (0, 0);
         for (i, hit) in coherent.iter().enumerate() {
             match (texel(i), hit) {
                 (Some((_, face, p)), Some(hit)) => {
                     texels += 1;
+                    steps += map.walk(map.start(face), Vec3::from(p)).steps as usize;
                     assert_same(hit, &map.map(face, p), &format!("texel {i}"));
                 }
                 (None, None) => {}
@@ -1111,22 +1039,20 @@ mod tests {
             let mut out = vec![map.placeholder(); points.len()];
             alone += map.map_many_counted(tri_face[t as usize], &points, &mut out);
         }
-        (texels, alone)
+        assert!(texels > 10_000, "{texels}");
+        (steps, alone)
     }
 
     #[test]
     fn coherent_mapping_equals_per_texel_mapping_at_a_coarse_target() {
-        let (texels, alone) = coherent_equals_per_texel(&scan_like(8), 12, 512);
-        assert!(texels > 10_000, "{texels}");
-        // Most texels share their walk (a test that batching happens).
-        assert!(alone * 2 < texels, "{alone} of {texels} walked alone");
+        let (steps, alone) = coherent_equals_per_texel(&scan_like(8), 12, 512);
+        assert!(alone <= steps, "{alone} of {steps} steps taken alone");
     }
 
     #[test]
     fn coherent_mapping_equals_per_texel_mapping_at_a_fine_target() {
-        let (texels, alone) = coherent_equals_per_texel(&scan_like(8), 300, 512);
-        assert!(texels > 10_000, "{texels}");
-        assert!(alone * 2 < texels, "{alone} of {texels} walked alone");
+        let (steps, alone) = coherent_equals_per_texel(&scan_like(8), 300, 512);
+        assert!(alone <= steps, "{alone} of {steps} steps taken alone");
     }
 
     /// The square after both collapses: output face 2 = (1,0),(0,1),(0,0)
@@ -1149,11 +1075,39 @@ mod tests {
         let mut out = vec![map.placeholder(); points.len()];
         let alone = map.map_many_counted(2, &points, &mut out);
         let mut faces = std::collections::BTreeSet::new();
+        let mut steps = 0;
         for (k, &q) in points.iter().enumerate() {
             assert_same(&out[k], &map.map(2, q), &format!("{q:?}"));
             faces.insert(out[k].face);
+            steps += map.walk(map.start(2), Vec3::from(q)).steps as usize;
         }
         assert!(faces.len() >= 3, "{faces:?}");
-        assert!(alone * 2 < points.len(), "{alone} of {}", points.len());
+        assert!(alone <= steps, "{alone} of {steps} steps taken alone");
+    }
+
+    /// A patch of texels well inside what one input face became, lifted
+    /// off it as a LOD's surface is, follows one path: the batch takes
+    /// every step once, no point walks alone.
+    #[test]
+    fn coherent_mapping_shares_the_walk_of_a_patch_that_does_not_branch() {
+        let (p, f) = square();
+        let h = history(&p, true);
+        let map = SuccessiveMap::new(&h, &p, &f);
+        let mut points = Vec::new();
+        for i in 0..10 {
+            for j in 0..10 {
+                let (x, y) = (0.1 + 0.002 * i as f32, 0.4 + 0.002 * j as f32);
+                points.push([x, y, 0.01]);
+            }
+        }
+        let mut out = vec![map.placeholder(); points.len()];
+        let alone = map.map_many_counted(2, &points, &mut out);
+        let mut steps = 0;
+        for (k, &q) in points.iter().enumerate() {
+            assert_same(&out[k], &map.map(2, q), &format!("{q:?}"));
+            steps += map.walk(map.start(2), Vec3::from(q)).steps as usize;
+        }
+        assert!(steps >= points.len(), "every point steps at least once");
+        assert_eq!(alone, 0, "of {steps} steps");
     }
 }
