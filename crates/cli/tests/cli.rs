@@ -686,6 +686,33 @@ fn a_target_locked_borders_put_out_of_reach_is_held_and_the_report_says_so() {
         stdout(&o),
         stderr(&o)
     );
+    // A re-bake reaches the counts the held run kept, and says why it
+    // stopped short as that run does.
+    let glb = dir.path().join("out.glb");
+    let o = wildlod(&[
+        "simplify",
+        s(&input),
+        "-o",
+        s(&glb),
+        "--ratio",
+        "0.02",
+        "--lock-borders",
+        "--bake",
+        "--json",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let baked = mesh(&o);
+    assert_eq!(
+        baked["held_by_constraints"].as_f64(),
+        Some(level),
+        "{baked}"
+    );
+    assert!(tris(&baked, "output_triangles") > tris(&baked, "target_triangles") + 1);
+    assert_eq!(
+        tris(&baked, "target_triangles"),
+        tris(&held, "target_triangles"),
+        "{baked}"
+    );
 }
 
 #[test]

@@ -9,8 +9,8 @@ use wildlod_simplify::{Options, SceneReport, Target};
 
 use crate::{
     build_chain, chain_json, drawn_targets, file_stem, merge_twins_for_output, rebake_levels,
-    rebake_scene, simplify_scene, simplify_whole_scene, targets_for, treat_textures, write_chain,
-    ChainJson, Error, Levels, MergedTwins, MeshProgress, MeshRun, NoProgress, RunJson,
+    rebake_scene, share_budget, simplify_scene, simplify_whole_scene, targets_for, treat_textures,
+    write_chain, ChainJson, Error, Levels, MergedTwins, MeshProgress, MeshRun, NoProgress, RunJson,
     TextureChoice, TextureSettings, Tuning,
 };
 
@@ -75,6 +75,36 @@ pub struct SimplifiedDocument {
     pub notes: Vec<String>,
 }
 
+/// A whole-file run that its constraints held above its target
+/// (`Report::held_by_constraints`): the level it stopped at and the
+/// file's target.
+#[derive(Clone, Copy, Debug)]
+struct Held {
+    level: f64,
+    target: usize,
+}
+
+impl Held {
+    fn of(run: &MeshRun) -> Option<Held> {
+        run.report.held_by_constraints.map(|level| Held {
+            level,
+            target: run.report.target_triangles,
+        })
+    }
+
+    /// A re-bake reaches, mesh by mesh, the counts such a run kept: each
+    /// mesh's report says so, with its share of the file's target (in
+    /// proportion to those counts) as the target the constraints put out
+    /// of reach, as the run it follows would.
+    fn mark(self, runs: &mut [MeshRun]) {
+        let counts: Vec<usize> = runs.iter().map(|r| r.report.target_triangles).collect();
+        for (r, share) in runs.iter_mut().zip(share_budget(self.target, &counts)) {
+            r.report.held_by_constraints = Some(self.level);
+            r.report.target_triangles = share;
+        }
+    }
+}
+
 /// One way of treating the textures, made in full: the document, its runs
 /// and what the summary says about them.
 struct Candidate {
@@ -126,7 +156,7 @@ pub fn simplify_document<P: MeshProgress>(
     // by mesh what the run over the whole file spent where: the keep-UV
     // candidate's counts when it was made, else its own run's.
     let instances = doc.scene.instance_counts();
-    let whole_file: OnceCell<Vec<Target>> = OnceCell::new();
+    let whole_file: OnceCell<(Vec<Target>, Option<Held>)> = OnceCell::new();
     let keep = || -> Result<Candidate, Error> {
         let mut out = doc.clone();
         let (runs, scene) = if per_mesh {
@@ -142,10 +172,9 @@ pub fn simplify_document<P: MeshProgress>(
         } else {
             let (run, report) =
                 simplify_whole_scene(&mut out.scene, input, options, &t, &stem, progress)?;
-            let _ = whole_file.set(drawn_targets(
-                &out.scene.meshes,
-                &instances,
-                report.target_triangles,
+            let _ = whole_file.set((
+                drawn_targets(&out.scene.meshes, &instances, report.target_triangles),
+                Held::of(&run),
             ));
             (vec![run], Some(report))
         };
@@ -158,15 +187,18 @@ pub fn simplify_document<P: MeshProgress>(
         })
     };
     let rebake = || -> Result<Candidate, Error> {
-        let rebake_targets = if per_mesh {
-            mesh_targets.clone()
+        let (rebake_targets, held) = if per_mesh {
+            (mesh_targets.clone(), None)
         } else if let Some(t) = whole_file.get() {
             t.clone()
         } else {
             let mut scene = doc.scene.clone();
-            let (_, report) =
+            let (run, report) =
                 simplify_whole_scene(&mut scene, input, options, &t, &stem, progress)?;
-            drawn_targets(&scene.meshes, &instances, report.target_triangles)
+            (
+                drawn_targets(&scene.meshes, &instances, report.target_triangles),
+                Held::of(&run),
+            )
         };
         let mut out = doc.clone();
         let (runs, more) = rebake_scene(
@@ -178,7 +210,11 @@ pub fn simplify_document<P: MeshProgress>(
             &stem,
         )?;
         warnings.extend(more);
-        let (runs, notes) = runs.into_iter().map(|r| (r.run, r.atlases)).unzip();
+        let (mut runs, notes): (Vec<MeshRun>, _) =
+            runs.into_iter().map(|r| (r.run, r.atlases)).unzip();
+        if let Some(held) = held {
+            held.mark(&mut runs);
+        }
         Ok(Candidate {
             doc: out,
             runs,
