@@ -713,6 +713,43 @@ fn a_target_locked_borders_put_out_of_reach_is_held_and_the_report_says_so() {
         tris(&held, "target_triangles"),
         "{baked}"
     );
+    // A chain's level held so says it, shared or re-baked.
+    for textures in ["keep", "bake"] {
+        let chain = dir.path().join(format!("chain_{textures}.glb"));
+        let args = [
+            "lod",
+            s(&input),
+            "-o",
+            s(&chain),
+            "--ratios",
+            "0.5,0.02",
+            "--lock-borders",
+            "--textures",
+            textures,
+        ];
+        let o = wildlod(&args);
+        assert!(o.status.success(), "{}", stderr(&o));
+        let line = stdout(&o)
+            .lines()
+            .find(|l| l.starts_with("lod2"))
+            .unwrap_or("")
+            .to_string();
+        assert!(line.contains("out of reach of the constraints"), "{line}");
+        let mut json_args = args.to_vec();
+        json_args.extend(["--json", "--overwrite"]);
+        let o = wildlod(&json_args);
+        assert!(o.status.success(), "{}", stderr(&o));
+        let v: serde_json::Value = serde_json::from_str(&stdout(&o)).unwrap();
+        let m = &v["levels"][2]["meshes"][0];
+        assert!(
+            m["held_by_constraints"].as_f64().is_some(),
+            "{textures}: {m}"
+        );
+        assert!(
+            tris(m, "output_triangles") > tris(m, "target_triangles") + 1,
+            "{m}"
+        );
+    }
 }
 
 #[test]

@@ -16,6 +16,7 @@ use wildlod_io::Document;
 use wildlod_mesh::Image;
 use wildlod_simplify::Options;
 
+use crate::rebake::Held;
 use crate::targets::drawn_targets;
 use crate::textures::{
     choose, has_base_color_texture, texture_excess, unmeasured_reason, worth_rebaking,
@@ -124,7 +125,11 @@ pub fn rebake_levels(
             textures: std::mem::take(&mut baked.scene.textures),
         };
         let meshes = std::mem::take(&mut baked.scene.meshes);
-        let runs = runs.into_iter().map(|r| r.run).collect();
+        let mut runs: Vec<_> = runs.into_iter().map(|r| r.run).collect();
+        // A level its constraints held keeps saying so when re-baked.
+        if let Some(held) = Held::of(&level.runs) {
+            held.mark(&mut runs);
+        }
         let seconds = t0.elapsed().as_secs_f64();
         *level = Level::from_input(&doc.scene, level.level, meshes, own, runs, seconds);
         level.textures = Some(choice);

@@ -7,10 +7,11 @@ use std::time::Instant;
 use wildlod_io::{Document, WriteOptions};
 use wildlod_simplify::{Options, SceneReport, Target};
 
+use crate::rebake::Held;
 use crate::{
     build_chain, chain_json, drawn_targets, file_stem, merge_twins_for_output, rebake_levels,
-    rebake_scene, share_budget, simplify_scene, simplify_whole_scene, targets_for, treat_textures,
-    write_chain, ChainJson, Error, Levels, MergedTwins, MeshProgress, MeshRun, NoProgress, RunJson,
+    rebake_scene, simplify_scene, simplify_whole_scene, targets_for, treat_textures, write_chain,
+    ChainJson, Error, Levels, MergedTwins, MeshProgress, MeshRun, NoProgress, RunJson,
     TextureChoice, TextureSettings, Tuning,
 };
 
@@ -73,36 +74,6 @@ pub struct SimplifiedDocument {
     /// Per run in `runs`, what was baked for it (`; baked N image(s) in
     /// SIZE² …`), empty where nothing was.
     pub notes: Vec<String>,
-}
-
-/// A whole-file run that its constraints held above its target
-/// (`Report::held_by_constraints`): the level it stopped at and the
-/// file's target.
-#[derive(Clone, Copy, Debug)]
-struct Held {
-    level: f64,
-    target: usize,
-}
-
-impl Held {
-    fn of(run: &MeshRun) -> Option<Held> {
-        run.report.held_by_constraints.map(|level| Held {
-            level,
-            target: run.report.target_triangles,
-        })
-    }
-
-    /// A re-bake reaches, mesh by mesh, the counts such a run kept: each
-    /// mesh's report says so, with its share of the file's target (in
-    /// proportion to those counts) as the target the constraints put out
-    /// of reach, as the run it follows would.
-    fn mark(self, runs: &mut [MeshRun]) {
-        let counts: Vec<usize> = runs.iter().map(|r| r.report.target_triangles).collect();
-        for (r, share) in runs.iter_mut().zip(share_budget(self.target, &counts)) {
-            r.report.held_by_constraints = Some(self.level);
-            r.report.target_triangles = share;
-        }
-    }
 }
 
 /// One way of treating the textures, made in full: the document, its runs
@@ -174,7 +145,7 @@ pub fn simplify_document<P: MeshProgress>(
                 simplify_whole_scene(&mut out.scene, input, options, &t, &stem, progress)?;
             let _ = whole_file.set((
                 drawn_targets(&out.scene.meshes, &instances, report.target_triangles),
-                Held::of(&run),
+                Held::of(std::slice::from_ref(&run)),
             ));
             (vec![run], Some(report))
         };
@@ -197,7 +168,7 @@ pub fn simplify_document<P: MeshProgress>(
                 simplify_whole_scene(&mut scene, input, options, &t, &stem, progress)?;
             (
                 drawn_targets(&scene.meshes, &instances, report.target_triangles),
-                Held::of(&run),
+                Held::of(std::slice::from_ref(&run)),
             )
         };
         let mut out = doc.clone();

@@ -21,7 +21,7 @@ use wildlod_io::{decode_image_rgba8, encode_image, Document, ImageEncoding};
 use wildlod_mesh::{ImageSource, Material, Mesh, Rgba8Image, Sampler, Texture, Wrap};
 use wildlod_simplify::{InputData, Options, Report, StopReason, Target};
 
-use crate::{clear_unused_joint_slots, mesh_name, Error, MeshRun};
+use crate::{clear_unused_joint_slots, mesh_name, share_budget, Error, MeshRun};
 
 /// How textures are re-baked (`--texture-size`, `--merge-materials`,
 /// `--jpeg-quality`).
@@ -480,4 +480,39 @@ fn file_part(s: &str) -> String {
             }
         })
         .collect()
+}
+
+/// Runs that their constraints held above their target
+/// (`Report::held_by_constraints`): the level they stopped at and their
+/// target.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Held {
+    level: f64,
+    target: usize,
+}
+
+impl Held {
+    /// `None` unless some run of `runs` was held.
+    pub(crate) fn of(runs: &[MeshRun]) -> Option<Held> {
+        let level = runs
+            .iter()
+            .filter_map(|r| r.report.held_by_constraints)
+            .reduce(f64::max)?;
+        Some(Held {
+            level,
+            target: runs.iter().map(|r| r.report.target_triangles).sum(),
+        })
+    }
+
+    /// A re-bake reaches, mesh by mesh, the counts held runs kept: each
+    /// mesh's report says so, with the held level and its share of the
+    /// target (in proportion to those counts) as the target the
+    /// constraints put out of reach, as the runs it follows would.
+    pub(crate) fn mark(self, runs: &mut [MeshRun]) {
+        let counts: Vec<usize> = runs.iter().map(|r| r.report.target_triangles).collect();
+        for (r, share) in runs.iter_mut().zip(share_budget(self.target, &counts)) {
+            r.report.held_by_constraints = Some(self.level);
+            r.report.target_triangles = share;
+        }
+    }
 }

@@ -24,7 +24,8 @@ use crate::progress::Progress;
 use crate::stdout::emit;
 
 /// The line of one level: `lod1: 1152 triangles (50.0% of the input), error
-/// 0.0012 of the diagonal, 35 ms`.
+/// 0.0012 of the diagonal, 35 ms`, and why it stopped short when its
+/// constraints held it.
 fn level_line(l: &Level, input_tris: usize) -> String {
     let pct = if input_tris == 0 {
         100.0
@@ -36,8 +37,23 @@ fn level_line(l: &Level, input_tris: usize) -> String {
         Some(_) => ", textures shared",
         None => "",
     };
+    // As `simplify` says it: a level its constraints held above its
+    // target.
+    let target: usize = l.runs.iter().map(|r| r.report.target_triangles).sum();
+    let held = l
+        .runs
+        .iter()
+        .filter_map(|r| r.report.held_by_constraints)
+        .reduce(f64::max)
+        .filter(|_| l.triangles > target + 1)
+        .map(|level| {
+            format!(
+                " (target {target} out of reach of the constraints: stopped at error {level:.4}, what as many triangles cost without them)"
+            )
+        })
+        .unwrap_or_default();
     format!(
-        "lod{}: {} triangles ({pct:.1}% of the input), error {:.4} of the diagonal, {:.0} ms{textures}",
+        "lod{}: {} triangles ({pct:.1}% of the input), error {:.4} of the diagonal, {:.0} ms{textures}{held}",
         l.level,
         l.triangles,
         l.error,
