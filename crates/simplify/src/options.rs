@@ -78,7 +78,11 @@ pub struct Metric {
     /// `tangent.rs` for why not Eq. 2's length), so 1/3 matches Knodt's
     /// balance on triangle meshes at every scale. Default 0: they trade
     /// distance for regularity (`manifold/armadillo` at 50%: Chamfer
-    /// 0.000101 → 0.000150 at 1/3).
+    /// 0.000101 → 0.000150 at 1/3). Under a triangle target the trade is
+    /// bounded as attribute steering is
+    /// ([`AttributeOptions::geometry_tolerance`]): a run without them is
+    /// made too, and theirs is kept only within that factor of its
+    /// Hausdorff and Chamfer distances (`Report::steering`).
     pub tangent_weight: f64,
     /// *Expert.* Rank collapses by the error they introduce (Knodt 2024 Eq. 5):
     /// `(Q_i + Q_j)(v) − Q_i(p_i) − Q_j(p_j)`, instead of the error
@@ -437,7 +441,8 @@ pub struct QuadSettings {
     /// [`Metric::tangent_weight`]). Default 0: on `corpus/quad`, 1/3
     /// (Knodt's balance) left the Chamfer distance within −5%…+4% of the
     /// ordering alone but kept far fewer quads (median quad ratio 0.85 /
-    /// 0.58 / 0.22 against 0.98 / 0.96 / 0.83 at 50% / 25% / 10%).
+    /// 0.58 / 0.22 against 0.98 / 0.96 / 0.83 at 50% / 25% / 10%). Bounded
+    /// against a run without them as [`Metric::tangent_weight`] is.
     pub tangent_weight: f64,
     /// *Expert.* Rank by introduced error (Knodt Eq. 5) in quad mode. Default off:
     /// with the ordering it raised the Chamfer distance at 50% by 17% (and

@@ -15,7 +15,9 @@ use crate::assemble::{assemble, Simplified};
 use crate::collapse::Run;
 use crate::error::Error;
 use crate::input::{AttributeInput, AttributeStream, SeamPolicy, SkinStream, StreamKind};
-use crate::options::{AttributeOptions, Guards, Options, Partition, Record, Target};
+use crate::options::{
+    AttributeOptions, Guards, Metric, Options, Partition, QuadSettings, Record, Target,
+};
 use crate::prepare::large_polygons::split_large;
 use crate::prepare::{check_input, prepare};
 use crate::refit::refit_run;
@@ -214,7 +216,12 @@ fn simplify_steered(
     }
     let t = &options.target;
     let counted = t.ratio.is_some() || t.triangles.is_some();
-    if !steers(attributes) || tolerance.is_infinite() || !counted || options.record.error_curve {
+    let regularizes = options.metric.tangent_weight > 0.0 || options.quad.tangent_weight > 0.0;
+    if !(steers(attributes) || regularizes)
+        || tolerance.is_infinite()
+        || !counted
+        || options.record.error_curve
+    {
         // Nothing steers, the user lets it steer without bound, an error
         // target bounds every collapse's distance already, or the run only
         // measures how far it could go (a scene's first pass).
@@ -230,6 +237,20 @@ fn simplify_steered(
     // Attributes steer within the geometric error of a run that lets
     // them fit but not steer, and keep that run's result unless theirs is
     // as close to the input (see `AttributeOptions::geometry_tolerance`).
+    // Knodt's tangent quadrics (and the symmetry that weighs them) trade
+    // distance for regular spacing: they are held to the same bound, the
+    // plain run made without them.
+    let plain_options = Options {
+        metric: Metric {
+            tangent_weight: 0.0,
+            ..options.metric.clone()
+        },
+        quad: QuadSettings {
+            tangent_weight: 0.0,
+            ..options.quad.clone()
+        },
+        ..options.clone()
+    };
     let plain = AttributeInput {
         streams: attributes
             .streams
@@ -240,9 +261,14 @@ fn simplify_steered(
         morphs: attributes.morphs.clone(),
         face_groups: attributes.face_groups,
     };
-    let geometry = simplify_once(positions, faces, &plain, options, f64::INFINITY, &|f| {
-        progress(0.4 * f)
-    })?;
+    let geometry = simplify_once(
+        positions,
+        faces,
+        &plain,
+        &plain_options,
+        f64::INFINITY,
+        &|f| progress(0.4 * f),
+    )?;
     let budget = tolerance.powi(2) * geometry.report.cost_level;
     let steered = simplify_once(positions, faces, attributes, options, budget, &|f| {
         progress(0.4 + 0.6 * f)

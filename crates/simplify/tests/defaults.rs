@@ -132,6 +132,24 @@ fn a_filleted_cad_part_with_per_face_normals_keeps_its_shape() {
     assert_within_geometry_bound("filleted block", &d, &g);
 }
 
+#[test]
+fn tangent_quadrics_move_the_surface_no_farther_than_attributes_may() {
+    // Knodt's tangent quadrics trade distance for regular spacing; like an
+    // attribute they may cost at most the geometric bound against a run
+    // without them (and without steering).
+    for (name, scene, ratio) in [
+        ("house", scenes::house(false), 0.1),
+        ("filleted block", scenes::filleted_block(), 0.5),
+        ("city block", scenes::city_block(), 0.1),
+    ] {
+        let mut tangent = at_ratio(ratio);
+        tangent.metric.tangent_weight = 1.0 / 3.0;
+        let (out, _) = simplify_scene(&scene, &tangent).unwrap();
+        let (plain, _) = simplify_scene(&scene, &geometry_only(at_ratio(ratio))).unwrap();
+        assert_within_geometry_bound(name, &measure(&scene, &out), &measure(&scene, &plain));
+    }
+}
+
 /// Output normal values farther than 75° from every face they shade.
 fn stray_normals(scene: &Scene) -> usize {
     let cos = 75f64.to_radians().cos();
