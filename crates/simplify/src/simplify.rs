@@ -243,11 +243,11 @@ fn simplify_steered(
     let plain_options = Options {
         metric: Metric {
             tangent_weight: 0.0,
-            ..options.metric.clone()
+            ..options.metric
         },
         quad: QuadSettings {
             tangent_weight: 0.0,
-            ..options.quad.clone()
+            ..options.quad
         },
         ..options.clone()
     };
