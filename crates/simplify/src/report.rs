@@ -156,12 +156,13 @@ pub struct Report {
     /// nothing steered.
     pub steering: Option<SteeringOutcome>,
     /// Where constraints (locked borders, kept topology, kept seams) kept
-    /// the run from its triangle target: the error, relative to the
-    /// diagonal, that a run without them has at as many triangles as they
-    /// leave (the constrained run's floor), where this
-    /// one stopped instead of making every collapse left (see
-    /// [`crate::simplify_with_attributes_and_progress`]). `None`
-    /// otherwise.
+    /// the run from its triangle target: the error level, relative to the
+    /// diagonal, where this one stopped instead of making every collapse
+    /// left: what a run without them has at as many triangles as they
+    /// leave (the constrained run's floor), or lower where the output
+    /// measured farther from the input than a run without them at the
+    /// target (see [`crate::simplify_with_attributes_and_progress`]).
+    /// `None` otherwise.
     pub held_by_constraints: Option<f64>,
     /// With [`crate::Record::error_curve`]: after every collapse of
     /// the global loop, the triangles left and [`Report::error`] so far, in

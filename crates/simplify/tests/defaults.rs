@@ -9,6 +9,9 @@ use wildlod_mesh::{Scene, Semantic};
 use wildlod_simplify::{simplify_scene, NormalMode, Options, SceneReport, Target};
 use wildlod_testkit::scenes;
 
+mod common;
+use common::assert_within_geometry_bound;
+
 fn at_ratio(ratio: f64) -> Options {
     Options {
         target: Target {
@@ -40,25 +43,6 @@ fn measure(input: &Scene, output: &Scene) -> Comparison {
             ..CompareOptions::default()
         },
     )
-}
-
-/// Issue 31's bound: the default output within 1.15× of the geometry-only
-/// output in Hausdorff and Chamfer distance, differences below 1e-4 and
-/// 1e-5 of the diagonal counting as equal (no screen shows them).
-fn assert_within_geometry_bound(name: &str, default: &Comparison, geometry: &Comparison) {
-    let ok = |d: f64, g: f64, invisible: f64| d <= (1.15 * g).max(g + invisible);
-    assert!(
-        ok(default.hausdorff, geometry.hausdorff, 1e-4),
-        "{name}: Hausdorff {:e} against geometry-only {:e}",
-        default.hausdorff,
-        geometry.hausdorff
-    );
-    assert!(
-        ok(default.chamfer_mean, geometry.chamfer_mean, 1e-5),
-        "{name}: Chamfer {:e} against geometry-only {:e}",
-        default.chamfer_mean,
-        geometry.chamfer_mean
-    );
 }
 
 /// The default and geometry-only outputs and their distances to the input.

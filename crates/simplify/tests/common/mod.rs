@@ -65,3 +65,26 @@ pub fn euler(m: &Mesh) -> i64 {
 pub fn grid_box(lo: [f32; 3], hi: [f32; 3], n: usize) -> Mesh {
     shapes::box_grid(lo, hi, n)
 }
+
+/// Issue 31's bound: an output (the default's, a held run's) within 1.15×
+/// of a geometry-only output in Hausdorff and Chamfer distance, differences below 1e-4 and
+/// 1e-5 of the diagonal counting as equal (no screen shows them).
+pub fn assert_within_geometry_bound(
+    name: &str,
+    default: &wildlod_eval::Comparison,
+    geometry: &wildlod_eval::Comparison,
+) {
+    let ok = |d: f64, g: f64, invisible: f64| d <= (1.15 * g).max(g + invisible);
+    assert!(
+        ok(default.hausdorff, geometry.hausdorff, 1e-4),
+        "{name}: Hausdorff {:e} against geometry-only {:e}",
+        default.hausdorff,
+        geometry.hausdorff
+    );
+    assert!(
+        ok(default.chamfer_mean, geometry.chamfer_mean, 1e-5),
+        "{name}: Chamfer {:e} against geometry-only {:e}",
+        default.chamfer_mean,
+        geometry.chamfer_mean
+    );
+}
