@@ -197,11 +197,11 @@ fn level_spans(j: &Value, levels: usize) -> BTreeMap<usize, (usize, usize)> {
 }
 
 #[test]
-fn the_binary_chunk_holds_shared_data_then_levels_from_the_coarsest() {
+fn the_binary_chunk_holds_levels_from_the_coarsest_with_shared_data_inside_the_first() {
     let mut inputs = Vec::new();
     for rel in ["skinned/CesiumMan.glb", "textured/CesiumMilkTruck.glb"] {
         if let Some(p) = corpus_file(
-            "the_binary_chunk_holds_shared_data_then_levels_from_the_coarsest",
+            "the_binary_chunk_holds_levels_from_the_coarsest_with_shared_data_inside_the_first",
             rel,
         ) {
             inputs.push(p);
@@ -231,8 +231,27 @@ fn the_binary_chunk_holds_shared_data_then_levels_from_the_coarsest() {
             .collect();
         by_offset.sort_unstable();
         let order: Vec<usize> = by_offset.iter().map(|&(_, _, r)| r).collect();
+        // The coarsest level (rank 2) opens the buffer; the shared data
+        // and images follow inside its span, then the rest of it and the
+        // finer levels: a late request for an image never widens the
+        // first range a streaming viewer fetched.
+        let coarsest = 2;
+        assert_eq!(
+            order.first(),
+            Some(&coarsest),
+            "{}: {order:?}",
+            input.display()
+        );
+        let inside: Vec<usize> = order[1..]
+            .iter()
+            .copied()
+            .take_while(|&r| r < coarsest)
+            .collect();
+        let rest = &order[1 + inside.len()..];
         assert!(
-            order.windows(2).all(|w| w[0] <= w[1]),
+            inside.windows(2).all(|w| w[0] <= w[1])
+                && rest.first() == Some(&coarsest)
+                && rest.windows(2).all(|w| w[0] <= w[1]),
             "{}: views in buffer order have ranks {order:?}",
             input.display()
         );
@@ -243,9 +262,10 @@ fn the_binary_chunk_holds_shared_data_then_levels_from_the_coarsest() {
         assert!(by_offset.windows(2).all(|w| w[0].1 <= w[1].0));
         assert!(by_offset.last().unwrap().1 <= bin.len());
         if input.ends_with("CesiumMan.glb") {
-            // A skin, animations and a texture, all before the levels.
+            // A skin, animations and a texture, all inside the coarsest
+            // level's span.
             assert!(
-                order.starts_with(&[0, 0]) && order.contains(&1),
+                inside.starts_with(&[0, 0]) && inside.contains(&1),
                 "{order:?}"
             );
         }

@@ -81,26 +81,43 @@ impl Bin {
     }
 
     /// Moves the views' bytes into the order a streaming reader wants
-    /// them: shared data (skins, animations…), then images, then the
-    /// levels of detail from the coarsest (`coarsest`) to level 0, each
-    /// section contiguous and its views in the order they were written.
+    /// them: the levels of detail from the coarsest (`coarsest`) to level
+    /// 0, each section contiguous and its views in the order they were
+    /// written, with the shared data (skins, animations…) and the images
+    /// inside the coarsest level's span, after its first view.
     ///
     /// A viewer that loads `MSFT_lod` progressively over HTTP range
     /// requests (Babylon.js) asks for one byte range per level, spanning
     /// everything that level's nodes use: with this order the first range
     /// is the shared data and the coarsest level only, and each finer
-    /// level is one more contiguous range after it. View indices do not
-    /// change, only their offsets; each view keeps its offset modulo 4,
-    /// so every accessor stays aligned.
+    /// level is one more contiguous range after it. The shared data sits
+    /// between the coarsest level's views rather than before them because
+    /// Babylon issues the first range as soon as the scene's geometry has
+    /// asked for its views; an image or animation asking later widens the
+    /// range it already fetched and then reads every view at the wrong
+    /// offset ("Invalid typed array length", the truck's chain in two
+    /// loads of three on a busy machine). Between two views of the
+    /// coarsest level, which the first range always holds, a late request
+    /// never widens it. With a single level, or a coarsest level of one
+    /// view, the shared data comes first.
+    ///
+    /// View indices do not change, only their offsets; each view keeps
+    /// its offset modulo 4, so every accessor stays aligned.
     pub(crate) fn lay_out_for_streaming(&mut self, coarsest: usize) {
-        let rank = |s: Section| match s {
-            Section::Shared => 0,
-            Section::Textures => 1,
-            Section::Level(l) => 2 + coarsest.saturating_sub(l),
+        let top = Section::Level(coarsest);
+        let first = (coarsest > 0 && self.sections.iter().filter(|&&s| s == top).count() >= 2)
+            .then(|| self.sections.iter().position(|&s| s == top))
+            .flatten();
+        let sections = &self.sections;
+        let rank = |v: usize| match sections[v] {
+            _ if Some(v) == first => 0,
+            Section::Shared => 1,
+            Section::Textures => 2,
+            Section::Level(l) => 3 + coarsest.saturating_sub(l),
         };
         let mut order: Vec<usize> = (0..self.views.len()).collect();
         // Stable: views of one section keep their order.
-        order.sort_by_key(|&v| rank(self.sections[v]));
+        order.sort_by_key(|&v| rank(v));
         let mut data = Vec::with_capacity(self.data.len());
         for v in order {
             let view = &mut self.views[v];
@@ -167,7 +184,7 @@ mod tests {
     }
 
     #[test]
-    fn streaming_layout_puts_shared_data_then_images_then_coarse_levels_first() {
+    fn streaming_layout_puts_shared_data_and_images_inside_the_coarsest_level_first() {
         // Written as a glTF writer does: level 0, shared, images, level 1,
         // level 2 (a view of 3 bytes and one at residue 2 on the way).
         let mut b = Bin {
@@ -187,12 +204,12 @@ mod tests {
         let l2b = b.view(&[6; 4], None, None);
         b.lay_out_for_streaming(2);
         let offset = |v: usize| b.views[v]["byteOffset"].as_u64().unwrap();
-        let order = [shared, odd, image, l2a, l2b, l1, l0];
+        let order = [l2a, shared, odd, image, l2b, l1, l0];
         assert!(order.windows(2).all(|w| offset(w[0]) < offset(w[1])));
         // Packed: each view right after the one before, up to alignment.
         assert_eq!(
             order.map(offset),
-            [0, 6, 8, 16, 20, 24, 28],
+            [0, 4, 10, 12, 20, 24, 28],
             "{:?}",
             b.views
         );
@@ -207,6 +224,26 @@ mod tests {
             (l2b, 6),
         ] {
             assert!(bytes(&b, v).iter().all(|&x| x == byte), "view {v}");
+        }
+    }
+
+    #[test]
+    fn a_single_level_or_a_coarsest_level_of_one_view_puts_shared_data_first() {
+        for (coarsest, views) in [(0, 2), (1, 1)] {
+            let mut b = Bin {
+                section: Section::Level(0),
+                ..Bin::default()
+            };
+            let l0 = b.view(&[0; 4], None, None);
+            b.section = Section::Level(coarsest);
+            let top: Vec<usize> = (0..views).map(|_| b.view(&[1; 4], None, None)).collect();
+            b.section = Section::Shared;
+            let shared = b.view(&[2; 4], None, None);
+            b.lay_out_for_streaming(coarsest);
+            let offset = |v: usize| b.views[v]["byteOffset"].as_u64().unwrap();
+            assert_eq!(offset(shared), 0, "coarsest {coarsest}");
+            assert!(top.iter().all(|&v| offset(v) > 0));
+            assert!(offset(l0) > 0);
         }
     }
 }
