@@ -155,11 +155,11 @@ pub struct Report {
     /// [`crate::AttributeOptions::geometry_tolerance`]). `None` when
     /// nothing steered.
     pub steering: Option<SteeringOutcome>,
-    /// Where constraints (locked borders, kept topology, kept seams) kept
-    /// the run from its triangle target: the error level, relative to the
-    /// diagonal, where this one stopped instead of making every collapse
-    /// left: what a run without them has at as many triangles as they
-    /// leave (the constrained run's floor), or lower where the output
+    /// Where constraints (locked borders, kept topology, kept seams) held
+    /// the run above its triangle target: the error level, relative to
+    /// the diagonal, where it stopped: what a run without them has at as
+    /// many triangles as they leave (the constrained run's floor) where
+    /// they put the target out of reach, or lower where the output
     /// measured farther from the input than a run without them at the
     /// target (see [`crate::simplify_with_attributes_and_progress`]).
     /// `None` otherwise.

@@ -48,7 +48,7 @@ fn level_line(l: &Level, input_tris: usize) -> String {
         .filter(|_| l.triangles > target + 1)
         .map(|level| {
             format!(
-                " (target {target} out of reach of the constraints: stopped at error {level:.4}, no farther from the input than the target without them)"
+                " (target {target} held by the constraints: stopped at error {level:.4}, no farther from the input than the target without them)"
             )
         })
         .unwrap_or_default();

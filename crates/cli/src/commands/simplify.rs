@@ -427,7 +427,7 @@ pub fn summary(name: &str, r: &Report, seconds: f64) -> String {
     let short = r.output_triangles > r.target_triangles + 1;
     if let (true, Some(level)) = (short, r.held_by_constraints) {
         s.push_str(&format!(
-            " (target {} out of reach of the constraints: stopped at error {level:.4}, no farther from the input than the target without them)",
+            " (target {} held by the constraints: stopped at error {level:.4}, no farther from the input than the target without them)",
             r.target_triangles
         ));
     } else if short && r.stop == Some(StopReason::NoCollapsibleEdges) {
