@@ -121,6 +121,27 @@ fn locked_borders_never_move_border_vertices() {
     }
 }
 
+/// A flat sheet of 8 × 8 unit quads, triangulated, each grid point `p`
+/// (z = 0) moved to `place(p)`.
+fn sheet(place: impl Fn([f32; 3]) -> [f32; 3]) -> Mesh {
+    let mut sheet = shapes::quad_grid(8, 8);
+    for p in &mut sheet.positions {
+        *p = place(*p);
+    }
+    shapes::triangulate(&sheet)
+}
+
+/// Options aiming at `r` of the input triangles with open borders locked.
+fn locked_borders(r: f64) -> Options {
+    Options {
+        guards: Guards {
+            lock_borders: true,
+            ..Guards::default()
+        },
+        ..ratio(r)
+    }
+}
+
 #[test]
 fn constraints_that_keep_the_target_out_of_reach_cost_triangles_not_distance() {
     // Four finely tessellated flat sheets and a bumpy ball, at 5%. Without
@@ -131,21 +152,10 @@ fn constraints_that_keep_the_target_out_of_reach_cost_triangles_not_distance() {
     // error reaches the unlocked run's at that many triangles instead.
     let mut parts = vec![bumpy_sphere(12)];
     for k in 0..4 {
-        let mut sheet = shapes::quad_grid(8, 8);
-        for p in &mut sheet.positions {
-            *p = [p[0] + 1.5 + 1.2 * k as f32, p[1], 0.0];
-        }
-        parts.push(shapes::triangulate(&sheet));
+        parts.push(sheet(|p| [p[0] + 1.5 + 1.2 * k as f32, p[1], 0.0]));
     }
     let input = shapes::merge(&parts);
-    let free = ratio(0.05);
-    let locked = Options {
-        guards: Guards {
-            lock_borders: true,
-            ..Guards::default()
-        },
-        ..ratio(0.05)
-    };
+    let (free, locked) = (ratio(0.05), locked_borders(0.05));
     let (a, ra) = simplify_mesh(&input, &free).unwrap();
     let (b, rb) = simplify_mesh(&input, &locked).unwrap();
     assert!(ra.held_by_constraints.is_none());
@@ -223,21 +233,12 @@ fn a_held_run_is_as_close_to_the_input_as_the_free_run_at_the_target() {
         parts.push(leg([x, -0.6, z], 0.08, 0.3, 16, 8));
     }
     for k in 0..8 {
-        let mut sheet = shapes::quad_grid(8, 8);
-        for p in &mut sheet.positions {
-            *p = [p[0] / 8.0 - 0.5 + 1.2 * k as f32, 1.2, p[1] / 8.0 - 0.5];
-        }
-        parts.push(shapes::triangulate(&sheet));
+        parts.push(sheet(|p| {
+            [p[0] / 8.0 - 0.5 + 1.2 * k as f32, 1.2, p[1] / 8.0 - 0.5]
+        }));
     }
     let input = shapes::merge(&parts);
-    let free = ratio(0.1);
-    let locked = Options {
-        guards: Guards {
-            lock_borders: true,
-            ..Guards::default()
-        },
-        ..ratio(0.1)
-    };
+    let (free, locked) = (ratio(0.1), locked_borders(0.1));
     let (a, _) = simplify_mesh(&input, &free).unwrap();
     let (b, rb) = simplify_mesh(&input, &locked).unwrap();
     assert!(rb.held_by_constraints.is_some());
