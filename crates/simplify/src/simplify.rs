@@ -237,7 +237,9 @@ pub fn simplify_with_attributes_and_progress(
     };
     let first = out.report.error;
     let mut out = if level < first { held(level)? } else { out };
-    if !close(&out) {
+    // (A level of zero has nothing to halve: its output is the input's
+    // surface, as close as any.)
+    if level > 0.0 && level.is_finite() && !close(&out) {
         // Halve the level until the output is close enough, then narrow
         // between the last level that was not and the first that was.
         let mut far = level;
