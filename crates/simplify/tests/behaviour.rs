@@ -131,6 +131,20 @@ fn sheet(place: impl Fn([f32; 3]) -> [f32; 3]) -> Mesh {
     shapes::triangulate(&sheet)
 }
 
+/// `output` measured against `input` with `samples` surface samples
+/// (geometry only).
+fn measure(input: &Mesh, output: &Mesh, samples: usize) -> wildlod_eval::Comparison {
+    wildlod_eval::compare(
+        &wildlod_eval::EvalMesh::from_mesh(input),
+        &wildlod_eval::EvalMesh::from_mesh(output),
+        &wildlod_eval::CompareOptions {
+            samples,
+            texture_samples: 0,
+            ..wildlod_eval::CompareOptions::default()
+        },
+    )
+}
+
 /// Options aiming at `r` of the input triangles with open borders locked.
 fn locked_borders(r: f64) -> Options {
     Options {
@@ -164,19 +178,7 @@ fn constraints_that_keep_the_target_out_of_reach_cost_triangles_not_distance() {
     assert_eq!(rb.stop, Some(StopReason::ErrorLimit));
     assert!(rb.output_triangles > rb.target_triangles + 1);
     assert!(rb.error <= level);
-    let options = wildlod_eval::CompareOptions {
-        samples: 40_000,
-        texture_samples: 0,
-        ..wildlod_eval::CompareOptions::default()
-    };
-    let distance = |m: &Mesh| {
-        wildlod_eval::compare(
-            &wildlod_eval::EvalMesh::from_mesh(&input),
-            &wildlod_eval::EvalMesh::from_mesh(m),
-            &options,
-        )
-        .hausdorff
-    };
+    let distance = |m: &Mesh| measure(&input, m, 40_000).hausdorff;
     let (free_distance, locked_distance) = (distance(&a), distance(&b));
     assert!(
         locked_distance <= 1.5 * free_distance,
@@ -243,19 +245,11 @@ fn a_held_run_is_as_close_to_the_input_as_the_free_run_at_the_target() {
     let (b, rb) = simplify_mesh(&input, &locked).unwrap();
     assert!(rb.held_by_constraints.is_some());
     assert!(rb.output_triangles > rb.target_triangles + 1);
-    let options = wildlod_eval::CompareOptions {
-        samples: 100_000,
-        texture_samples: 0,
-        ..wildlod_eval::CompareOptions::default()
-    };
-    let measure = |m: &Mesh| {
-        wildlod_eval::compare(
-            &wildlod_eval::EvalMesh::from_mesh(&input),
-            &wildlod_eval::EvalMesh::from_mesh(m),
-            &options,
-        )
-    };
-    assert_within_geometry_bound("held", &measure(&b), &measure(&a));
+    assert_within_geometry_bound(
+        "held",
+        &measure(&input, &b, 100_000),
+        &measure(&input, &a, 100_000),
+    );
 }
 
 #[test]
