@@ -85,28 +85,36 @@ pub fn rebake_levels(
         // aimed for its runs' targets.
         let aimed = level.runs.iter().map(|r| r.report.target_triangles).sum();
         let targets = drawn_targets(&level.meshes, &instances, aimed);
+        let hold = Held::of(&level.runs).map_or_else(Vec::new, |h| h.hold_targets(&targets));
         let t0 = Instant::now();
         measured = None;
         let mut baked = doc.clone();
         let label = format!("{stem}_lod{}", level.level);
-        let (runs, more) =
-            match rebake_scene(&mut baked, input, options, &settings.bake, &targets, &label) {
-                Ok(r) => r,
-                // `auto` keeps this level's shared texture, and says why.
-                Err(e) if !baking => {
-                    let why = crate::error::error_chain(&e);
-                    choice.rebake_failed = Some(why.clone());
-                    gave_up = Some(why);
-                    level.textures = Some(choice);
-                    continue;
-                }
-                Err(e) => {
-                    return Err(Error::Level {
-                        level: level.level,
-                        source: Box::new(e),
-                    })
-                }
-            };
+        let (runs, more) = match rebake_scene(
+            &mut baked,
+            input,
+            options,
+            &settings.bake,
+            &targets,
+            &hold,
+            &label,
+        ) {
+            Ok(r) => r,
+            // `auto` keeps this level's shared texture, and says why.
+            Err(e) if !baking => {
+                let why = crate::error::error_chain(&e);
+                choice.rebake_failed = Some(why.clone());
+                gave_up = Some(why);
+                level.textures = Some(choice);
+                continue;
+            }
+            Err(e) => {
+                return Err(Error::Level {
+                    level: level.level,
+                    source: Box::new(e),
+                })
+            }
+        };
         warnings.extend(more);
         if !baking {
             let (baked_images, _) = load_images(&baked, output);

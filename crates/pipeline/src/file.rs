@@ -171,6 +171,7 @@ pub fn simplify_document<P: MeshProgress>(
                 Held::of(std::slice::from_ref(&run)),
             )
         };
+        let hold = held.map_or_else(Vec::new, |h| h.hold_targets(&rebake_targets));
         let mut out = doc.clone();
         let (runs, more) = rebake_scene(
             &mut out,
@@ -178,6 +179,7 @@ pub fn simplify_document<P: MeshProgress>(
             options,
             &textures.bake,
             &rebake_targets,
+            &hold,
             &stem,
         )?;
         warnings.extend(more);

@@ -19,7 +19,7 @@ use rayon::prelude::*;
 use wildlod_bake::{bake_meshes, BakeError, BakeInput, BakeOptions, BakedMesh, Channel, SceneMesh};
 use wildlod_io::{decode_image_rgba8, encode_image, Document, ImageEncoding};
 use wildlod_mesh::{ImageSource, Material, Mesh, Rgba8Image, Sampler, Texture, Wrap};
-use wildlod_simplify::{InputData, Options, Report, StopReason, Target};
+use wildlod_simplify::{Guards, InputData, Options, Report, StopReason, Target};
 
 use crate::{clear_unused_joint_slots, mesh_name, share_budget, Error, MeshRun};
 
@@ -92,8 +92,11 @@ pub struct RebakedRun {
 /// simplifier `options`, all baked together (`wildlod_bake::bake_meshes`):
 /// one material and one set of images per output material group across
 /// the file, every mesh's parts of the group pointing at it; a mesh with
-/// nothing to bake keeps its materials (without textures). Returns every
-/// simplified mesh's run and the warnings (a texture that cannot be decoded bakes from its material's
+/// nothing to bake keeps its materials (without textures). `hold`, when
+/// not empty, gives per mesh the target of the run without constraints a
+/// constrained re-bake is held to (`Guards::hold_target`; see
+/// [`Held::hold_targets`]). Returns every simplified mesh's run and the
+/// warnings (a texture that cannot be decoded bakes from its material's
 /// factor, and says so).
 pub fn rebake_scene(
     doc: &mut Document,
@@ -101,6 +104,7 @@ pub fn rebake_scene(
     options: &Options,
     settings: &BakeSettings,
     targets: &[Target],
+    hold: &[Option<usize>],
     stem: &str,
 ) -> Result<(Vec<RebakedRun>, Vec<String>), Error> {
     let mut warnings = Vec::new();
@@ -168,6 +172,10 @@ pub fn rebake_scene(
                         Vec::new()
                     },
                     ..options.data.clone()
+                },
+                guards: Guards {
+                    hold_target: hold.get(m).copied().flatten(),
+                    ..options.guards
                 },
                 ..options.clone()
             },
@@ -502,6 +510,20 @@ impl Held {
             level,
             target: runs.iter().map(|r| r.report.target_triangles).sum(),
         })
+    }
+
+    /// Per mesh, the target a re-bake aiming at `targets` (the held runs'
+    /// counts, [`crate::drawn_targets`]) is held to when its constraints
+    /// hold it: the held runs' target shared in proportion to the counts.
+    /// Held instead against a free run at the counts, the constraints
+    /// would cost triangles twice: once in the held run that reached them,
+    /// again in the re-bake.
+    pub(crate) fn hold_targets(self, targets: &[Target]) -> Vec<Option<usize>> {
+        let counts: Vec<usize> = targets.iter().map(|t| t.triangles.unwrap_or(0)).collect();
+        share_budget(self.target, &counts)
+            .into_iter()
+            .map(|n| Some(n.max(1)))
+            .collect()
     }
 
     /// A re-bake reaches, mesh by mesh, the counts held runs kept: each

@@ -120,7 +120,8 @@ pub fn simplify_with_attributes(
 /// And any constrained run, whether it reached its target or not, stops
 /// lower where its output, measured against the input (Hausdorff and
 /// Chamfer), would be farther from it than a run without the constraints
-/// at the target, beyond [`crate::AttributeOptions::geometry_tolerance`];
+/// at the target ([`crate::Guards::hold_target`] when set), beyond
+/// [`crate::AttributeOptions::geometry_tolerance`];
 /// [`crate::Report::held_by_constraints`] says so.
 pub fn simplify_with_attributes_and_progress(
     positions: &[[f32; 3]],
@@ -170,6 +171,13 @@ pub fn simplify_with_attributes_and_progress(
         faces,
         &unsteered(attributes),
         &Options {
+            target: match options.guards.hold_target {
+                Some(triangles) => Target {
+                    triangles: Some(triangles),
+                    ..Target::default()
+                },
+                None => options.target,
+            },
             metric: Metric {
                 tangent_weight: 0.0,
                 ..unconstrained.metric
