@@ -247,9 +247,10 @@ impl<'a> SuccessiveMap<'a> {
     /// distances (`Above`); margins cover the `f32` rounding of the
     /// per-point distances. When nothing remains the step is shared. Else
     /// a large batch splits in two across its longest extent (a smaller
-    /// ball rules out more), or each point takes this step of its own walk
-    /// and the batch goes on in groups of equal picks: the walk is shared
-    /// up to where paths really part. Batches of at most 32 points are
+    /// ball rules out more), or each point takes this step of its own walk,
+    /// measuring only the triangles left (the others are farther from it
+    /// than the candidate), and the batch goes on in groups of equal
+    /// picks: the walk is shared up to where paths really part. Batches of at most 32 points are
     /// walked point by point. At the end each point needs only its closest
     /// point on the last ring triangle and its barycentrics on the input
     /// face, as [`SuccessiveMap::map`] does last.
@@ -427,6 +428,7 @@ impl<'a> SuccessiveMap<'a> {
         let radius = radius as f32;
         let cmag = c.abs().max_element() + radius;
         let mut dc: Vec<f32> = Vec::new();
+        let mut risky: Vec<usize> = Vec::new();
         // Steps taken point by point so far.
         let mut alone = 0;
         while let Some((k, first, at)) = self.previous_touch(&w) {
@@ -447,7 +449,7 @@ impl<'a> SuccessiveMap<'a> {
             let d = dc[i - start].sqrt();
             let above = Above::new(best, c.as_dvec3(), radius as f64);
             // Ring triangles that may be some point's choice.
-            let mut risky = 0;
+            risky.clear();
             for (j, t) in ring.iter().enumerate() {
                 if start + j == i {
                     continue;
@@ -462,17 +464,17 @@ impl<'a> SuccessiveMap<'a> {
                     continue;
                 }
                 if !above.as_ref().is_some_and(|a| a.clears(t, margin as f64)) {
-                    risky += 1;
+                    risky.push(j);
                 }
             }
-            if risky == 0 {
+            if risky.is_empty() {
                 w.face = best.face;
                 w.last = Some(i as u32);
                 w.bound = k;
                 w.at = at;
                 continue;
             }
-            if risky >= SPLIT_RISKY && order.len() >= SPLIT_POINTS {
+            if risky.len() >= SPLIT_RISKY && order.len() >= SPLIT_POINTS {
                 // Many candidates: a smaller ball has fewer.
                 let axis = (hi - lo).max_position();
                 let mid = c[axis];
@@ -491,14 +493,22 @@ impl<'a> SuccessiveMap<'a> {
                     + self.map_batch(w, points, a, out)
                     + self.map_batch(w, points, b, out);
             }
-            // A few candidates: each point takes its own step (the step of
-            // its own walk, so the two agree by construction), and the
-            // points part by their pick.
+            // A few candidates: each point takes its own step among them
+            // (every other triangle is farther from every point of the
+            // ball), and the points part by their pick.
+            let candidates = Candidates::new(
+                &self.blocks[self.block_start[k as usize] as usize..],
+                i - start,
+                &risky,
+            );
             let mut picks: Vec<(u32, u32)> = order
                 .iter()
                 .map(|&p| {
                     let pf = Vec3::from(points[p as usize]);
-                    let pick = self.project_on_edge_ring(k as usize, first as u32, pf);
+                    let pick = match candidates.pick(pf, first, ring[first].radius) {
+                        Some(j) => Some(start + j),
+                        None => self.project_on_edge_ring(k as usize, first as u32, pf),
+                    };
                     // Some: the ring holds the center's pick.
                     (pick.unwrap_or(i) as u32, p)
                 })
@@ -658,6 +668,65 @@ impl<'a> SuccessiveMap<'a> {
     pub fn touches(&self, face: u32) -> usize {
         let f = face as usize;
         (self.touch_start[f + 1] - self.touch_start[f]) as usize
+    }
+}
+
+/// The triangles of a ring that may be the closest to some point of a
+/// ball (the center's pick and those no bound rules out), gathered into
+/// blocks of their own: a point of the ball measures only them, and picks
+/// as [`SuccessiveMap::project_on_edge_ring`] does over the whole ring
+/// (every other triangle is farther from it by a margin).
+struct Candidates {
+    /// Ring-local indices, ascending.
+    index: Vec<usize>,
+    blocks: Vec<RingBlock>,
+}
+
+impl Candidates {
+    /// The candidates `pick` and `risky` (ring-local) of the ring whose
+    /// blocks start `blocks`.
+    fn new(blocks: &[RingBlock], pick: usize, risky: &[usize]) -> Candidates {
+        let mut index = Vec::with_capacity(risky.len() + 1);
+        index.push(pick);
+        index.extend_from_slice(risky);
+        index.sort_unstable();
+        let mut gathered = vec![RingBlock::default(); index.len().div_ceil(LANES)];
+        for (c, &j) in index.iter().enumerate() {
+            blocks[j / LANES].copy_lane(j % LANES, &mut gathered[c / LANES], c % LANES);
+        }
+        Candidates {
+            index,
+            blocks: gathered,
+        }
+    }
+
+    /// The ring-local index of `pf`'s pick, as the whole ring's: a point
+    /// on the current face's triangle `first` (radius `first_radius`)
+    /// stays there, else the least distance, ties to the earlier
+    /// triangle. `None` where a distance is not finite: the whole ring then
+    /// decides, in its own order.
+    #[inline]
+    fn pick(&self, pf: Vec3, first: usize, first_radius: f32) -> Option<usize> {
+        let (mut best_d2, mut best) = (f32::INFINITY, usize::MAX);
+        let mut own = false;
+        for (b, block) in self.blocks.iter().enumerate() {
+            let d = block.distances(pf);
+            for (l, &d2) in d.iter().enumerate() {
+                let Some(&j) = self.index.get(b * LANES + l) else {
+                    break;
+                };
+                if !d2.is_finite() {
+                    return None;
+                }
+                if j == first && d2 <= (1e-7 * first_radius).powi(2) {
+                    own = true;
+                }
+                if d2 < best_d2 || (d2 == best_d2 && j < best) {
+                    (best_d2, best) = (d2, j);
+                }
+            }
+        }
+        Some(if own { first } else { best })
     }
 }
 
@@ -847,6 +916,40 @@ mod tests {
         // f3 = (0,1),(0,0),(½,½): ½c = 0.3 → c = 0.6; a + 0.3 = 0.6 →
         // a = 0.3; b = 0.1.
         assert_point(map.map(2, [0.3, 0.6, 0.0]), 3, [9, 10, 11], [0.3, 0.1, 0.6]);
+    }
+
+    /// A ball's candidates pick as the whole ring does: with every ring
+    /// triangle a candidate, on and off the ring's plane, on shared edges
+    /// (ties go to the earlier triangle) and on the current face's own
+    /// triangle (it stays there).
+    #[test]
+    fn candidates_pick_as_the_whole_ring() {
+        let (p, f) = square();
+        let h = history(&p, false);
+        let map = SuccessiveMap::new(&h, &p, &f);
+        let blocks = &map.blocks[map.block_start[0] as usize..map.block_start[1] as usize];
+        let ring = &map.rings[map.ring_start[0] as usize..map.ring_start[1] as usize];
+        assert_eq!(ring.len(), 4);
+        let mut picked = std::collections::BTreeSet::new();
+        for pick in 0..4 {
+            let risky: Vec<usize> = (0..4).filter(|&j| j != pick).collect();
+            let candidates = Candidates::new(blocks, pick, &risky);
+            for (first, own) in ring.iter().enumerate() {
+                for i in -2..=12 {
+                    for j in -2..=12 {
+                        for z in [0.0, 0.05, -0.3] {
+                            let q = Vec3::new(i as f32 / 10.0, j as f32 / 10.0, z);
+                            let whole = map.project_on_edge_ring(0, first as u32, q);
+                            let some = candidates.pick(q, first, own.radius);
+                            assert_eq!(some, whole, "pick {pick} first {first} at {q:?}");
+                            picked.insert(whole);
+                        }
+                    }
+                }
+            }
+        }
+        // Every triangle is some point's pick.
+        assert_eq!(picked.len(), 4, "{picked:?}");
     }
 
     #[test]

@@ -88,6 +88,25 @@ impl RingBlock {
         );
     }
 
+    /// Triangle `l` of `self` copied into lane `to` of `out`, field by
+    /// field: `out` measures it bit for bit as `self` does.
+    pub fn copy_lane(&self, l: usize, out: &mut RingBlock, to: usize) {
+        for (dst, src) in [
+            (&mut out.a, &self.a),
+            (&mut out.e1, &self.e1),
+            (&mut out.e2, &self.e2),
+            (&mut out.e3, &self.e3),
+            (&mut out.du, &self.du),
+            (&mut out.dv, &self.dv),
+            (&mut out.n, &self.n),
+            (&mut out.inv, &self.inv),
+        ] {
+            for c in 0..3 {
+                dst[c][to] = src[c][l];
+            }
+        }
+    }
+
     /// Squared distances from `p` to the block's four triangles.
     #[inline]
     pub fn distances(&self, p: Vec3) -> [f32; LANES] {
