@@ -104,7 +104,7 @@ pub fn rebake_scene(
     options: &Options,
     settings: &BakeSettings,
     targets: &[Target],
-    hold: &[Option<usize>],
+    hold: &[usize],
     stem: &str,
 ) -> Result<(Vec<RebakedRun>, Vec<String>), Error> {
     let mut warnings = Vec::new();
@@ -174,7 +174,7 @@ pub fn rebake_scene(
                     ..options.data.clone()
                 },
                 guards: Guards {
-                    hold_target: hold.get(m).copied().flatten(),
+                    hold_target: hold.get(m).copied(),
                     ..options.guards
                 },
                 ..options.clone()
@@ -518,11 +518,11 @@ impl Held {
     /// Held instead against a free run at the counts, the constraints
     /// would cost triangles twice: once in the held run that reached them,
     /// again in the re-bake.
-    pub(crate) fn hold_targets(self, targets: &[Target]) -> Vec<Option<usize>> {
+    pub(crate) fn hold_targets(self, targets: &[Target]) -> Vec<usize> {
         let counts: Vec<usize> = targets.iter().map(|t| t.triangles.unwrap_or(0)).collect();
         share_budget(self.target, &counts)
             .into_iter()
-            .map(|n| Some(n.max(1)))
+            .map(|n| n.max(1))
             .collect()
     }
 
