@@ -120,7 +120,7 @@ impl MeshJson {
 pub struct RejectedJson {
     /// A surviving face would have turned past the normal limit.
     pub normal_flip: usize,
-    /// A face of a flat region would have flattened onto its border.
+    /// A surviving face would have flattened to a line.
     pub flat_border: usize,
     /// The link condition failed (`--keep-topology`).
     pub topology: usize,

@@ -39,8 +39,8 @@ pub struct Rejections {
     pub overshoot: usize,
     /// The collapse's error exceeded the error limit.
     pub error_limit: usize,
-    /// A face of a flat region would have flattened to a line on the
-    /// region's border (see the flat-border rule).
+    /// A surviving face would have flattened to a line (its corners on
+    /// one straight run), where the flip guard could no longer judge it.
     pub flat_border: usize,
 }
 

@@ -2263,6 +2263,77 @@ fn png_texture_rgba(
     embedded_png(name, image::DynamicImage::ImageRgba8(img))
 }
 
+/// A voxel torus, as voxel editors and grid remeshers export one: the unit
+/// cubes whose corner nearest the origin lies within 6 of a circle of
+/// radius 16, written as
+/// the quads between a filled and an empty cell, each split into two
+/// triangles, welded, in an order shuffled by `seed` (as an exporter's
+/// hash order would): which of the many equal-cost collapses comes first
+/// follows the order, and so does which one meets a degenerate face.
+/// 10,416 triangles; every face is axis-aligned and the outline of every
+/// flat region is a staircase.
+///
+/// Stresses: exactness on piecewise-flat surfaces. Half its triangles go
+/// by merging coplanar faces alone (meshoptimizer, Blender and MeshLab are
+/// exact at 50%); every edge of a staircase is a crease, and a straight
+/// run collapsed onto a line leaves faces without area, which a later
+/// collapse can give area again across a step's corner.
+pub fn voxel_torus(seed: u64) -> Scene {
+    let filled = |x: i32, y: i32, z: i32| {
+        (f64::from(x).hypot(f64::from(y)) - 16.0).hypot(f64::from(z)) < 6.0
+    };
+    // Each side of a cube, as the axis it faces and its corners wound
+    // counter-clockwise seen from outside.
+    const SIDES: [([i32; 3], [[i32; 3]; 4]); 6] = [
+        ([1, 0, 0], [[1, 0, 0], [1, 1, 0], [1, 1, 1], [1, 0, 1]]),
+        ([-1, 0, 0], [[0, 0, 0], [0, 0, 1], [0, 1, 1], [0, 1, 0]]),
+        ([0, 1, 0], [[0, 1, 0], [0, 1, 1], [1, 1, 1], [1, 1, 0]]),
+        ([0, -1, 0], [[0, 0, 0], [1, 0, 0], [1, 0, 1], [0, 0, 1]]),
+        ([0, 0, 1], [[0, 0, 1], [1, 0, 1], [1, 1, 1], [0, 1, 1]]),
+        ([0, 0, -1], [[0, 0, 0], [0, 1, 0], [1, 1, 0], [1, 0, 0]]),
+    ];
+    let mut quads = Vec::new();
+    for x in -24..=24 {
+        for y in -24..=24 {
+            for z in -8..=8 {
+                if !filled(x, y, z) {
+                    continue;
+                }
+                for (d, corners) in SIDES {
+                    if filled(x + d[0], y + d[1], z + d[2]) {
+                        continue;
+                    }
+                    let p = corners.map(|c| {
+                        DVec3::new(
+                            f64::from(x + c[0]),
+                            f64::from(y + c[1]),
+                            f64::from(z + c[2]),
+                        )
+                    });
+                    let facing = DVec3::new(f64::from(d[0]), f64::from(d[1]), f64::from(d[2]));
+                    quads.push((p, facing));
+                }
+            }
+        }
+    }
+    // Fisher–Yates.
+    let mut rng = SplitMix64(seed);
+    for k in (1..quads.len()).rev() {
+        quads.swap(k, (rng.next_u64() % (k as u64 + 1)) as usize);
+    }
+    let mut b = Builder::new(false, false);
+    b.part("voxels", 0);
+    for (p, facing) in quads {
+        b.poly(&[p[0], p[1], p[2]], facing);
+        b.poly(&[p[0], p[2], p[3]], facing);
+    }
+    scene(
+        b.mesh("voxel_torus"),
+        vec![material("voxels", [0.6, 0.6, 0.65])],
+        Vec::new(),
+    )
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -1022,11 +1022,12 @@ impl<'o> Run<'o> {
             self.report.rejected.topology += 1;
             return Verdict::Refused;
         }
-        // Nor may a face of a flat region flatten to a line on its border
-        // (three corners on a straight border run): the flip guard cannot
-        // judge a face without area, so it could fold over later.
+        // Nor may a surviving face flatten to a line (three corners on a
+        // straight run): the flip guard cannot judge a face without area,
+        // so a later collapse could give it area again across a step's
+        // corner or over a flat region's border.
         let tests = FaceTests {
-            flatten: ev.holds_flat_border,
+            flatten: true,
             min_cos,
         };
         if tests.flatten || tests.min_cos.is_some() {

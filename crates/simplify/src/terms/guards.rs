@@ -30,8 +30,9 @@ pub(crate) enum Degrades {
     Flips,
 }
 
-/// The face tests a collapse must pass: the flat-border rule's and the
-/// normal limit's (the cosine of the largest turn), each where it applies.
+/// The face tests a collapse must pass: no surviving face flattened to a
+/// line ([`flattens`]) and none turned past the normal limit (the cosine
+/// of the largest turn, [`flips`]), each where asked.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct FaceTests {
     pub flatten: bool,
@@ -82,22 +83,25 @@ pub(crate) fn degraded_face(
     let mut corners = Corners::default();
     let mut tested = 0;
     let resume = &mut scans.from[i as usize];
+    let judge = |f: u32, corners: &mut Corners| {
+        let (old, new) = turn(c, f, i, j, x, corners)?;
+        if tests.flatten && flattens(old, new) {
+            Some(Degrades::Flattens)
+        } else if tests.min_cos.is_some_and(|mc| flips(old, new, mc)) {
+            Some(Degrades::Flips)
+        } else {
+            None
+        }
+    };
     let face = first_moved_failing(c, i, j, x, resume, |f| {
         tested += 1;
-        (tests.flatten && flattens(c, f, i, j, x, &mut corners))
-            || tests
-                .min_cos
-                .is_some_and(|mc| flips(c, f, i, j, x, mc, &mut corners))
+        judge(f, &mut corners).is_some()
     });
     scans.tested += tested;
     let face = face?;
     // Which test it failed, asked again of the witness alone: the scan
     // may judge faces after it (see `first_moved_failing`).
-    let why = if tests.flatten && flattens(c, face, i, j, x, &mut corners) {
-        Degrades::Flattens
-    } else {
-        Degrades::Flips
-    };
+    let why = judge(face, &mut corners)?;
     Some((face, why))
 }
 
@@ -121,27 +125,33 @@ impl Corners {
     }
 }
 
-/// Whether collapsing `i`–`j` to `x` turns surviving face `f` by more than
-/// the angle whose cosine is `min_cos`. Faces without area before or
-/// after are not judged (their normal means nothing).
-fn flips(c: &Complex, f: u32, i: u32, j: u32, x: DVec3, min_cos: f64, s: &mut Corners) -> bool {
+/// Surviving face `f`'s normal (scaled by twice its area) before and
+/// after collapsing `i`–`j` to `x`; `None` for a triangle holding both
+/// endpoints, which vanishes.
+fn turn(c: &Complex, f: u32, i: u32, j: u32, x: DVec3, s: &mut Corners) -> Option<(DVec3, DVec3)> {
     let face = c.face(f);
-    let (old, new) = if let [a, b, d] = *face {
-        // A triangle holding both endpoints vanishes: nothing to judge.
+    if let [a, b, d] = *face {
         let has = |v: u32| a == v || b == v || d == v;
         if has(i) && has(j) {
-            return false;
+            return None;
         }
         let p = |v: u32| c.pos[v as usize];
         let m = |v: u32| if v == i || v == j { x } else { p(v) };
-        (
+        Some((
             (p(b) - p(a)).cross(p(d) - p(a)),
             (m(b) - m(a)).cross(m(d) - m(a)),
-        )
+        ))
     } else {
         s.read(c, f, i, j, x);
-        (polygon_normal(&s.old), polygon_normal(&s.new))
-    };
+        Some((polygon_normal(&s.old), polygon_normal(&s.new)))
+    }
+}
+
+/// Whether a face whose normal goes from `old` to `new` turns by more than
+/// the angle whose cosine is `min_cos`. Faces without area before or
+/// after are not judged (their normal means nothing): [`flattens`] keeps
+/// surviving faces from losing their area.
+fn flips(old: DVec3, new: DVec3, min_cos: f64) -> bool {
     let (lo, ln) = (old.length_squared(), new.length_squared());
     // Areas below ~1e-15 of the unit-diagonal mesh are numerical dust.
     lo > 1e-30 && ln > 1e-30 && old.dot(new) < min_cos * (lo * ln).sqrt()
@@ -153,18 +163,16 @@ pub(crate) fn vanishes(face: &[u32], i: u32, j: u32) -> bool {
     face.len() == 3 && face.contains(&i) && face.contains(&j)
 }
 
-/// Whether surviving face `f` had area and has none once `i`–`j`
-/// collapses to `x` (its corners on one line, to 1e-12 of its area).
-/// [`flips`] does not judge faces without area, so a face flattened to a
-/// line could later turn over unseen; the flat-border rule (see
-/// `CostModel::evaluate`) refuses such collapses.
-fn flattens(c: &Complex, f: u32, i: u32, j: u32, x: DVec3, s: &mut Corners) -> bool {
-    if vanishes(c.face(f), i, j) {
-        return false;
-    }
-    s.read(c, f, i, j, x);
-    let lo = polygon_normal(&s.old).length_squared();
-    let ln = polygon_normal(&s.new).length_squared();
+/// Whether a face whose normal goes from `old` to `new` had area and has
+/// none after (its corners on one line, to 1e-12 of its area). [`flips`]
+/// cannot judge a face without area, so a face flattened to a line could
+/// later be given area again the wrong way unseen: across a step's corner
+/// of a staircase, or folded over a flat region's border. Every collapse
+/// refuses to flatten a surviving face (as meshoptimizer's flip test,
+/// which counts a face without area as flipped, does); faces the input
+/// had without area stay unjudged.
+fn flattens(old: DVec3, new: DVec3) -> bool {
+    let (lo, ln) = (old.length_squared(), new.length_squared());
     lo > 1e-30 && ln <= 1e-24 * lo
 }
 
