@@ -733,7 +733,13 @@ impl CostModel {
                 Some(r) => place_by_planes(q, r, pi, pj, REACH),
                 None => place(q, pi, pj, REACH),
             };
-            let at = by_geometry(&geometry).position;
+            let at = endpoint_if_as_good(
+                &ranked,
+                by_geometry(&geometry).position,
+                pi,
+                pj,
+                qi.weight + qj.weight,
+            );
             match &appearance {
                 // Hoppe's joint placement over position and attributes, kept
                 // only where it costs the surface no more than the slack.
@@ -839,6 +845,25 @@ impl CostModel {
     }
 }
 
+/// Where the planes cannot tell placements apart (around a flat region or
+/// along a straight crease every point of a plane or a line costs the
+/// same), the endpoint that costs no more than `at` to rounding (a mean
+/// squared distance of 1e-18 of the unit diagonal per unit of `weight`),
+/// else `at`. An output vertex left where an input vertex was keeps every
+/// later collapse there exact; a point the solve picked inside the free
+/// directions is on the planes but not necessarily where the next
+/// collapse's planes meet.
+fn endpoint_if_as_good(q: &Quadric, at: DVec3, pi: DVec3, pj: DVec3, weight: f64) -> DVec3 {
+    const EXACT: f64 = 1e-9;
+    let (ei, ej) = (q.eval(pi), q.eval(pj));
+    let (end, e) = if ei <= ej { (pi, ei) } else { (pj, ej) };
+    if e <= q.eval(at).max(0.0) + weight * EXACT * EXACT {
+        end
+    } else {
+        at
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -866,6 +891,32 @@ mod tests {
             .zip(&c.pos)
             .map(|(q, &p)| StoredQuadric::new(q, p))
             .collect()
+    }
+
+    #[test]
+    fn an_endpoint_as_cheap_as_the_solve_is_kept() {
+        // One plane, z = 0, weight 2: every point of it costs 0, so the
+        // solve's point (here (0.5, 0.3, 0)) and the endpoints tie, and
+        // the cheaper endpoint, i, stays where it was.
+        let flat = Quadric::plane(DVec3::Z, DVec3::ZERO, 2.0);
+        let (pi, pj) = (DVec3::ZERO, DVec3::new(1.0, 0.0, 0.0));
+        let free = DVec3::new(0.5, 0.3, 0.0);
+        assert_eq!(endpoint_if_as_good(&flat, free, pi, pj, 2.0), pi);
+        // Off the plane by 1e-6 the endpoint costs 2·1e-12, far above the
+        // tolerance (2·1e-18): the solve's point is kept.
+        let lifted = DVec3::new(0.0, 0.0, 1e-6);
+        assert_eq!(
+            endpoint_if_as_good(&flat, free, lifted, pj + lifted, 2.0),
+            free
+        );
+        // Planes x = 0.5 and z = 0 meet on a line through the edge's
+        // middle: both endpoints cost 2·0.25 = 0.5 more than the solve.
+        let crease = flat + Quadric::plane(DVec3::X, DVec3::new(0.5, 0.0, 0.0), 2.0);
+        assert_eq!(endpoint_if_as_good(&crease, free, pi, pj, 4.0), free);
+        // j cheaper than i: j is the endpoint taken.
+        let near_j = Quadric::plane(DVec3::X, DVec3::new(1.0, 0.0, 0.0), 1.0);
+        let at = DVec3::new(1.0, 5.0, 0.0);
+        assert_eq!(endpoint_if_as_good(&near_j, at, pi, pj, 1.0), pj);
     }
 
     #[test]
