@@ -4,10 +4,12 @@
 //! it and nothing else. These meshes are of the corpus's kinds but none of
 //! its files: smooth closed surfaces, machined parts (teeth, knurls, turned
 //! profiles, hex prisms), scenes of many parts, a double-sided cloth, leaf
-//! cards, an unwelded soup, quad meshes, and UV-mapped surfaces with
-//! normals (smooth, and hard at a prop's edges). They are
-//! written as OBJ under one folder per category (`manifold`, `wild`,
-//! `quad`, `textured`), the layout `../shared/peers` reads, so the peers and
+//! cards, an unwelded soup, quad meshes, UV-mapped surfaces with normals
+//! (smooth, and hard at a prop's edges), and voxel shapes (every face
+//! axis-aligned, every outline a staircase, as voxel editors and grid
+//! remeshers export them). They are written as OBJ under one folder per
+//! category (`manifold`, `wild`, `quad`, `textured`, `voxel`), the layout
+//! `../shared/peers` reads, so the peers and
 //! wildlod are scored on them exactly as on the corpus
 //! (`docs/evaluation.md`, "Meshes made in code").
 //!
@@ -25,7 +27,7 @@ use wildlod_testkit::SplitMix64;
 /// UV per corner.
 #[derive(Clone, Debug, Default)]
 pub struct Generated {
-    /// Category folder (`manifold`, `wild`, `quad`, `textured`).
+    /// Category folder (`manifold`, `wild`, `quad`, `textured`, `voxel`).
     pub category: &'static str,
     /// File stem.
     pub name: &'static str,
@@ -107,6 +109,10 @@ pub fn all() -> Vec<Generated> {
         terrain(),
         atlas_sphere(),
         panel_crate(),
+        voxel_torus(),
+        voxel_terrain(),
+        voxel_blob(),
+        grid_cut_plate(),
     ]
 }
 
@@ -829,6 +835,109 @@ pub fn atlas_sphere() -> Generated {
     }
 }
 
+/// The faces between filled and empty unit cells of `filled` over the
+/// cells `lo..=hi` (each axis), as quads split into two triangles, welded:
+/// what a voxel editor exports.
+fn voxels(filled: impl Fn(i32, i32, i32) -> bool, lo: [i32; 3], hi: [i32; 3]) -> Generated {
+    let mut ids: HashMap<[i32; 3], u32> = HashMap::new();
+    let mut positions = Vec::new();
+    let mut faces = Vec::new();
+    for (corners, _) in wildlod_testkit::scenes::voxel_sides(filled, lo, hi) {
+        let q = corners.map(|p| {
+            *ids.entry(p).or_insert_with(|| {
+                positions.push(DVec3::new(
+                    f64::from(p[0]),
+                    f64::from(p[1]),
+                    f64::from(p[2]),
+                ));
+                (positions.len() - 1) as u32
+            })
+        });
+        faces.push(vec![q[0], q[1], q[2]]);
+        faces.push(vec![q[0], q[2], q[3]]);
+    }
+    Generated {
+        positions,
+        faces,
+        ..Default::default()
+    }
+}
+
+/// `voxel/voxel_torus`: the unit cells within 6 of a circle of radius 16,
+/// 10,416 triangles.
+pub fn voxel_torus() -> Generated {
+    let filled = |x: i32, y: i32, z: i32| {
+        (f64::from(x).hypot(f64::from(y)) - 16.0).hypot(f64::from(z)) < 6.0
+    };
+    Generated {
+        category: "voxel",
+        name: "voxel_torus",
+        ..voxels(filled, [-24, -24, -8], [24, 24, 8])
+    }
+}
+
+/// `voxel/voxel_terrain`: a 64 × 64 height field of unit columns, as a
+/// block game's terrain, 27,320 triangles.
+pub fn voxel_terrain() -> Generated {
+    let height = |x: i32, y: i32| {
+        let (x, y) = (f64::from(x), f64::from(y));
+        (6.0 + 4.0 * (0.15 * x).sin() + 3.0 * (0.11 * y).cos() + 2.0 * (0.3 * (x + y)).sin()) as i32
+    };
+    let filled = move |x: i32, y: i32, z: i32| {
+        (0..64).contains(&x) && (0..64).contains(&y) && (0..=height(x, y)).contains(&z)
+    };
+    Generated {
+        category: "voxel",
+        name: "voxel_terrain",
+        ..voxels(filled, [0, 0, 0], [63, 63, 20])
+    }
+}
+
+/// `voxel/voxel_blob`: a sphere of radius 20 cells with three-lobed bumps,
+/// 16,084 triangles.
+pub fn voxel_blob() -> Generated {
+    let filled = |x: i32, y: i32, z: i32| {
+        let (x, y, z) = (f64::from(x), f64::from(y), f64::from(z));
+        let r = (x * x + y * y + z * z).sqrt() + 1e-9;
+        let bump = 0.12 * (3.0 * y.atan2(x)).sin() * (2.0 * (z / r).acos()).sin();
+        r < 20.0 * (1.0 + bump)
+    };
+    Generated {
+        category: "voxel",
+        name: "voxel_blob",
+        ..voxels(filled, [-24, -24, -24], [24, 24, 24])
+    }
+}
+
+/// `voxel/grid_cut_plate`: a 100 × 60 × 0.5 plate of 0.5 cells with 15
+/// round holes of radius 4 cut along the cells (staircase walls), as a
+/// grid remesher leaves a drilled plate; 86,720 triangles. The peers stay
+/// exact to 10%; at 1% the holes' outlines must go.
+pub fn grid_cut_plate() -> Generated {
+    let hole = |x: i32, y: i32| {
+        let (cx, cy) = (0.5 * f64::from(x) + 0.25, 0.5 * f64::from(y) + 0.25);
+        (0..15).any(|i| {
+            let (hx, hy) = (
+                10.0 + 20.0 * f64::from(i % 5),
+                10.0 + 20.0 * f64::from(i / 5),
+            );
+            (cx - hx).hypot(cy - hy) < 4.0
+        })
+    };
+    let filled = move |x: i32, y: i32, z: i32| {
+        z == 0 && (0..200).contains(&x) && (0..120).contains(&y) && !hole(x, y)
+    };
+    let mut g = voxels(filled, [0, 0, 0], [199, 119, 0]);
+    for p in &mut g.positions {
+        *p *= DVec3::splat(0.5);
+    }
+    Generated {
+        category: "voxel",
+        name: "grid_cut_plate",
+        ..g
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -865,6 +974,10 @@ mod tests {
             ("quad_creature", 10_800, true),
             ("atlas_sphere", 15_552, true),
             ("panel_crate", 6_912, true),
+            ("voxel_torus", 10_416, true),
+            ("voxel_terrain", 27_320, true),
+            ("voxel_blob", 16_084, true),
+            ("grid_cut_plate", 86_720, true),
         ];
         let all = all();
         for &(name, tris, closed) in expect {

@@ -2263,6 +2263,41 @@ fn png_texture_rgba(
     embedded_png(name, image::DynamicImage::ImageRgba8(img))
 }
 
+/// The sides between a filled and an empty unit cell of `filled`, over the
+/// cells `lo..=hi` on each axis, in cell order: each side's four corners
+/// (counter-clockwise seen from outside) and the axis direction it faces.
+/// What a voxel editor exports, before welding.
+pub fn voxel_sides(
+    filled: impl Fn(i32, i32, i32) -> bool,
+    lo: [i32; 3],
+    hi: [i32; 3],
+) -> Vec<([[i32; 3]; 4], [i32; 3])> {
+    const SIDES: [([i32; 3], [[i32; 3]; 4]); 6] = [
+        ([1, 0, 0], [[1, 0, 0], [1, 1, 0], [1, 1, 1], [1, 0, 1]]),
+        ([-1, 0, 0], [[0, 0, 0], [0, 0, 1], [0, 1, 1], [0, 1, 0]]),
+        ([0, 1, 0], [[0, 1, 0], [0, 1, 1], [1, 1, 1], [1, 1, 0]]),
+        ([0, -1, 0], [[0, 0, 0], [1, 0, 0], [1, 0, 1], [0, 0, 1]]),
+        ([0, 0, 1], [[0, 0, 1], [1, 0, 1], [1, 1, 1], [0, 1, 1]]),
+        ([0, 0, -1], [[0, 0, 0], [0, 1, 0], [1, 1, 0], [1, 0, 0]]),
+    ];
+    let mut out = Vec::new();
+    for x in lo[0]..=hi[0] {
+        for y in lo[1]..=hi[1] {
+            for z in lo[2]..=hi[2] {
+                if !filled(x, y, z) {
+                    continue;
+                }
+                for (d, corners) in SIDES {
+                    if !filled(x + d[0], y + d[1], z + d[2]) {
+                        out.push((corners.map(|c| [x + c[0], y + c[1], z + c[2]]), d));
+                    }
+                }
+            }
+        }
+    }
+    out
+}
+
 /// A voxel torus, as voxel editors and grid remeshers export one: the unit
 /// cubes whose corner nearest the origin lies within 6 of a circle of
 /// radius 16, written as
@@ -2282,40 +2317,7 @@ pub fn voxel_torus(seed: u64) -> Scene {
     let filled = |x: i32, y: i32, z: i32| {
         (f64::from(x).hypot(f64::from(y)) - 16.0).hypot(f64::from(z)) < 6.0
     };
-    // Each side of a cube, as the axis it faces and its corners wound
-    // counter-clockwise seen from outside.
-    const SIDES: [([i32; 3], [[i32; 3]; 4]); 6] = [
-        ([1, 0, 0], [[1, 0, 0], [1, 1, 0], [1, 1, 1], [1, 0, 1]]),
-        ([-1, 0, 0], [[0, 0, 0], [0, 0, 1], [0, 1, 1], [0, 1, 0]]),
-        ([0, 1, 0], [[0, 1, 0], [0, 1, 1], [1, 1, 1], [1, 1, 0]]),
-        ([0, -1, 0], [[0, 0, 0], [1, 0, 0], [1, 0, 1], [0, 0, 1]]),
-        ([0, 0, 1], [[0, 0, 1], [1, 0, 1], [1, 1, 1], [0, 1, 1]]),
-        ([0, 0, -1], [[0, 0, 0], [0, 1, 0], [1, 1, 0], [1, 0, 0]]),
-    ];
-    let mut quads = Vec::new();
-    for x in -24..=24 {
-        for y in -24..=24 {
-            for z in -8..=8 {
-                if !filled(x, y, z) {
-                    continue;
-                }
-                for (d, corners) in SIDES {
-                    if filled(x + d[0], y + d[1], z + d[2]) {
-                        continue;
-                    }
-                    let p = corners.map(|c| {
-                        DVec3::new(
-                            f64::from(x + c[0]),
-                            f64::from(y + c[1]),
-                            f64::from(z + c[2]),
-                        )
-                    });
-                    let facing = DVec3::new(f64::from(d[0]), f64::from(d[1]), f64::from(d[2]));
-                    quads.push((p, facing));
-                }
-            }
-        }
-    }
+    let mut quads = voxel_sides(filled, [-24, -24, -8], [24, 24, 8]);
     // Fisher–Yates.
     let mut rng = SplitMix64(seed);
     for k in (1..quads.len()).rev() {
@@ -2323,7 +2325,13 @@ pub fn voxel_torus(seed: u64) -> Scene {
     }
     let mut b = Builder::new(false, false);
     b.part("voxels", 0);
-    for (p, facing) in quads {
+    for (corners, facing) in quads {
+        let p = corners.map(|c| DVec3::new(f64::from(c[0]), f64::from(c[1]), f64::from(c[2])));
+        let facing = DVec3::new(
+            f64::from(facing[0]),
+            f64::from(facing[1]),
+            f64::from(facing[2]),
+        );
         b.poly(&[p[0], p[1], p[2]], facing);
         b.poly(&[p[0], p[2], p[3]], facing);
     }
