@@ -1030,16 +1030,14 @@ impl<'o> Run<'o> {
             flatten: true,
             min_cos,
         };
-        if tests.flatten || tests.min_cos.is_some() {
-            let degraded = degraded_face(c, i, j, x, tests, &mut self.face_scans);
-            self.report.faces_tested = self.face_scans.tested;
-            if let Some((face, why)) = degraded {
-                match why {
-                    Degrades::Flattens => self.report.rejected.flat_border += 1,
-                    Degrades::Flips => self.report.rejected.normal_flip += 1,
-                }
-                return Verdict::Waits(face);
+        let degraded = degraded_face(c, i, j, x, tests, &mut self.face_scans);
+        self.report.faces_tested = self.face_scans.tested;
+        if let Some((face, why)) = degraded {
+            match why {
+                Degrades::Flattens => self.report.rejected.flat_border += 1,
+                Degrades::Flips => self.report.rejected.normal_flip += 1,
             }
+            return Verdict::Waits(face);
         }
         Verdict::Allowed
     }

@@ -521,13 +521,6 @@ pub(crate) struct Evaluation {
     pub cost: f64,
     /// Where the new vertex goes.
     pub position: DVec3,
-    /// The position holds the border of a flat region (the flat-border
-    /// rule in [`CostModel::evaluate`]): the collapse must not flatten a
-    /// face of the region to a line there, which the guards check when it
-    /// is made (`guards::flattens_a_face`). Checking here would read the
-    /// whole star at every evaluation: at a fan's centre, every face for
-    /// each of its edges.
-    pub holds_flat_border: bool,
 }
 
 /// Root-mean-square distance from `x` to the planes vertices `i` and `j`
@@ -769,7 +762,7 @@ impl CostModel {
         // border vertex an input one (as meshoptimizer keeps all borders);
         // along a straight run that costs nothing. Curved or folded
         // borders keep the optimal placement, which serves them.
-        let (position, holds_flat_border) = if (bi || bj)
+        let position = if (bi || bj)
             && !fixed_i
             && !fixed_j
             && position != pi
@@ -786,7 +779,7 @@ impl CostModel {
                 .star_faces_iter(i, j)
                 .any(|f| !crate::terms::guards::vanishes(c.face(f), i, j))
         {
-            let at = match (bi, bj) {
+            match (bi, bj) {
                 (true, false) => pi,
                 (false, true) => pj,
                 // Two border vertices join only along their border (as
@@ -795,10 +788,9 @@ impl CostModel {
                 _ if !s.a.contains(&j) => return None,
                 _ if ranked.eval(pi) <= ranked.eval(pj) => pi,
                 _ => pj,
-            };
-            (at, true)
+            }
         } else {
-            (position, false)
+            position
         };
         // A fixed endpoint's collapse is ranked by the whole quadric, as
         // the solve cannot set the regularization aside there.
@@ -837,11 +829,7 @@ impl CostModel {
         if !cost.is_finite() {
             return None;
         }
-        Some(Evaluation {
-            cost,
-            position,
-            holds_flat_border,
-        })
+        Some(Evaluation { cost, position })
     }
 }
 
