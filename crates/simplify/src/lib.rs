@@ -48,6 +48,9 @@ mod input;
 mod options;
 mod report;
 
+// 7. the quad ordering held to the measured output, around whole runs
+mod quad_hold;
+
 // The entry points, from plain arrays up to whole scenes.
 mod mesh;
 mod scene;
@@ -68,7 +71,7 @@ pub use options::{
     QuadSettings, Record, Target,
 };
 pub use prepare::large_polygons::MAX_POLYGON_CORNERS;
-pub use report::{Rejections, Report, SteeringOutcome, StopReason};
+pub use report::{QuadTies, Rejections, Report, SteeringOutcome, StopReason};
 pub use scene::{
     material_uv_sets, see_through_materials, simplify_scene, simplify_scene_with_progress,
     skin_poses, GroupReport, GroupSpace, MeshOutcome, SceneReport,

@@ -64,6 +64,22 @@ pub struct SteeringOutcome {
     pub geometry_chamfer: f64,
 }
 
+/// How wide the quad ordering's ties were in the output (see
+/// [`crate::QuadSettings::distance_tolerance`]), with the mean distances
+/// (Chamfer, both ways) of the output and of the run with the ordering
+/// off, relative to the input's bounding-box diagonal.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct QuadTies {
+    /// The tie distance the output was made with, as a share of the one
+    /// set: 1 as set, 0.5 after one halving, and so on; 0 when the output
+    /// is the run without the ordering.
+    pub scale: f64,
+    /// The output's mean distance to the input.
+    pub chamfer: f64,
+    /// The mean distance to the input of the run without the ordering.
+    pub plain_chamfer: f64,
+}
+
 /// The outcome of a simplification run.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Report {
@@ -155,6 +171,11 @@ pub struct Report {
     /// [`crate::AttributeOptions::geometry_tolerance`]). `None` when
     /// nothing steered.
     pub steering: Option<SteeringOutcome>,
+    /// With the quad ordering on and a triangle-count target: the tie
+    /// width the output was made with and the mean distances that chose
+    /// it (see [`crate::QuadSettings::distance_tolerance`]). `None` when
+    /// the ordering was off or not held.
+    pub quad_ties: Option<QuadTies>,
     /// Where constraints (locked borders, kept topology, kept seams) held
     /// the run above its triangle target: the error level, relative to
     /// the diagonal, where it stopped: what a run without them has at as

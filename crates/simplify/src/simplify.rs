@@ -6,10 +6,9 @@
 //! (the output and its maps back to the input). The steering check (two
 //! runs, appearance within a geometric budget) is decided here.
 
-use glam::DVec3;
 use wildlod_mesh::Faces;
 
-use crate::assemble::fidelity::Reference;
+use crate::assemble::fidelity::{diagonal, Reference};
 use crate::assemble::layers::keep_layers;
 use crate::assemble::{assemble, Simplified};
 use crate::collapse::Run;
@@ -20,6 +19,7 @@ use crate::options::{
 };
 use crate::prepare::large_polygons::split_large;
 use crate::prepare::{check_input, prepare};
+use crate::quad_hold::hold_quad_ties;
 use crate::refit::refit_run;
 use crate::report::{SteeringOutcome, StopReason};
 use crate::terms::attributes::AttributeState;
@@ -130,7 +130,16 @@ pub fn simplify_with_attributes_and_progress(
     options: &Options,
     progress: &dyn Fn(f64),
 ) -> Result<Simplified, Error> {
-    let out = simplify_steered(positions, faces, attributes, options, progress)?;
+    // The quad ordering's ties as wide as the surface allows; what follows
+    // works with the width chosen.
+    let (out, options) = hold_quad_ties(
+        positions,
+        faces,
+        options,
+        &|o, p| simplify_steered(positions, faces, attributes, o, p),
+        progress,
+    )?;
+    let options = &options;
     let t = &options.target;
     let counted = t.ratio.is_some() || t.triangles.is_some();
     if !constrained(options) || !counted || t.error.is_some() || options.record.error_curve {
@@ -410,23 +419,6 @@ fn steers(attributes: &AttributeInput<'_>) -> bool {
         .iter()
         .any(|s| s.weight > 0.0 && s.kind != StreamKind::Carried)
         || attributes.skin.is_some_and(|s| s.weight > 0.0)
-}
-
-/// The diagonal of the bounding box of the positions faces use (1 when
-/// there is none).
-fn diagonal(positions: &[[f32; 3]], faces: &Faces) -> f64 {
-    let (mut lo, mut hi) = (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY));
-    for &v in &faces.indices {
-        let p = DVec3::from(positions[v as usize].map(f64::from));
-        lo = lo.min(p);
-        hi = hi.max(p);
-    }
-    let d = (hi - lo).length();
-    if d > 0.0 && d.is_finite() {
-        d
-    } else {
-        1.0
-    }
 }
 
 /// One run of the pipeline, appearance within `appearance_budget` (see

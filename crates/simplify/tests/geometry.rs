@@ -820,12 +820,24 @@ fn steering_attributes_and_quad_mode_keep_the_regularization_choosing() {
         };
         p[0] = x;
     }
-    let default = run(&quads, &|_| {});
+    // (The ordered run alone: the run without the ordering that holds it,
+    // `QuadSettings::distance_tolerance`, follows `Metric`.)
+    let unheld = |o: &mut Options| o.quad.distance_tolerance = f64::INFINITY;
+    let default = run(&quads, &unheld);
     assert_eq!(
         default,
-        run(&quads, &|o| o.metric.regularized_choice = true)
+        run(&quads, &|o| {
+            unheld(o);
+            o.metric.regularized_choice = true
+        })
     );
-    assert_ne!(default, run(&quads, &|o| o.quad.regularized_choice = false));
+    assert_ne!(
+        default,
+        run(&quads, &|o| {
+            unheld(o);
+            o.quad.regularized_choice = false
+        })
+    );
 }
 
 /// A unit sphere (16 × 16 quads a side, triangulated) with a small box

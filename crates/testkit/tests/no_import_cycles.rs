@@ -730,6 +730,8 @@ const SIMPLIFY_STEPS: &[&[&str]] = &[
     &["collapse"],
     &["refit"],
     &["assemble"],
+    // The quad ordering held to the measured output, around whole runs.
+    &["quad_hold"],
     &["simplify", "mesh", "scene"],
 ];
 

@@ -15,6 +15,23 @@ use rayon::prelude::*;
 use wildlod_geometry::TriangleSet;
 use wildlod_mesh::Faces;
 
+/// The diagonal of the bounding box of the positions faces use (1 when
+/// there is none).
+pub(crate) fn diagonal(positions: &[[f32; 3]], faces: &Faces) -> f64 {
+    let (mut lo, mut hi) = (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY));
+    for &v in &faces.indices {
+        let p = DVec3::from(positions[v as usize].map(f64::from));
+        lo = lo.min(p);
+        hi = hi.max(p);
+    }
+    let d = (hi - lo).length();
+    if d > 0.0 && d.is_finite() {
+        d
+    } else {
+        1.0
+    }
+}
+
 /// Distances between two surfaces, in the units of their positions.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub(crate) struct Fidelity {

@@ -1,0 +1,196 @@
+//! The quad ordering held to the surface (Knodt 2024 §3.2, Eq. 4; issue 31,
+//! decision 6: "let the tie tolerance give way when keeping a quad costs
+//! more than the chord is worth").
+//!
+//! Knodt's ties treat collapses whose costs differ by less than ε as
+//! equal and collapse whole quad chords among them. One ε does not fit
+//! every mesh: where collapses are cheap next to it (a dense blade, a flat
+//! panel) chords cost nothing and the mesh keeps its edge flow, but where
+//! every collapse bends a curved surface (an organic model at 25% and
+//! less) a chord is a sweep of collapses each up to ε dearer than the best
+//! one, and the mean distance doubles for quads Knodt's own simplifier
+//! does not keep either (`docs/evaluation-quads.md`).
+//!
+//! So the ordered run is measured against the input, beside the same run
+//! with the ordering off, as attributes are ([`crate::AttributeOptions::geometry_tolerance`]):
+//! where the ordered output's mean distance (Chamfer) is beyond
+//! [`crate::QuadSettings::distance_tolerance`] times the plain run's, the
+//! tie distance halves until it is within, then narrows twice between the
+//! last width too wide and the first within; past a sixteenth the plain
+//! output is kept. The largest distance is not held: a chord that moves a
+//! few points farther is the trade the ordering makes.
+
+use wildlod_mesh::Faces;
+
+use crate::assemble::fidelity::Reference;
+use crate::assemble::Simplified;
+use crate::error::Error;
+use crate::options::{Options, QuadMode};
+use crate::report::QuadTies;
+
+/// Halvings of the tie distance tried before the run without the ordering
+/// is kept (down to a sixteenth: narrower ties keep about the quads of
+/// exact ties alone, which the plain run keeps too).
+const HALVINGS: u32 = 4;
+
+/// Runs spent narrowing once a width is within: each halves the ratio
+/// between the widest width within and the narrowest too wide.
+const REFINEMENTS: u32 = 2;
+
+/// One run of the pipeline with `options`, reporting progress as a share
+/// of its own work (0 to 1).
+pub(crate) type RunWith<'a> =
+    dyn Fn(&Options, &dyn Fn(f64)) -> Result<Simplified, Error> + Sync + 'a;
+
+/// `options` with the quad ties scaled by `scale` (the tie distance, its
+/// factor on the mesh's own deviation and the relative tolerance alike).
+fn with_ties(options: &Options, scale: f64) -> Options {
+    let mut o = options.clone();
+    o.quad.epsilon *= scale;
+    o.quad.tie_factor *= scale;
+    o.quad.relative_epsilon *= scale;
+    o
+}
+
+/// Whether the ordering is held on this run: it applies (an input with
+/// quads, or [`QuadMode::Always`]), the target counts triangles (an error
+/// target bounds every collapse already), the run is not a scene's first
+/// pass, which only measures, and the tolerance is finite.
+fn held(faces: &Faces, options: &Options) -> bool {
+    let t = &options.target;
+    let counted = t.ratio.is_some() || t.triangles.is_some();
+    let tolerance = options.quad.distance_tolerance;
+    options.quads_active(faces.arity_counts().1)
+        && counted
+        && t.error.is_none()
+        && !options.record.error_curve
+        && tolerance.is_finite()
+}
+
+/// Runs `run` with the quad ties as wide as
+/// [`crate::QuadSettings::distance_tolerance`] allows (see the module
+/// documentation), and returns its output with the options it was made
+/// with ([`crate::Report::quad_ties`] set when the ordering was held).
+pub(crate) fn hold_quad_ties(
+    positions: &[[f32; 3]],
+    faces: &Faces,
+    options: &Options,
+    run: &RunWith<'_>,
+    progress: &dyn Fn(f64),
+) -> Result<(Simplified, Options), Error> {
+    let tolerance = options.quad.distance_tolerance;
+    if tolerance.is_nan() || tolerance < 1.0 {
+        return Err(Error::BadOption {
+            name: "quad.distance_tolerance",
+            value: tolerance,
+        });
+    }
+    if !held(faces, options) {
+        let out = run(options, progress)?;
+        return Ok((out, options.clone()));
+    }
+    let plain_options = Options {
+        quad: crate::options::QuadSettings {
+            mode: QuadMode::Never,
+            ..options.quad
+        },
+        ..options.clone()
+    };
+    // Both runs at once (each is mostly one thread's loop); progress
+    // follows the ordered one, on the calling thread.
+    let mut plain = None;
+    let ordered = rayon::in_place_scope(|s| {
+        s.spawn(|_| plain = Some(run(&plain_options, &|_| {})));
+        run(options, &|f| progress(0.6 * f))
+    })?;
+    let plain = plain.unwrap_or_else(|| run(&plain_options, &|_| {}))?;
+    let reference = Reference::new((positions, faces));
+    let chamfer = |o: &Simplified| reference.fidelity((&o.positions, &o.faces)).chamfer;
+    let diagonal = crate::assemble::fidelity::diagonal(positions, faces);
+    let plain_chamfer = chamfer(&plain);
+    let invisible = options.attributes.invisible_distance / 10.0 * diagonal;
+    let bound = (tolerance * plain_chamfer).max(plain_chamfer + invisible);
+    let finish = |mut out: Simplified, scale: f64, c: f64, o: Options| {
+        out.report.quad_ties = Some(QuadTies {
+            scale,
+            chamfer: c / diagonal,
+            plain_chamfer: plain_chamfer / diagonal,
+        });
+        progress(1.0);
+        Ok((out, o))
+    };
+    let c = chamfer(&ordered);
+    if c <= bound {
+        return finish(ordered, 1.0, c, options.clone());
+    }
+    // Halve until within, then narrow between the last width too wide and
+    // the first within (at their geometric mean, `REFINEMENTS` times).
+    let steps = f64::from(HALVINGS + REFINEMENTS);
+    let mut at = 0.6;
+    let mut attempt = |scale: f64| -> Result<(Simplified, f64, Options), Error> {
+        let o = with_ties(options, scale);
+        let start = at;
+        at += 0.4 / steps;
+        let out = run(&o, &|f| progress(start + 0.4 / steps * f))?;
+        let c = chamfer(&out);
+        Ok((out, c, o))
+    };
+    let mut scale = 1.0;
+    for _ in 0..HALVINGS {
+        let wide = scale;
+        scale *= 0.5;
+        let (mut out, mut c, mut o) = attempt(scale)?;
+        if c > bound {
+            continue;
+        }
+        let (mut lo, mut hi) = (scale, wide);
+        for _ in 0..REFINEMENTS {
+            let mid = (lo * hi).sqrt();
+            let (out2, c2, o2) = attempt(mid)?;
+            if c2 <= bound {
+                (out, c, o, lo) = (out2, c2, o2, mid);
+            } else {
+                hi = mid;
+            }
+        }
+        return finish(out, lo, c, o);
+    }
+    finish(plain, 0.0, plain_chamfer, plain_options)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn scaling_the_ties_scales_every_tolerance_and_nothing_else() {
+        let o = Options::default();
+        let h = with_ties(&o, 0.25);
+        assert_eq!(h.quad.epsilon, 0.25 * o.quad.epsilon);
+        assert_eq!(h.quad.tie_factor, 0.25 * o.quad.tie_factor);
+        assert_eq!(h.quad.relative_epsilon, 0.25 * o.quad.relative_epsilon);
+        assert_eq!(
+            Options {
+                quad: o.quad,
+                ..h.clone()
+            },
+            o
+        );
+    }
+
+    #[test]
+    fn only_counted_targets_with_quads_are_held() {
+        let mut quads = Faces::new();
+        quads.push(&[0, 1, 2, 3]);
+        let tris = Faces::from_triangles(&[0, 1, 2]);
+        let mut o = Options::default();
+        o.target.ratio = Some(0.5);
+        assert!(held(&quads, &o));
+        assert!(!held(&tris, &o));
+        o.quad.distance_tolerance = f64::INFINITY;
+        assert!(!held(&quads, &o));
+        o.quad.distance_tolerance = 1.15;
+        o.target.error = Some(1e-3);
+        assert!(!held(&quads, &o));
+    }
+}
