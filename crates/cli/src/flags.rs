@@ -52,6 +52,16 @@ pub struct TuningArgs {
     /// keeps closer to its input. 0 uses --quad-epsilon alone.
     #[arg(long, value_name = "F", default_value_t = wildlod_simplify::QuadSettings::default().tie_factor)]
     pub quad_tie_factor: f64,
+    /// Mean distance the quad ordering may add (inf: any)
+    ///
+    /// How much farther from the input, in mean distance, a quad-ordered
+    /// output may be than the same run without the ordering: where the
+    /// ties would cost more, they narrow (to a half, a quarter, ... a
+    /// sixteenth) until the output is within, else the run without the
+    /// ordering is kept. The summary and --json say how wide the ties were.
+    /// inf keeps the ties as --quad-epsilon and --quad-tie-factor set them.
+    #[arg(long, value_name = "T", default_value_t = wildlod_simplify::QuadSettings::default().distance_tolerance)]
+    pub quad_tolerance: f64,
     /// Hold edges along creases and keep edge flow (0: off)
     ///
     /// Weight of tangent edge quadrics against the face planes (0.33 balances

@@ -169,6 +169,10 @@ fn quad_ties_at_the_meshs_own_scale_keep_a_fine_quad_sphere_closer() {
             "-q",
             "--quad-tie-factor",
             factor,
+            // The ties' own effect, not held to the distance of cost
+            // order alone (which narrows the fixed ones too).
+            "--quad-tolerance",
+            "inf",
         ]);
         assert!(o.status.success(), "{}", stderr(&o));
         let o = wildlod(&[
@@ -532,7 +536,10 @@ fn refit_sweeps_flag_reaches_the_simplifier() {
     let input = torus_obj(dir.path());
     let run = |name: &str, extra: &[&str]| {
         let out = dir.path().join(name);
+        // The quad torus's ties not held to the run without them: that
+        // measures the refit's output, and another width changes faces.
         let mut args = vec!["simplify", s(&input), "-o", s(&out), "--ratio", "0.2", "-q"];
+        args.extend_from_slice(&["--quad-tolerance", "inf"]);
         args.extend_from_slice(extra);
         let o = wildlod(&args);
         assert!(o.status.success(), "{}", stderr(&o));
@@ -835,4 +842,35 @@ fn a_decal_is_kept_in_front_of_its_floor_unless_no_layers_and_the_json_counts_it
     assert!(run(&[]) > 0);
     assert_eq!(run(&["--no-layers"]), 0);
     assert_eq!(run(&["--classic"]), 0);
+}
+
+#[test]
+fn quad_tolerance_narrows_the_ties_and_the_report_says_how_far() {
+    // A bumpy sphere of quads at 10%: chords at the full tie width cost
+    // more than 1.15× the mean distance of cost order alone, so the default
+    // narrows them and says so; `inf` keeps them as set; below 1 is
+    // refused with the flag named.
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("sphere.obj");
+    wildlod_io::write(
+        &Document::from_scene(Scene::from_mesh(shapes::bumpy_quad_sphere(24))),
+        &input,
+        &WriteOptions::default(),
+    )
+    .unwrap();
+    let out = dir.path().join("lod.obj");
+    let held = simplify_json(&input, &out, &["--ratio", "0.1"]);
+    let ties = &held["meshes"][0]["quad_ties"];
+    let scale = ties["scale"].as_f64().unwrap();
+    assert!(scale < 1.0, "{ties}");
+    let (c, plain) = (
+        ties["chamfer"].as_f64().unwrap(),
+        ties["plain_chamfer"].as_f64().unwrap(),
+    );
+    assert!(c <= 1.15 * plain, "{ties}");
+    let o = wildlod(&["simplify", s(&input), "-o", s(&out), "--ratio", "0.1"]);
+    assert!(stdout(&o).contains("quad ties narrowed"), "{}", stdout(&o));
+    let unheld = simplify_json(&input, &out, &["--ratio", "0.1", "--quad-tolerance", "inf"]);
+    assert!(unheld["meshes"][0]["quad_ties"].is_null(), "{unheld}");
+    refuses(&input, &out, "--quad-tolerance=0.5");
 }

@@ -55,6 +55,10 @@ pub struct MeshJson {
     /// result was within the geometric tolerance of a run where they did
     /// not steer) and the distances both runs measured; null otherwise.
     pub steering: Option<SteeringJson>,
+    /// With the quad ordering held to the surface: how wide its ties were
+    /// and the mean distances that chose the width; null when the
+    /// ordering was off or not held.
+    pub quad_ties: Option<QuadTiesJson>,
     /// Vertices far from the bulk of the others (a height of -1e30 an
     /// exporter wrote): left where they were; errors are relative to the
     /// rest's diagonal.
@@ -109,9 +113,27 @@ impl MeshJson {
                 geometry_hausdorff: s.geometry_hausdorff,
                 geometry_chamfer: s.geometry_chamfer,
             }),
+            quad_ties: r.report.quad_ties.map(|q| QuadTiesJson {
+                scale: q.scale,
+                chamfer: q.chamfer,
+                plain_chamfer: q.plain_chamfer,
+            }),
             seconds: r.seconds,
         }
     }
+}
+
+/// `quad_ties` of a mesh in a report: see [`wildlod_simplify::QuadTies`]
+/// (distances relative to the diagonal).
+#[derive(Clone, Copy, Debug, serde::Serialize)]
+pub struct QuadTiesJson {
+    /// The tie distance the output was made with, as a share of the one
+    /// set (1: as set; 0: the run without the ordering is the output).
+    pub scale: f64,
+    /// The output's mean distance to the input.
+    pub chamfer: f64,
+    /// The mean distance to the input of the run without the ordering.
+    pub plain_chamfer: f64,
 }
 
 /// `rejected` of a mesh in a report: see

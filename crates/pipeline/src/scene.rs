@@ -5,8 +5,8 @@ use std::time::Instant;
 
 use wildlod_mesh::Scene;
 use wildlod_simplify::{
-    simplify_mesh_with_progress, simplify_scene_with_progress, InputData, Options, Rejections,
-    Report, SceneReport, SteeringOutcome, Target,
+    simplify_mesh_with_progress, simplify_scene_with_progress, InputData, Options, QuadTies,
+    Rejections, Report, SceneReport, SteeringOutcome, Target,
 };
 
 use crate::{Error, FileTargets, MeshProgress, MIN_TRIANGLES};
@@ -235,6 +235,16 @@ pub fn whole_report(r: &SceneReport) -> Report {
             .iter()
             .filter_map(|g| g.report.held_by_constraints)
             .reduce(f64::max),
+        // The file's quad ties: the narrowest any group was held to.
+        quad_ties: r
+            .groups
+            .iter()
+            .filter_map(|g| g.report.quad_ties)
+            .reduce(|a, b| QuadTies {
+                scale: a.scale.min(b.scale),
+                chamfer: a.chamfer.max(b.chamfer),
+                plain_chamfer: a.plain_chamfer.max(b.plain_chamfer),
+            }),
         // The file's steering: kept where every group kept its own.
         steering: r
             .groups

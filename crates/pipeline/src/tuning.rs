@@ -55,6 +55,10 @@ pub struct Tuning {
     /// collapse deviation, at most `quad_epsilon`
     /// (`QuadSettings::tie_factor`); 0 uses `quad_epsilon` alone.
     pub quad_tie_factor: f64,
+    /// How much farther from the input in mean distance a quad-ordered
+    /// output may be than the run without the ordering, ≥ 1 (infinite:
+    /// not held; `QuadSettings::distance_tolerance`).
+    pub quad_tolerance: f64,
     /// Weight of the tangent edge quadrics (Knodt 2024); 0 is off.
     pub tangent_weight: f64,
     /// Soft symmetry λ_sym (Knodt 2024 §3.1); 0 is off.
@@ -125,6 +129,7 @@ impl Default for Tuning {
             no_quads: false,
             quad_epsilon: QuadSettings::default().epsilon,
             quad_tie_factor: QuadSettings::default().tie_factor,
+            quad_tolerance: QuadSettings::default().distance_tolerance,
             tangent_weight: 0.0,
             symmetry: 0.0,
             area_floor: options.metric.area_floor,
@@ -192,6 +197,13 @@ impl Tuning {
                 self.crease_angle,
             ));
         }
+        if self.quad_tolerance.is_nan() || self.quad_tolerance < 1.0 {
+            return Err(Error::setting(
+                "quad_tolerance",
+                "at least 1 (inf: not held)",
+                self.quad_tolerance,
+            ));
+        }
         if !(self.max_normal_turn > 0.0 && self.max_normal_turn <= 180.0) {
             return Err(Error::setting(
                 "max_normal_turn",
@@ -211,6 +223,7 @@ impl Tuning {
         }
         options.quad.epsilon = self.quad_epsilon;
         options.quad.tie_factor = self.quad_tie_factor;
+        options.quad.distance_tolerance = self.quad_tolerance;
         // Knodt's balance of tangent planes against face planes, when only
         // the symmetry term asks for them.
         let tangent = if self.tangent_weight == 0.0 && self.symmetry > 0.0 {

@@ -8,7 +8,7 @@ use wildlod_pipeline::{NormalSetting, SeamSetting, Tuning};
 
 /// The names `**options` accepts: the fields of [`Tuning`], and
 /// `normal_mode` for `normals` (in `simplify`, `normals` is the stream).
-pub const OPTION_NAMES: [&str; 29] = [
+pub const OPTION_NAMES: [&str; 30] = [
     "virtual_radius",
     "keep_topology",
     "lock_borders",
@@ -16,6 +16,7 @@ pub const OPTION_NAMES: [&str; 29] = [
     "no_quads",
     "quad_epsilon",
     "quad_tie_factor",
+    "quad_tolerance",
     "tangent_weight",
     "symmetry",
     "area_floor",
@@ -99,6 +100,7 @@ pub fn tuning(py: Python<'_>, options: Option<&Bound<'_, PyDict>>) -> PyResult<T
             "no_quads" => t.no_quads = value.extract()?,
             "quad_epsilon" => t.quad_epsilon = value.extract()?,
             "quad_tie_factor" => t.quad_tie_factor = value.extract()?,
+            "quad_tolerance" => t.quad_tolerance = value.extract()?,
             "tangent_weight" => t.tangent_weight = value.extract()?,
             "symmetry" => t.symmetry = value.extract()?,
             "area_floor" => t.area_floor = value.extract()?,

@@ -269,6 +269,21 @@ def test_quad_tie_factor_reaches_the_simplifier():
     assert "quad_tie_factor" in wildlod.option_names()
 
 
+def test_quad_tolerance_reaches_the_simplifier():
+    # A bumpy grid of quads at 10%: the full ties cost more mean distance
+    # than the run without the ordering, so holding them to it (1: no more
+    # than that) changes the output, and a tolerance below 1 is refused
+    # with the option's name.
+    pos, quads = grid(24)
+    pos[:, 2] = 0.3 * np.sin(pos[:, 0] * 0.9) * np.cos(pos[:, 1] * 0.8)
+    unheld = wildlod.simplify(pos, quads, ratio=0.1, quad_tolerance=float("inf"))
+    held = wildlod.simplify(pos, quads, ratio=0.1, quad_tolerance=1.0)
+    assert not np.array_equal(unheld["positions"], held["positions"])
+    with pytest.raises(ValueError, match="quad_tolerance"):
+        wildlod.simplify(pos, quads, ratio=0.1, quad_tolerance=0.5)
+    assert "quad_tolerance" in wildlod.option_names()
+
+
 def test_pinch_distance_reaches_the_simplifier():
     # Eight triangles are below what a torus can keep: capped, its pinches
     # compete once the rest gets costly; uncapped (0), they wait until

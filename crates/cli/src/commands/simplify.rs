@@ -199,6 +199,7 @@ pub(crate) fn tuning(t: &TuningArgs) -> Tuning {
         no_quads: t.no_quads,
         quad_epsilon: t.quad_epsilon,
         quad_tie_factor: t.quad_tie_factor,
+        quad_tolerance: t.quad_tolerance,
         tangent_weight: t.tangent_weight,
         symmetry: t.symmetry,
         area_floor: t.area_floor,
@@ -480,6 +481,20 @@ pub fn summary(name: &str, r: &Report, seconds: f64) -> String {
              the requested --virtual-radius would have made more virtual edges than the budget)",
             2.0 * radius,
         ));
+    }
+    if let Some(q) = r.quad_ties.filter(|q| q.scale < 1.0) {
+        if q.scale > 0.0 {
+            s.push_str(&format!(
+                "; quad ties narrowed to {:.2} of their width (wider ones left the surface farther \
+                 than --quad-tolerance allows)",
+                q.scale
+            ));
+        } else {
+            s.push_str(
+                "; the quad ordering would have left the surface farther than --quad-tolerance \
+                 allows: the run without it is kept",
+            );
+        }
     }
     if r.steering.is_some_and(|s| !s.kept) {
         s.push_str(

@@ -144,6 +144,7 @@ def simplify(
     ``options`` are the CLI's tuning flags with underscores
     (``virtual_radius``, ``keep_topology``, ``lock_borders``,
     ``max_normal_turn``, ``no_quads``, ``quad_epsilon``, ``quad_tie_factor``,
+    ``quad_tolerance``,
     ``tangent_weight``,
     ``symmetry``, ``area_floor``,
     ``pinch_cost``, ``pinch_distance``, ``area_exponent``, ``face_weight_floor``,
