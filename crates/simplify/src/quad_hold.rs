@@ -104,9 +104,28 @@ pub(crate) fn hold_quad_ties(
         run(options, &|f| progress(0.6 * f))
     })?;
     let plain = plain.unwrap_or_else(|| run(&plain_options, &|_| {}))?;
-    let reference = Reference::new((positions, faces));
-    let chamfer = |o: &Simplified| reference.fidelity((&o.positions, &o.faces)).chamfer;
     let diagonal = crate::assemble::fidelity::diagonal(positions, faces);
+    // A run whose attributes steered was measured by its steering check,
+    // against the same samples of the input: its kept output's distance is
+    // read from the report. Others are measured here (the input sampled
+    // once, when first needed).
+    let reference = std::cell::OnceCell::new();
+    let chamfer = |o: &Simplified| match o.report.steering {
+        Some(st) => {
+            diagonal
+                * if st.kept {
+                    st.chamfer
+                } else {
+                    st.geometry_chamfer
+                }
+        }
+        None => {
+            reference
+                .get_or_init(|| Reference::new((positions, faces)))
+                .fidelity((&o.positions, &o.faces))
+                .chamfer
+        }
+    };
     let plain_chamfer = chamfer(&plain);
     let invisible = options.attributes.invisible_distance / 10.0 * diagonal;
     let bound = (tolerance * plain_chamfer).max(plain_chamfer + invisible);
