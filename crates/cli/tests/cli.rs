@@ -413,6 +413,11 @@ fn demo_writes_an_example_and_its_level_of_detail() {
     );
     assert!(b.abs_diff(a / 10) <= 1, "{a} -> {b}");
     assert!(stdout(&o).contains("table:"));
+    // The first LOD a new user sees has no face with two corners in one
+    // place, as written (the box corners where three sides' planes meet
+    // drew the solve a hair off another vertex: 4 such faces before).
+    let t = wildlod_mesh::stats::topology(&lod.scene.meshes[0]);
+    assert_eq!(t.degenerate_faces, 0, "{t:?}");
 }
 
 #[test]

@@ -85,7 +85,7 @@ pub(crate) fn degraded_face(
     let resume = &mut scans.from[i as usize];
     let judge = |f: u32, corners: &mut Corners| {
         let (old, new) = turn(c, f, i, j, x, corners)?;
-        if tests.flatten && flattens(old, new) {
+        if tests.flatten && (flattens(old, new) || pinches_corners(c, f, i, j, x)) {
             Some(Degrades::Flattens)
         } else if tests.min_cos.is_some_and(|mc| flips(old, new, mc)) {
             Some(Degrades::Flips)
@@ -103,6 +103,31 @@ pub(crate) fn degraded_face(
     // may judge faces after it (see `first_moved_failing`).
     let why = judge(face, &mut corners)?;
     Some((face, why))
+}
+
+/// Two corners of a face closer than this share of their distance before
+/// a collapse are one point once written: `f32` positions resolve about
+/// 6e-8 of a coordinate.
+const PINCH: f64 = 1e-7;
+
+/// Whether collapsing `i`–`j` to `x` brings the merged corner of surviving
+/// face `f` onto another of its corners (to [`PINCH`] of their distance
+/// before). The area test cannot see it where the solve lands a hair off
+/// a third vertex (a box's corner, where three sides' planes meet: 4e-13
+/// away on the demo's table): a triangle keeps 1e-11 of its area, and a
+/// quad its whole area with two corners in one place. Written as `f32`,
+/// both are degenerate faces.
+fn pinches_corners(c: &Complex, f: u32, i: u32, j: u32, x: DVec3) -> bool {
+    let face = c.face(f);
+    let moving = |v: u32| v == i || v == j;
+    face.iter().filter(|&&m| moving(m)).any(|&m| {
+        let from = c.pos[m as usize];
+        face.iter().filter(|&&v| !moving(v)).any(|&v| {
+            let p = c.pos[v as usize];
+            x.distance_squared(p) <= PINCH * PINCH * from.distance_squared(p)
+                && from.distance_squared(p) > 0.0
+        })
+    })
 }
 
 /// A face's corners before and after a collapse (scratch for polygons).
@@ -951,6 +976,30 @@ mod tests {
         assert_eq!(
             flattens_a_face(&c, 0, 1, DVec3::new(-0.5, 0.5, 0.0)),
             Some(1)
+        );
+    }
+
+    #[test]
+    fn a_corner_brought_a_hair_off_another_counts_as_flattened() {
+        // A unit quad (0, 1, 2, 3) and a triangle (1, 4, 2) beside it.
+        // Collapsing 1–4 to 1e-12 off corner 2 keeps the quad's area (it
+        // becomes a triangle with two corners in one place) and the area
+        // test alone passes it; written as f32 the two corners are one.
+        let pos = vec![
+            DVec3::ZERO,
+            DVec3::X,
+            DVec3::new(1.0, 1.0, 0.0),
+            DVec3::Y,
+            DVec3::new(2.0, 0.5, 0.0),
+        ];
+        let (c, _) = Complex::new(pos, &[0, 4, 7], &[0, 1, 2, 3, 1, 4, 2]);
+        let hair = DVec3::new(1.0 + 1e-12, 1.0, 0.0);
+        assert_eq!(flattens_a_face(&c, 1, 4, hair), Some(0));
+        // Half way to the corner, or 1e-6 of the way short of it: kept.
+        assert_eq!(flattens_a_face(&c, 1, 4, DVec3::new(1.0, 0.5, 0.0)), None);
+        assert_eq!(
+            flattens_a_face(&c, 1, 4, DVec3::new(1.0, 1.0 - 1e-6, 0.0)),
+            None
         );
     }
 

@@ -84,6 +84,22 @@ pub(super) fn flattens_a_face(c: &Complex, star: &[u32], i: u32, j: u32, x: DVec
         if lo > 1e-30 && ln <= 1e-24 * lo {
             return Some(f);
         }
+        // A corner brought onto another: every pair of a merged corner and
+        // a kept one, to 1e-7 of their distance before.
+        for (k, &m) in face.iter().enumerate() {
+            if m != i && m != j {
+                continue;
+            }
+            for (l, &v) in face.iter().enumerate() {
+                if v == i || v == j {
+                    continue;
+                }
+                let before = old_p[k].distance(old_p[l]);
+                if before > 0.0 && new_p[k].distance(new_p[l]) <= 1e-7 * before {
+                    return Some(f);
+                }
+            }
+        }
     }
     None
 }
