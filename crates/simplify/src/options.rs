@@ -493,10 +493,10 @@ pub struct QuadSettings {
     /// *Expert.* How much farther from the input, in mean distance
     /// (Chamfer, both ways), a quad-ordered output may be than the output
     /// of the same run with the ordering off ([`QuadMode::Never`]).
-    /// Where the ordering's ties cost more, they narrow (halving the tie
-    /// distance, [`QuadSettings::epsilon`], [`QuadSettings::tie_factor`]
-    /// and [`QuadSettings::relative_epsilon`] together) until the output is
-    /// within it, and past a sixteenth the output is that of the run
+    /// Where the ordering's ties cost more, they narrow ([`QuadSettings::epsilon`],
+    /// [`QuadSettings::tie_factor`] and [`QuadSettings::relative_epsilon`]
+    /// scaled together, at most two runs more, down to a sixteenth) to a
+    /// width whose output is within it, else the output is that of the run
     /// without the ordering; [`crate::Report::quad_ties`] says which.
     /// Differences below a tenth of
     /// [`AttributeOptions::invisible_distance`] count as within. ≥ 1;

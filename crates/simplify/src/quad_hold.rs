@@ -145,7 +145,7 @@ pub(crate) fn hold_quad_ties(
     // corrected by what that run measured: wider if it was within (at most
     // half way, in ratio, to the full width, which was not), narrower if
     // not. The widest within is kept, else the plain run. (A search of up
-    // to six halvings and bisections kept more quads on two corpus meshes,
+    // to six halvings and bisections kept more quads on one more corpus case,
     // at three times the time on a 180k-triangle quad mesh.)
     let aim = 0.9 * (bound - plain_chamfer);
     let towards = |scale: f64, c: f64| {
