@@ -166,6 +166,11 @@ pub(crate) fn hold_quad_ties(
         Ok((out, c, o))
     };
     let first = towards(1.0, c).clamp(MIN_SCALE, 0.5);
+    if !(first.is_finite() && bound.is_finite()) {
+        // A distance that is not a number (an output with nothing to
+        // measure): nothing to search by.
+        return finish(plain, 0.0, plain_chamfer, plain_options);
+    }
     let (out, c1, o) = attempt(first)?;
     if c1 <= bound {
         let wider = towards(first, c1).clamp(first, first.sqrt());
@@ -177,7 +182,8 @@ pub(crate) fn hold_quad_ties(
         }
         return finish(out, first, c1, o);
     }
-    let narrower = towards(first, c1).clamp(MIN_SCALE, 0.7 * first);
+    // (`max` after `min`: at the narrowest width there is none narrower.)
+    let narrower = towards(first, c1).min(0.7 * first).max(MIN_SCALE);
     if narrower < first {
         let (out2, c2, o2) = attempt(narrower)?;
         if c2 <= bound {
