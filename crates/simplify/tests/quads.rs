@@ -400,3 +400,25 @@ fn the_ordering_costs_at_most_the_tolerance_in_mean_distance() {
         "{held_quads} quads held, {off_quads} off"
     );
 }
+
+#[test]
+fn where_the_excess_does_not_fall_with_the_width_the_narrowest_ties_still_keep_quads() {
+    // A smooth sphere of quads at 25%: the ordering costs about the same
+    // share of mean distance at the full width and at half, so the two
+    // runs aimed by a square law both fall short; the narrowest ties are
+    // then tried, and keep far more quads than the plain run.
+    let mesh = shapes::quad_sphere(64);
+    let target = 6 * 64 * 64 / 2;
+    let run = |mode| {
+        let (out, rep) = simplify_mesh(&mesh, &to(target, mode, QuadSettings::default())).unwrap();
+        (arities(&out).1, rep.quad_ties)
+    };
+    let (plain, _) = run(QuadMode::Never);
+    let (held, ties) = run(QuadMode::Auto);
+    let ties = ties.expect("held");
+    assert!(ties.scale > 0.0 && ties.scale < 1.0, "{ties:?}");
+    assert!(
+        held > 2 * plain,
+        "{held} quads held, {plain} with the ordering off"
+    );
+}
