@@ -56,7 +56,7 @@ pub struct TuningArgs {
     ///
     /// How much farther from the input, in mean distance, a quad-ordered
     /// output may be than the same run without the ordering: where the
-    /// ties would cost more, they narrow (two runs more at most, down to a
+    /// ties would cost more, they narrow (three runs more at most, down to a
     /// sixteenth of their width) to a width within, else the run without
     /// the ordering is kept. The summary and --json say how wide the ties were.
     /// inf keeps the ties as --quad-epsilon and --quad-tie-factor set them.

@@ -495,7 +495,7 @@ pub struct QuadSettings {
     /// of the same run with the ordering off ([`QuadMode::Never`]).
     /// Where the ordering's ties cost more, they narrow ([`QuadSettings::epsilon`],
     /// [`QuadSettings::tie_factor`] and [`QuadSettings::relative_epsilon`]
-    /// scaled together, at most two runs more, down to a sixteenth) to a
+    /// scaled together, at most three runs more, down to a sixteenth) to a
     /// width whose output is within it, else the output is that of the run
     /// without the ordering; [`crate::Report::quad_ties`] says which.
     /// Differences below a tenth of

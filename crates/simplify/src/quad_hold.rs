@@ -14,10 +14,11 @@
 //! So the ordered run is measured against the input, beside the same run
 //! with the ordering off, as attributes are ([`crate::AttributeOptions::geometry_tolerance`]):
 //! where the ordered output's mean distance (Chamfer) is beyond
-//! [`crate::QuadSettings::distance_tolerance`] times the plain run's, two
-//! runs more at most look for the widest ties within: one at the width a
-//! square law of the excess puts just inside the bound, one corrected by
-//! what that run measured; if neither is within, the plain output is kept.
+//! [`crate::QuadSettings::distance_tolerance`] times the plain run's,
+//! three runs more at most look for the widest ties within: one at the
+//! width a square law of the excess puts just inside the bound, one
+//! corrected by what that run measured, and where both fall short the
+//! narrowest ties; if none is within, the plain output is kept.
 //! The largest distance is not held: a chord that moves a
 //! few points farther is the trade the ordering makes.
 
