@@ -53,14 +53,23 @@ struct Surface {
     area: f64,
 }
 
-/// Grid steps a side at most: 36 samples on a triangle.
-const MAX_GRID: usize = 6;
+/// Grid steps a side at most (4096 samples on a triangle): only a
+/// triangle far larger than the rest meets it, the budget below bounds
+/// the sum.
+const MAX_GRID: usize = 64;
+
+/// A result is sampled at most this many times as often as its input (at
+/// the input's own density a result of about the input's area has about
+/// as many samples as the input; the grid's spacing widens beyond it), so
+/// the check's time stays bounded by the input's size.
+const SAMPLE_BUDGET: f64 = 2.0;
 
 impl Surface {
     /// `spacing`: on triangles larger than a square of this side, samples
     /// on a barycentric grid of about this spacing (up to
-    /// [`MAX_GRID`] steps a side) instead of the centre alone.
-    fn new(positions: &[[f32; 3]], faces: &Faces, spacing: f64) -> Surface {
+    /// [`MAX_GRID`] steps a side) instead of the centre alone, widened
+    /// where the grids would hold more than `budget` samples in all.
+    fn new(positions: &[[f32; 3]], faces: &Faces, spacing: f64, budget: f64) -> Surface {
         let p: Vec<DVec3> = positions
             .iter()
             .map(|x| DVec3::from(x.map(f64::from)))
@@ -71,6 +80,25 @@ impl Surface {
                 triangles.push([face[0], face[k], face[k + 1]]);
             }
         }
+        let area_of = |t: &[u32; 3]| {
+            let [a, b, c] = t.map(|v| p[v as usize]);
+            0.5 * (b - a).cross(c - a).length()
+        };
+        let spacing = if spacing > 0.0 {
+            let cells: f64 = triangles
+                .iter()
+                .map(area_of)
+                .filter(|a| a.is_finite())
+                .sum::<f64>()
+                / (spacing * spacing);
+            if cells > budget {
+                spacing * (cells / budget).sqrt()
+            } else {
+                spacing
+            }
+        } else {
+            spacing
+        };
         let mut vertex_area = vec![0.0f64; p.len()];
         let mut samples = Vec::with_capacity(triangles.len());
         let mut total = 0.0;
@@ -159,7 +187,7 @@ pub(crate) struct Reference {
 impl Reference {
     /// The input as faces over positions, sampled at its own density.
     pub(crate) fn new(input: (&[[f32; 3]], &Faces)) -> Reference {
-        let surface = Surface::new(input.0, input.1, 0.0);
+        let surface = Surface::new(input.0, input.1, 0.0, f64::INFINITY);
         let spacing = surface.mean_triangle_side();
         Reference { surface, spacing }
     }
@@ -171,7 +199,8 @@ impl Reference {
         // the input's mean triangle, so a feature cut off inside one is
         // seen.
         let a = &self.surface;
-        let b = Surface::new(output.0, output.1, self.spacing);
+        let budget = SAMPLE_BUDGET * a.samples.len() as f64;
+        let b = Surface::new(output.0, output.1, self.spacing, budget);
         if b.samples.is_empty() || a.samples.is_empty() {
             return Fidelity::default();
         }
@@ -247,5 +276,50 @@ mod tests {
         // the tent (weight 1 each of 4), the corners on it: mean √2/6.
         let expected = 0.5 * (1.0 / 3.0 + 2f64.sqrt() / 6.0);
         assert!((d.chamfer - expected).abs() < 1e-7, "{d:?} {expected}");
+    }
+
+    #[test]
+    fn a_result_covering_a_small_hole_is_seen_inside_its_large_triangles() {
+        // The input: a 40 × 40 grid of the unit square with a 2 × 2 cell
+        // hole (0.05 wide); the result: the square's two triangles, 800
+        // times the input's mean triangle, covering the hole. The hole's
+        // middle is 0.025 from the input; the result's grid samples it
+        // as finely as the input's triangles (about 0.018 apart), where 36
+        // samples a triangle saw none of it.
+        let n = 40;
+        let mut p = Vec::new();
+        for j in 0..=n {
+            for i in 0..=n {
+                p.push([i as f32 / n as f32, j as f32 / n as f32, 0.0]);
+            }
+        }
+        let at = |i: usize, j: usize| (j * (n + 1) + i) as u32;
+        let mut idx = Vec::new();
+        for j in 0..n {
+            for i in 0..n {
+                if (27..29).contains(&i) && (9..11).contains(&j) {
+                    continue;
+                }
+                idx.extend([at(i, j), at(i + 1, j), at(i + 1, j + 1)]);
+                idx.extend([at(i, j), at(i + 1, j + 1), at(i, j + 1)]);
+            }
+        }
+        let input = (p, Faces::from_triangles(&idx));
+        let (q, g) = square(0.0);
+        let d = fidelity((&input.0, &input.1), (&q, &g));
+        assert!(d.hausdorff > 0.015 && d.hausdorff <= 0.025 + 1e-6, "{d:?}");
+    }
+
+    #[test]
+    fn the_sample_budget_widens_the_grid() {
+        // A spacing of 0.001 asks a million cells of the unit square; the
+        // budget of 1000 widens it to about 0.032: two triangles of 23
+        // steps a side (the ceiling of 0.707 / 0.032), 529 samples each,
+        // and the four corners.
+        let (q, g) = square(0.0);
+        let s = Surface::new(&q, &g, 0.001, 1000.0);
+        assert_eq!(s.samples.len(), 2 * 23 * 23 + 4);
+        let unbounded = Surface::new(&q, &g, 0.02, f64::INFINITY);
+        assert_eq!(unbounded.samples.len(), 2 * 36 * 36 + 4);
     }
 }
