@@ -17,8 +17,11 @@ pub(crate) enum Section {
     /// accessors and primitives the model does not hold.
     #[default]
     Shared,
-    /// Images.
+    /// Images (those the coarsest level of a chain draws, or any).
     Textures,
+    /// Images a chain's coarsest level does not draw, with the coarsest
+    /// level that does ([`Bin::defer_images`]).
+    LevelTextures(usize),
     /// The meshes of one level of detail (0: the input's).
     Level(usize),
 }
@@ -80,6 +83,27 @@ impl Bin {
         self.views.len() - 1
     }
 
+    /// The level of detail view `v` holds data of, if any.
+    pub(crate) fn level_of(&self, v: usize) -> Option<usize> {
+        match self.sections.get(v) {
+            Some(&Section::Level(l)) => Some(l),
+            _ => None,
+        }
+    }
+
+    /// Moves image views out of the coarsest level's span into that of
+    /// the coarsest level drawing them (`levels`: view and level, from
+    /// `image_levels.rs`), so a streaming reader fetches each image once.
+    pub(crate) fn defer_images(&mut self, levels: &[(usize, usize)], coarsest: usize) {
+        for &(v, level) in levels {
+            if let Some(s) = self.sections.get_mut(v) {
+                if *s == Section::Textures && level < coarsest {
+                    *s = Section::LevelTextures(level);
+                }
+            }
+        }
+    }
+
     /// Moves the views' bytes into the order a streaming reader wants
     /// them: the levels of detail from the coarsest (`coarsest`) to level
     /// 0, each section contiguous and its views in the order they were
@@ -101,19 +125,37 @@ impl Bin {
     /// never widens it. With a single level, or a coarsest level of one
     /// view, the shared data comes first.
     ///
+    /// An image a finer level is the first to draw ([`Bin::defer_images`])
+    /// goes inside that level's span, after its first view, for the same
+    /// reason: its range then holds it, and no other range does.
+    ///
     /// View indices do not change, only their offsets; each view keeps
     /// its offset modulo 4, so every accessor stays aligned.
     pub(crate) fn lay_out_for_streaming(&mut self, coarsest: usize) {
         let top = Section::Level(coarsest);
-        let first = (coarsest > 0 && self.sections.iter().filter(|&&s| s == top).count() >= 2)
+        let first_top = (coarsest > 0 && self.sections.iter().filter(|&&s| s == top).count() >= 2)
             .then(|| self.sections.iter().position(|&s| s == top))
             .flatten();
+        // The first view of every finer level.
+        let mut first = vec![None; coarsest];
+        for (v, s) in self.sections.iter().enumerate() {
+            if let Section::Level(l) = *s {
+                if let Some(f @ None) = first.get_mut(l) {
+                    *f = Some(v);
+                }
+            }
+        }
         let sections = &self.sections;
+        // (level's place from the coarsest, place within the level).
+        let finer = |l: usize| 1 + coarsest.saturating_sub(l);
         let rank = |v: usize| match sections[v] {
-            _ if Some(v) == first => 0,
-            Section::Shared => 1,
-            Section::Textures => 2,
-            Section::Level(l) => 3 + coarsest.saturating_sub(l),
+            _ if Some(v) == first_top => (0, 0),
+            Section::Shared => (0, 1),
+            Section::Textures => (0, 2),
+            Section::Level(l) if l >= coarsest => (0, 3),
+            Section::Level(l) if first[l] == Some(v) => (finer(l), 0),
+            Section::LevelTextures(l) => (finer(l), 1),
+            Section::Level(l) => (finer(l), 2),
         };
         let mut order: Vec<usize> = (0..self.views.len()).collect();
         // Stable: views of one section keep their order.
@@ -223,6 +265,40 @@ mod tests {
             (l2a, 5),
             (l2b, 6),
         ] {
+            assert!(bytes(&b, v).iter().all(|&x| x == byte), "view {v}");
+        }
+    }
+
+    #[test]
+    fn an_image_a_finer_level_draws_first_goes_inside_that_levels_span() {
+        // Level 0 draws image `kept`, level 2 (the coarsest) draws `baked`:
+        // the coarsest span holds `baked` only, level 1's nothing extra,
+        // level 0's `kept`, after its first view.
+        let mut b = Bin {
+            section: Section::Level(0),
+            ..Bin::default()
+        };
+        let l0a = b.view(&[0; 4], None, None);
+        let l0b = b.view(&[1; 4], None, None);
+        b.section = Section::Textures;
+        let kept = b.view(&[2; 4], None, None);
+        let baked = b.view(&[3; 4], None, None);
+        b.section = Section::Level(1);
+        let l1 = b.view(&[4; 4], None, None);
+        b.section = Section::Level(2);
+        let l2a = b.view(&[5; 4], None, None);
+        let l2b = b.view(&[6; 4], None, None);
+        b.defer_images(&[(kept, 0), (baked, 2)], 2);
+        b.lay_out_for_streaming(2);
+        let offset = |v: usize| b.views[v]["byteOffset"].as_u64().unwrap();
+        let order = [l2a, baked, l2b, l1, l0a, kept, l0b];
+        assert_eq!(
+            order.map(offset),
+            [0, 4, 8, 12, 16, 20, 24],
+            "{:?}",
+            b.views
+        );
+        for (v, byte) in [(l0a, 0), (l0b, 1), (kept, 2), (baked, 3), (l1, 4)] {
             assert!(bytes(&b, v).iter().all(|&x| x == byte), "view {v}");
         }
     }

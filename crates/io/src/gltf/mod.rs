@@ -11,6 +11,7 @@ mod attribute_keys;
 mod bin;
 mod encode;
 mod glb;
+mod image_levels;
 mod images;
 mod load;
 mod lod;

@@ -85,7 +85,13 @@ pub(crate) fn write_with_lods(
         used_quantization |=
             super::lod::add_levels(&mut json, lods, &mesh_map, &mut bin, &opts, &mut warnings)?;
     }
-    bin.lay_out_for_streaming(lods.map_or(0, |l| l.levels.len()));
+    let coarsest = lods.map_or(0, |l| l.levels.len());
+    if coarsest > 0 {
+        let levels =
+            super::image_levels::image_view_levels(&json, &bin.accessors, |v| bin.level_of(v));
+        bin.defer_images(&levels, coarsest);
+    }
+    bin.lay_out_for_streaming(coarsest);
     let source_lists = pass.map(|p| &p.json);
     let json = finish(json, &bin, path, format, source_lists, used_quantization);
     // Refuse to write what readers would reject: the same validation the
