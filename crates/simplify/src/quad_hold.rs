@@ -116,12 +116,9 @@ pub(crate) fn hold_quad_ties(
                     st.geometry_chamfer
                 }
         }
-        None => {
-            reference
-                .get_or_init(|| Reference::new((positions, faces)))
-                .fidelity((&o.positions, &o.faces))
-                .chamfer
-        }
+        None => reference
+            .get_or_init(|| Reference::new((positions, faces)))
+            .chamfer((&o.positions, &o.faces)),
     };
     let plain_chamfer = chamfer(&plain);
     let invisible = options.attributes.invisible_distance / 10.0 * diagonal;
