@@ -74,8 +74,9 @@ fn mix(mut x: u64) -> u64 {
 }
 
 /// Samples a side [`Reference::chamfer`] reads at most (about): the mean
-/// of this many regularly spread distances is within a fraction of a
-/// percent of all of them, far inside the bounds it is compared with.
+/// of this many distances, spread by a hash over each class, is within a
+/// fraction of a percent of all of them, far inside the bounds it is
+/// compared with.
 const CHAMFER_SAMPLES: usize = 65_536;
 
 impl Surface {
