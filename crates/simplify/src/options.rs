@@ -631,7 +631,9 @@ pub struct AttributeOptions {
     /// --animation 0`, geometric means of 4 files), mean Chamfer 0.00055 /
     /// 0.00639 at 50% / 10% against 0.00062 / 0.00636 at 0 and 0.00056 /
     /// 0.00717 at 0.03 (Hausdorff 0.0085 / 0.0498 against 0.0080 / 0.0469
-    /// at 0).
+    /// at 0). The posed planes ([`InputData::skin_poses`]) apply at any
+    /// weight, 0 included: they are how the surface is measured, not an
+    /// attribute.
     pub skin_weight: f64,
     /// Whether attribute seams (UV seams, hard normal edges, color and
     /// material borders) are kept. Default: crossed only where that costs
