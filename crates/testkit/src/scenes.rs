@@ -518,6 +518,49 @@ fn scene(mesh: Mesh, materials: Vec<Material>, textures: Vec<Texture>) -> Scene 
     s
 }
 
+/// A game prop of flat panels: a cube of side 2 whose six sides are `n × n`
+/// grids of triangles, each with a square panel raised by 0.04 over its
+/// middle (a one-cell ramp around it), and smooth normals shared across
+/// the whole box (no seam, not even at the cube's edges). Every face is
+/// planar and the ramps' strips are flat too, so an exact simplifier can
+/// stay on the input's planes to rounding; the normals, which turn across
+/// every ramp and edge, are what would pull a vertex off them.
+pub fn panel_box(n: usize) -> Scene {
+    let mut b = Builder::new(false, false);
+    b.part("crate", 0);
+    let height = |u: f64, v: f64| {
+        if u.abs().max(v.abs()) < 0.45 {
+            0.04
+        } else {
+            0.0
+        }
+    };
+    for a in 0..3 {
+        for s in [-1.0, 1.0] {
+            let at = |i: usize, j: usize| {
+                let c = |k: usize| (2 * k) as f64 / n as f64 - 1.0;
+                let (u, v) = (c(i), c(j));
+                let mut p = DVec3::ZERO;
+                p[a] = s * (1.0 + height(u, v));
+                p[(a + 1) % 3] = u;
+                p[(a + 2) % 3] = v;
+                p
+            };
+            let out = axis(a, s);
+            for i in 0..n {
+                for j in 0..n {
+                    let q = [at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1)];
+                    b.poly(&[q[0], q[1], q[2]], out);
+                    b.poly(&[q[0], q[2], q[3]], out);
+                }
+            }
+        }
+    }
+    let mut m = b.mesh("panel_box");
+    smooth_normals(&mut m);
+    scene(m, vec![material("paint", [0.6, 0.5, 0.3])], Vec::new())
+}
+
 /// Area-weighted smooth normals: one per position, shared by all its
 /// corners (no seam), replacing any normal stream.
 fn smooth_normals(m: &mut Mesh) {

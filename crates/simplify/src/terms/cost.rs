@@ -566,7 +566,8 @@ pub(crate) struct CostModel {
     /// distances times area).
     pub attribute_slack: f64,
     /// Squared [`crate::AttributeOptions::invisible_distance`]: appearance
-    /// may always steer below it, whatever the budget.
+    /// may always reorder collapses below it, whatever the budget (it
+    /// never moves a vertex off its planes).
     pub invisible_distance2: f64,
     /// Whether a border vertex of a planar region moves only onto a border
     /// vertex (see `evaluate`). Off where the collapse history is recorded
@@ -742,8 +743,12 @@ impl CostModel {
                         None => place(&(geometry + *app), pi, pj, REACH),
                     }
                     .position;
-                    let bound = ranked.eval(at).max(0.0) * (1.0 + self.attribute_slack)
-                        + self.invisible_cost(qi.weight + qj.weight);
+                    // No invisible allowance here: where the planes hold
+                    // `at` exactly, the joint point must be as exact, so a
+                    // flat region stays in its plane whatever steers
+                    // (issue 31, decision 3). Appearance still slides the
+                    // vertex within the planes' free directions.
+                    let bound = ranked.eval(at).max(0.0) * (1.0 + self.attribute_slack);
                     if ranked.eval(joint) <= bound {
                         joint
                     } else {
