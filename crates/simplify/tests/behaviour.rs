@@ -75,10 +75,17 @@ fn keep_topology_preserves_genus_and_manifoldness() {
         (0, 0, 1)
     );
     // 576 triangles * 0.02 = 12: a torus needs more than that, so the
-    // guard must have stopped the run and said so.
+    // guard must have stopped the run and said so: either where no
+    // collapse was left, or (where a run without the guard is closer at
+    // the size the guard leaves) at that run's error, reported as held by
+    // the constraints.
     assert!(rep.output_triangles >= 12);
     if rep.output_triangles > 13 {
-        assert_eq!(rep.stop, Some(StopReason::NoCollapsibleEdges));
+        match rep.stop {
+            Some(StopReason::NoCollapsibleEdges) => {}
+            Some(StopReason::ErrorLimit) => assert!(rep.held_by_constraints.is_some(), "{rep:?}"),
+            other => panic!("stopped by {other:?}: {rep:?}"),
+        }
         assert!(rep.rejected.topology > 0);
     }
 }

@@ -976,3 +976,43 @@ fn thin_legs_give_way_before_the_body_folds_at_an_extreme_target() {
         top - bottom
     );
 }
+
+/// The present faces rank collapses too (`Metric::current_face_weight`): on
+/// a plate one voxel thick with staircase holes at 2%, memory quadrics alone
+/// let the hole walls' top and bottom rims merge at mid-height (a rim
+/// vertex holds its plane by its few input faces, not by the large
+/// triangles it anchors by then). With the present faces' planes fewer
+/// output vertices leave the plate's two planes, and the mean distance
+/// drops.
+#[test]
+fn present_faces_keep_a_plates_hole_walls_from_pinching() {
+    use wildlod_eval::{compare, CompareOptions, EvalMesh};
+    let scene = wildlod_testkit::scenes::holed_voxel_plate();
+    let run = |weight: f64| {
+        let mut o = faces_target(scene.meshes[0].faces.len() / 25);
+        o.metric.current_face_weight = weight;
+        let (out, _) = wildlod_simplify::simplify_scene(&scene, &o).unwrap();
+        let between = out.meshes[0]
+            .positions
+            .iter()
+            .filter(|p| p[2] > 0.01 && p[2] < 0.99)
+            .count();
+        let images = vec![None; scene.textures.len()];
+        let c = compare(
+            &EvalMesh::from_scene(&scene, &images),
+            &EvalMesh::from_scene(&out, &images),
+            &CompareOptions {
+                samples: 50_000,
+                ..CompareOptions::default()
+            },
+        );
+        (between, c.chamfer_mean)
+    };
+    let (memory_only, memory_chamfer) = run(0.0);
+    let (present, present_chamfer) = run(1.0);
+    eprintln!(
+        "mid-height vertices {memory_only} → {present}, Chamfer {memory_chamfer:e} → {present_chamfer:e}"
+    );
+    assert!(present < memory_only, "{present} vs {memory_only}");
+    assert!(present_chamfer < memory_chamfer);
+}

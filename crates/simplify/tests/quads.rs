@@ -91,7 +91,8 @@ fn zero_epsilon_without_recency_is_plain_greedy_on_the_same_costs() {
     let tied = to(150, QuadMode::Always, quad);
     // The same metric, ordered by cost alone.
     let mut plain = to(150, QuadMode::Never, quad);
-    plain.metric = tied.effective_metric(true);
+    // (Quad mode is `Always` here: the metric of quad mode for any count.)
+    plain.metric = tied.effective_metric(0);
     let (a, _) = simplify_mesh(&mesh, &tied).unwrap();
     let (b, _) = simplify_mesh(&mesh, &plain).unwrap();
     assert_eq!(a, b);

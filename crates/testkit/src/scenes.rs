@@ -2366,8 +2366,14 @@ pub fn voxel_torus(seed: u64) -> Scene {
     for k in (1..quads.len()).rev() {
         quads.swap(k, (rng.next_u64() % (k as u64 + 1)) as usize);
     }
+    voxel_scene("voxel_torus", "voxels", quads)
+}
+
+/// One part of voxel sides (from [`voxel_sides`]), each cut into two
+/// triangles wound along its facing, with one grey material.
+fn voxel_scene(name: &str, part: &str, quads: Vec<([[i32; 3]; 4], [i32; 3])>) -> Scene {
     let mut b = Builder::new(false, false);
-    b.part("voxels", 0);
+    b.part(part, 0);
     for (corners, facing) in quads {
         let p = corners.map(|c| DVec3::new(f64::from(c[0]), f64::from(c[1]), f64::from(c[2])));
         let facing = DVec3::new(
@@ -2379,10 +2385,32 @@ pub fn voxel_torus(seed: u64) -> Scene {
         b.poly(&[p[0], p[2], p[3]], facing);
     }
     scene(
-        b.mesh("voxel_torus"),
-        vec![material("voxels", [0.6, 0.6, 0.65])],
+        b.mesh(name),
+        vec![material(part, [0.6, 0.6, 0.65])],
         Vec::new(),
     )
+}
+
+/// A plate one voxel thick, `80 × 48` voxels, with 12 round holes of
+/// radius 5 on a 4 × 3 grid cut as voxels: flat top and bottom, staircase
+/// hole walls, every vertex at height 0 or 1; about 17,000 triangles.
+///
+/// Stresses: the rims between the flat faces and the walls. A vertex no
+/// collapse has touched holds the top or bottom plane only by its few
+/// input faces while the triangles it anchors grow large around it, so
+/// memory quadrics alone let a wall's top and bottom rims merge at
+/// mid-height, tilting the plate around them into streaks.
+pub fn holed_voxel_plate() -> Scene {
+    let filled = |x: i32, y: i32, z: i32| {
+        if z != 0 || !(0..80).contains(&x) || !(0..48).contains(&y) {
+            return false;
+        }
+        let (cx, cy) = (10 + 20 * (x / 20), 8 + 16 * (y / 16));
+        let (dx, dy) = (f64::from(x - cx) + 0.5, f64::from(y - cy) + 0.5);
+        dx.hypot(dy) > 5.0
+    };
+    let quads = voxel_sides(filled, [-1, -1, -1], [81, 49, 1]);
+    voxel_scene("holed_voxel_plate", "plate", quads)
 }
 
 #[cfg(test)]

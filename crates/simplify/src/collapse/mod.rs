@@ -314,7 +314,7 @@ impl<'o> Run<'o> {
     pub fn new(mut p: Prepared, options: &'o Options, attrs: Option<AttributeState<'o>>) -> Self {
         let quads = p.complex.faces.iter().filter(|f| f.len == 4).count();
         let quads_active = options.quads_active(quads);
-        let metric = options.effective_metric(quads_active);
+        let metric = options.effective_metric(quads);
         if metric.tangent_weight > 0.0 && !p.complex.has_adjacency() {
             // Tangent quadrics are per edge.
             p.complex.build_adjacency();
@@ -459,7 +459,8 @@ impl<'o> Run<'o> {
             let area: Vec<f64> = run.quadrics.iter().map(StoredQuadric::weight).collect();
             let pinch = run.model.metric.pinch_cost;
             let distance = (target > 0).then_some(run.model.metric.pinch_distance);
-            run.pinch_price = pinch_prices(&run.p.complex, &area, budget, pinch, distance);
+            let scale = 1.0 + run.model.metric.current_face_weight.max(0.0);
+            run.pinch_price = pinch_prices(&run.p.complex, &area, budget, pinch, distance, scale);
         }
         run
     }

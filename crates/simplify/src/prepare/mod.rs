@@ -35,7 +35,7 @@ pub(crate) fn may_partition(faces: &Faces, o: &Options) -> bool {
     let quads_active = o.quads_active(quads);
     !o.record.history
         && !quads_active
-        && o.effective_metric(quads_active).tangent_weight <= 0.0
+        && o.effective_metric(quads).tangent_weight <= 0.0
         && faces.triangulated_count() >= o.partition.min_triangles
 }
 

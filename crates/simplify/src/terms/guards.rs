@@ -604,12 +604,19 @@ const CLOSED_MINIMUM: f64 = 4.0;
 /// otherwise they pay `pinch`.
 ///
 /// Every price is at most `pinch`.
+///
+/// `scale` is what moving a unit of area by a unit of distance costs a
+/// collapse, relative to the memory planes alone: 1 plus the weight of the
+/// present faces' planes ([`crate::Metric::current_face_weight`]), which
+/// see the same move again. The prices scale with it, so that a part
+/// vanishes at the same distance whatever ranks the ordinary collapses.
 pub(crate) fn pinch_prices(
     c: &Complex,
     area: &[f64],
     budget: usize,
     pinch: f64,
     distance: Option<f64>,
+    scale: f64,
 ) -> PinchPrices {
     let full = PinchPrices {
         base: pinch,
@@ -629,7 +636,7 @@ pub(crate) fn pinch_prices(
     if total.is_nan() || total <= 0.0 {
         return full;
     }
-    let face_area = total / budget.max(1) as f64;
+    let face_area = scale * total / budget.max(1) as f64;
     let base = match distance {
         Some(d) if d > 0.0 => (face_area * d * d).min(pinch),
         _ => pinch,
@@ -817,7 +824,7 @@ mod tests {
         // price. At 1000 triangles the small one's 10 is enough to keep:
         // everyone pays the full price (no list).
         let (c, area) = two_tetrahedra();
-        let prices = pinch_prices(&c, &area, 100, 10.0, None);
+        let prices = pinch_prices(&c, &area, 100, 10.0, None, 1.0);
         assert_eq!(prices.base, 10.0);
         assert_eq!(
             prices.per_vertex,
@@ -825,10 +832,10 @@ mod tests {
         );
         assert_eq!((prices.at(0), prices.at(5)), (10.0, 0.75));
         // Never above the full price.
-        let capped = pinch_prices(&c, &area, 100, 0.5, None);
+        let capped = pinch_prices(&c, &area, 100, 0.5, None, 1.0);
         assert!(capped.per_vertex.is_empty(), "{capped:?}");
         assert_eq!(capped.base, 0.5);
-        let enough = pinch_prices(&c, &area, 1000, 10.0, None);
+        let enough = pinch_prices(&c, &area, 1000, 10.0, None, 1.0);
         assert!(enough.per_vertex.is_empty());
         assert_eq!(enough.base, 10.0);
     }
@@ -839,18 +846,30 @@ mod tests {
         // one pays a target face's area (100 / 100 = 1) times 0.1²; the
         // small one still pays for its own size (0.75), which is larger.
         let (c, area) = two_tetrahedra();
-        let prices = pinch_prices(&c, &area, 100, 10.0, Some(0.1));
+        let prices = pinch_prices(&c, &area, 100, 10.0, Some(0.1), 1.0);
         assert!((prices.base - 0.01).abs() < 1e-12, "{}", prices.base);
         assert!((prices.at(0) - 0.01).abs() < 1e-9);
         assert!((prices.at(7) - 0.75).abs() < 1e-9);
         // At 1000 triangles a target face is 0.1: everyone pays 0.1 · 0.1²,
         // as one number.
-        let all = pinch_prices(&c, &area, 1000, 10.0, Some(0.1));
+        let all = pinch_prices(&c, &area, 1000, 10.0, Some(0.1), 1.0);
         assert!(all.per_vertex.is_empty());
         assert!((all.base - 0.001).abs() < 1e-12, "{}", all.base);
         // Never above the full price; 0 or no target is the full price.
-        assert_eq!(pinch_prices(&c, &area, 100, 0.005, Some(0.1)).base, 0.005);
-        assert_eq!(pinch_prices(&c, &area, 100, 10.0, Some(0.0)).base, 10.0);
+        assert_eq!(
+            pinch_prices(&c, &area, 100, 0.005, Some(0.1), 1.0).base,
+            0.005
+        );
+        assert_eq!(
+            pinch_prices(&c, &area, 100, 10.0, Some(0.0), 1.0).base,
+            10.0
+        );
+        // Where the present faces rank too (scale 2), a collapse moving
+        // the surface by a distance costs twice as much, and so does every
+        // price below the cap: 0.02 and 1.5.
+        let doubled = pinch_prices(&c, &area, 100, 10.0, Some(0.1), 2.0);
+        assert!((doubled.at(0) - 0.02).abs() < 1e-9);
+        assert!((doubled.at(7) - 1.5).abs() < 1e-9);
     }
 
     #[test]

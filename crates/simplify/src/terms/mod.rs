@@ -12,12 +12,15 @@
 //!   planes added to the vertex quadrics;
 //! - `attributes/` (Hoppe 1999; Knodt Eq. 6–7): UVs, normals, colors and
 //!   skin weights fitted through every collapse;
+//! - `current_faces.rs`: the present faces' planes, which rank a collapse
+//!   beside the memory quadrics (memoryless, ranking only);
 //! - `guards.rs`: the tests a collapse must pass (flips, pinches, links).
 
 pub(crate) mod attributes;
 pub(crate) mod boundary_area;
 pub(crate) mod cost;
 pub(crate) mod crease_area;
+pub(crate) mod current_faces;
 pub(crate) mod gluing;
 pub(crate) mod guards;
 #[cfg(test)]
