@@ -147,6 +147,16 @@ pub struct TuningArgs {
     /// an edge cut into many short sides holds as well as one long side.
     #[arg(long, value_name = "W", default_value_t = wildlod_simplify::Metric::default().crease_area_weight)]
     pub crease_area_weight: f64,
+    /// Rank collapses by the surface as it is now too (0: off)
+    ///
+    /// Weight of the present faces' planes beside the input's: a collapse
+    /// also costs how far it lifts the faces around it off their current
+    /// planes, weighed by their current area, so a vertex that anchors
+    /// large triangles holds them like one that carries their input area.
+    /// Ranking only (vertices are placed by the input's planes); not with
+    /// quads kept, nor with --classic.
+    #[arg(long, value_name = "W", default_value_t = wildlod_simplify::Metric::default().current_face_weight)]
+    pub current_faces: f64,
     /// Sweeps of the final vertex refit (0: off)
     ///
     /// Once the collapses are done, every vertex moves to where its error

@@ -487,6 +487,45 @@ fn plane_weighting_and_pinch_flags_reach_the_simplifier() {
 }
 
 #[test]
+fn current_faces_flag_reaches_the_simplifier_on_triangles_only() {
+    // A bumped grid, as quads and as the same quads cut into triangles:
+    // the current faces rank the triangles' collapses; on the quads
+    // Knodt's ordering and introduced error decide, with or without it.
+    let dir = tempfile::tempdir().unwrap();
+    let mut quads = shapes::quad_grid(24, 24);
+    quads.attributes.clear();
+    for p in &mut quads.positions {
+        p[2] = 0.05 * (7.0 * p[0]).sin() * (5.0 * p[1]).cos();
+    }
+    let triangles = shapes::triangulate(&quads);
+    for (name, mesh, matters) in [("quads", quads, false), ("triangles", triangles, true)] {
+        let input = dir.path().join(format!("{name}.obj"));
+        wildlod_io::write(
+            &Document::from_scene(Scene::from_mesh(mesh)),
+            &input,
+            &WriteOptions::default(),
+        )
+        .unwrap();
+        let run = |out: &str, extra: &[&str]| {
+            let out = dir.path().join(format!("{name}_{out}"));
+            let mut args = vec!["simplify", s(&input), "-o", s(&out), "--ratio", "0.1", "-q"];
+            args.extend_from_slice(extra);
+            let o = wildlod(&args);
+            assert!(o.status.success(), "{}", stderr(&o));
+            std::fs::read(&out).unwrap()
+        };
+        let default = run("default.obj", &[]);
+        assert_eq!(run("explicit.obj", &["--current-faces", "1"]), default);
+        assert_eq!(
+            run("memory.obj", &["--current-faces", "0"]) != default,
+            matters,
+            "{name}"
+        );
+        refuses(&input, &dir.path().join("x.obj"), "--current-faces=-1");
+    }
+}
+
+#[test]
 fn crease_flags_reach_the_simplifier() {
     // A sheet folded at a right angle (a crease at the default angle),
     // bumped so that no collapse is free, without UVs (attributes that

@@ -88,6 +88,10 @@ pub struct Tuning {
     /// Weight of the area swept against creases, relative to the border's
     /// (`Metric::crease_area_weight`); 0 is off.
     pub crease_area_weight: f64,
+    /// Weight of the present faces' planes in a collapse's rank, beside
+    /// the memory quadrics (`Metric::current_face_weight`); 0 is off, and
+    /// so is `classic`.
+    pub current_faces: f64,
     /// Classic quadric error simplification (Garland & Heckbert 1997).
     pub classic: bool,
     /// How much UVs steer the collapses.
@@ -140,6 +144,7 @@ impl Default for Tuning {
             crease_weight: options.metric.crease_weight,
             crease_angle: options.metric.crease_angle,
             crease_area_weight: options.metric.crease_area_weight,
+            current_faces: options.metric.current_face_weight,
             classic: false,
             uv_weight: attributes.tex_coord_weight,
             normal_weight: attributes.normal_weight,
@@ -173,6 +178,7 @@ impl Tuning {
             ("face_weight_floor", self.face_weight_floor),
             ("crease_weight", self.crease_weight),
             ("crease_area_weight", self.crease_area_weight),
+            ("current_faces", self.current_faces),
             ("uv_weight", self.uv_weight),
             ("normal_weight", self.normal_weight),
             ("color_weight", self.color_weight),
@@ -243,6 +249,11 @@ impl Tuning {
         options.metric.crease_angle = self.crease_angle;
         options.metric.crease_area_weight = self.crease_area_weight;
         // Classic QEM is the plain algorithm, for comparisons.
+        options.metric.current_face_weight = if self.classic {
+            0.0
+        } else {
+            self.current_faces
+        };
         options.metric.refit_sweeps = if self.classic { 0 } else { self.refit_sweeps };
         options.guards.drop_hidden_twins = !self.keep_hidden_twins;
         options.metric.keep_layers = !self.classic && !self.no_layers;
@@ -441,6 +452,33 @@ mod tests {
                 ..Tuning::default()
             };
             assert!(refused_as(t, "area_exponent"), "{bad}");
+        }
+    }
+
+    #[test]
+    fn the_present_faces_weight_reaches_the_metric_is_off_when_classic_and_range_checked() {
+        let d = Tuning::default().options().expect("valid");
+        assert_eq!(d.metric.current_face_weight, 1.0);
+        let o = Tuning {
+            current_faces: 0.5,
+            ..Tuning::default()
+        }
+        .options()
+        .expect("valid");
+        assert_eq!(o.metric.current_face_weight, 0.5);
+        let classic = Tuning {
+            classic: true,
+            ..Tuning::default()
+        }
+        .options()
+        .expect("valid");
+        assert_eq!(classic.metric.current_face_weight, 0.0);
+        for bad in [-1.0, f64::NAN, f64::INFINITY] {
+            let t = Tuning {
+                current_faces: bad,
+                ..Tuning::default()
+            };
+            assert!(refused_as(t, "current_faces"), "{bad}");
         }
     }
 

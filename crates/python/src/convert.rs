@@ -8,7 +8,7 @@ use wildlod_pipeline::{NormalSetting, SeamSetting, Tuning};
 
 /// The names `**options` accepts: the fields of [`Tuning`], and
 /// `normal_mode` for `normals` (in `simplify`, `normals` is the stream).
-pub const OPTION_NAMES: [&str; 30] = [
+pub const OPTION_NAMES: [&str; 31] = [
     "virtual_radius",
     "keep_topology",
     "lock_borders",
@@ -27,6 +27,7 @@ pub const OPTION_NAMES: [&str; 30] = [
     "crease_weight",
     "crease_angle",
     "crease_area_weight",
+    "current_faces",
     "refit_sweeps",
     "keep_hidden_twins",
     "no_layers",
@@ -111,6 +112,7 @@ pub fn tuning(py: Python<'_>, options: Option<&Bound<'_, PyDict>>) -> PyResult<T
             "crease_weight" => t.crease_weight = value.extract()?,
             "crease_angle" => t.crease_angle = value.extract()?,
             "crease_area_weight" => t.crease_area_weight = value.extract()?,
+            "current_faces" => t.current_faces = value.extract()?,
             "refit_sweeps" => t.refit_sweeps = value.extract()?,
             "keep_hidden_twins" => t.keep_hidden_twins = value.extract()?,
             "no_layers" => t.no_layers = value.extract()?,

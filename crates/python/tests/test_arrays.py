@@ -315,7 +315,20 @@ def test_crease_settings_reach_the_simplifier():
     # With the angle above the fold's 90 degrees, the fold is no crease:
     # both terms go.
     assert not np.array_equal(default, run(crease_angle=120.0))
-    for name, bad in [("crease_weight", -1.0), ("crease_area_weight", -1.0), ("crease_angle", 180.0)]:
+    # The current faces rank the collapses of the fold as triangles (not
+    # on inputs with quads, where Knodt's ordering decides).
+    tris = np.concatenate([quads[:, [0, 1, 2]], quads[:, [0, 2, 3]]])
+    run_tris = lambda **o: wildlod.simplify(pos, tris, ratio=0.1, **o)["positions"]  # noqa: E731
+    with_current = run_tris()
+    assert np.array_equal(with_current, run_tris(current_faces=1.0))
+    assert not np.array_equal(with_current, run_tris(current_faces=0.0))
+    assert np.array_equal(default, run(current_faces=0.0))
+    for name, bad in [
+        ("crease_weight", -1.0),
+        ("crease_area_weight", -1.0),
+        ("current_faces", -1.0),
+        ("crease_angle", 180.0),
+    ]:
         with pytest.raises(ValueError, match=name):
             wildlod.simplify(pos, quads, ratio=0.1, **{name: bad})
         assert name in wildlod.option_names()

@@ -210,6 +210,7 @@ pub(crate) fn tuning(t: &TuningArgs) -> Tuning {
         crease_weight: t.crease_weight,
         crease_angle: t.crease_angle,
         crease_area_weight: t.crease_area_weight,
+        current_faces: t.current_faces,
         refit_sweeps: t.refit_sweeps,
         keep_hidden_twins: t.keep_hidden_twins,
         no_layers: t.no_layers,
