@@ -20,7 +20,7 @@ use crate::prepare::complex::{Complex, NONE};
 use crate::prepare::flat_stars::FlatStars;
 use crate::prepare::geometry::face_plane;
 use crate::terms::attributes::{AttrScratch, AttributeState};
-use crate::terms::current_faces::current_face_quadric;
+use crate::terms::current_faces::current_face_cost;
 use crate::terms::guards::too_small_for_budget;
 use crate::terms::quadric::{place, place_by_planes, place_exact, Quadric};
 use crate::terms::stored::{Isotropic, StoredQuadric};
@@ -809,8 +809,7 @@ impl CostModel {
         // The present faces rank the collapse too, at the position the
         // memory chose (see `terms/current_faces.rs`).
         if self.metric.current_face_weight > 0.0 {
-            let w = self.metric.current_face_weight;
-            cost += current_face_quadric(c, i, j, w).eval(position).max(0.0);
+            cost += current_face_cost(c, i, j, position, self.metric.current_face_weight);
         }
         // Knodt Eq. 5: what the collapse adds to the error the endpoints
         // already carry. Never negative: the quadric sum at the optimum is
