@@ -744,12 +744,25 @@ impl CostModel {
                         None => place(&(geometry + *app), pi, pj, REACH),
                     }
                     .position;
-                    // No invisible allowance here: where the planes hold
-                    // `at` exactly, the joint point must be as exact, so a
-                    // flat region stays in its plane whatever steers
-                    // (issue 31, decision 3). Appearance still slides the
-                    // vertex within the planes' free directions.
-                    let bound = ranked.eval(at).max(0.0) * (1.0 + self.attribute_slack);
+                    // The invisible allowance only where the planes do not
+                    // hold `at` already: where they do (a flat region, a
+                    // straight crease, to the precision of f32 input), the
+                    // joint point must be as exact, so flat stays flat
+                    // whatever steers (issue 31, decision 3); elsewhere the
+                    // attributes may move the vertex by an invisible
+                    // distance, which keeps a UV seam's texture whole.
+                    let weight = qi.weight + qj.weight;
+                    let planes = match &r {
+                        Some(r) => geometry.minus(r),
+                        None => geometry,
+                    };
+                    let held = planes.eval(at) <= weight * HELD * HELD;
+                    let allowance = if held {
+                        0.0
+                    } else {
+                        self.invisible_cost(weight)
+                    };
+                    let bound = ranked.eval(at).max(0.0) * (1.0 + self.attribute_slack) + allowance;
                     if ranked.eval(joint) <= bound {
                         joint
                     } else {
@@ -843,6 +856,12 @@ impl CostModel {
         Some(Evaluation { cost, position })
     }
 }
+
+/// A mean distance to its planes, relative to the unit diagonal, below
+/// which the planes hold a vertex exactly for the joint placement: ten
+/// times the rounding of f32 coordinates (about 1e-7 of the diagonal), so
+/// planes computed from f32 input count as exact where they agree.
+const HELD: f64 = 1e-6;
 
 /// Where the planes cannot tell placements apart (around a flat region or
 /// along a straight crease every point of a plane or a line costs the
