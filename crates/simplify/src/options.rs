@@ -724,12 +724,12 @@ pub struct AttributeOptions {
     /// attributes steer the order freely: appearance may always add what
     /// moving the surface by this much over the collapse's area costs to a
     /// collapse's rank. Flat regions, where every geometric cost is 0,
-    /// would otherwise give attributes no say at all. It buys order, not
-    /// position: Hoppe's joint placement stays within
-    /// [`AttributeOptions::geometry_tolerance`] of the planes' own point,
-    /// so where they hold it exactly (a flat panel, a straight crease)
-    /// the vertex stays exact (decision 3 of issue 31). Default 1e-4 (issue 31: Hausdorff differences below
-    /// 1e-4 of the diagonal are not visible on any screen).
+    /// would otherwise give attributes no say at all. Hoppe's joint
+    /// placement may move a vertex by it too, except where the planes hold
+    /// the vertex already (a flat panel, a straight crease, to 1e-6 of the
+    /// diagonal): there it stays on them (decision 3 of issue 31).
+    /// Default 1e-4 (issue 31: Hausdorff differences below 1e-4 of the
+    /// diagonal are not visible on any screen).
     pub invisible_distance: f64,
     /// Whether morph targets (blend shapes) count as poses the mesh is
     /// drawn in: each target at full weight is a pose, and every vertex's

@@ -567,8 +567,8 @@ pub(crate) struct CostModel {
     /// distances times area).
     pub attribute_slack: f64,
     /// Squared [`crate::AttributeOptions::invisible_distance`]: appearance
-    /// may always reorder collapses below it, whatever the budget (it
-    /// never moves a vertex off its planes).
+    /// may always reorder collapses below it, whatever the budget, and
+    /// move a vertex by it where its planes do not hold it already.
     pub invisible_distance2: f64,
     /// Whether a border vertex of a planar region moves only onto a border
     /// vertex (see `evaluate`). Off where the collapse history is recorded
