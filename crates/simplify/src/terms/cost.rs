@@ -949,18 +949,16 @@ mod tests {
         assert_eq!(floored(2e-6, 0.5, 0.0), 2e-6);
     }
 
-    #[test]
-    fn attributes_rank_collapses_but_do_not_move_the_vertex_unless_asked() {
-        // A fan of six triangles around vertex 0 on a bowl (z = r²), with
-        // a scalar attribute that is far from linear (x³): the joint
-        // minimum trades surface for attribute fit and leaves the
-        // geometric one.
+    /// A fan of six triangles around vertex 0 (near the origin) with its
+    /// rim at height `rim`, vertex 0 on the bowl z = `rim` · r², and per
+    /// corner a scalar attribute that is far from linear (4x³).
+    fn fan_with_cubic_attribute(rim: f64) -> (Complex, Vec<u32>, Vec<f32>) {
         let mut pos = vec![DVec3::new(0.05, 0.02, 0.0)];
         for k in 0..6 {
             let a = k as f64 * std::f64::consts::PI / 3.0;
-            pos.push(DVec3::new(a.cos(), a.sin(), 1.0));
+            pos.push(DVec3::new(a.cos(), a.sin(), rim));
         }
-        pos[0].z = pos[0].x * pos[0].x + pos[0].y * pos[0].y;
+        pos[0].z = rim * (pos[0].x * pos[0].x + pos[0].y * pos[0].y);
         let mut idx = Vec::new();
         for k in 0..6u32 {
             idx.extend_from_slice(&[0, 1 + k, 1 + (k + 1) % 6]);
@@ -971,6 +969,87 @@ mod tests {
             .iter()
             .map(|&v| (pos[v as usize].x.powi(3) * 4.0) as f32)
             .collect();
+        (c, idx, values)
+    }
+
+    /// Evaluates collapsing edge 0–1 of [`fan_with_cubic_attribute`]
+    /// with joint placement, the attribute stream steering, under
+    /// `slack` and `invisible` (a distance).
+    fn joint_on_fan(rim: f64, slack: f64, invisible: f64) -> (Evaluation, Evaluation) {
+        let (c, idx, values) = fan_with_cubic_attribute(rim);
+        let corners: Vec<u32> = (0..idx.len() as u32).collect();
+        let input = crate::AttributeInput {
+            streams: vec![crate::AttributeStream {
+                components: 1,
+                values: &values,
+                indices: &corners,
+                weight: 1.0,
+                seams: false,
+                kind: crate::StreamKind::Generic,
+            }],
+            ..Default::default()
+        };
+        let attrs =
+            AttributeState::new(&input, &idx, &c, &[], crate::SeamPolicy::Penalize, 1.0).unwrap();
+        let metric = Metric {
+            regularization: 0.0,
+            ..Metric::default()
+        };
+        let q = vertex_quadrics(&c, &metric, &[], EdgeImportance::default());
+        let border = vec![true; c.pos.len()];
+        let e = (0..c.edges.len() as u32)
+            .find(|&e| {
+                c.edges[e as usize].ends.contains(&0) && c.edges[e as usize].ends.contains(&1)
+            })
+            .unwrap();
+        let eval = |joint, a: Option<&AttributeState>| {
+            CostModel {
+                attributes_move_vertices: joint,
+                attribute_slack: slack,
+                invisible_distance2: invisible * invisible,
+                ..model_of(metric)
+            }
+            .evaluate(
+                &c,
+                &stored(&c, &q),
+                &[],
+                &border,
+                &[],
+                &[],
+                &FlatStars::default(),
+                a,
+                e,
+                &mut Scratch::default(),
+            )
+            .unwrap()
+        };
+        (eval(false, None), eval(true, Some(&attrs)))
+    }
+
+    #[test]
+    fn off_flat_ground_the_invisible_allowance_lets_attributes_move_the_vertex() {
+        // On the bowl the planes do not hold the collapse's point: with no
+        // slack, the allowance alone lets the attribute pull the vertex
+        // off the surface's own point; without it the vertex stays. (Where
+        // the planes do hold it, `tests/defaults.rs`'s box of flat panels
+        // checks that it stays on them: on a single flat fan the joint
+        // point never leaves the plane, allowance or not.)
+        let (surface, joint) = joint_on_fan(1.0, 0.0, 0.1);
+        assert!(
+            joint.position.distance(surface.position) > 1e-6,
+            "{joint:?}"
+        );
+        let (surface, joint) = joint_on_fan(1.0, 0.0, 0.0);
+        assert_eq!(joint.position, surface.position);
+    }
+
+    #[test]
+    fn attributes_rank_collapses_but_do_not_move_the_vertex_unless_asked() {
+        // A fan of six triangles around vertex 0 on a bowl (z = r²), with
+        // a scalar attribute that is far from linear (x³): the joint
+        // minimum trades surface for attribute fit and leaves the
+        // geometric one.
+        let (c, idx, values) = fan_with_cubic_attribute(1.0);
         let corners: Vec<u32> = (0..idx.len() as u32).collect();
         let input = crate::AttributeInput {
             streams: vec![crate::AttributeStream {
