@@ -680,6 +680,8 @@ pub struct AttributeOptions {
     /// vertex. Jointly minimized, a vertex leaves the surface to make an
     /// attribute field fit better: the surface moves for the sake of
     /// texture coordinates and normals the viewer never sees as positions.
+    /// Only where some attribute steers (a weight above 0): attributes
+    /// that steer nothing leave the surface exactly as it is without them.
     ///
     /// Default true (Hoppe's joint placement): false measured better on the
     /// keep-UV path (`docs/design.md`, "Joint

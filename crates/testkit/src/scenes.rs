@@ -561,6 +561,18 @@ pub fn panel_box(n: usize) -> Scene {
     scene(m, vec![material("paint", [0.6, 0.5, 0.3])], Vec::new())
 }
 
+/// A scan-like closed surface: [`wildlod_mesh::shapes::bumpy_quad_sphere`]
+/// of `n × n` cells a side, every quad split into two triangles, with
+/// smooth normals shared by every corner of a position (no seam). The
+/// normals only follow the surface: whatever they steer, a geometry-only
+/// run must give the surface it gives without them.
+pub fn smooth_bumpy_sphere(n: usize) -> Scene {
+    let mut m = wildlod_mesh::polygon::triangulate(&wildlod_mesh::shapes::bumpy_quad_sphere(n));
+    m.name = "bumpy_sphere".into();
+    smooth_normals(&mut m);
+    Scene::from_mesh(m)
+}
+
 /// Area-weighted smooth normals: one per position, shared by all its
 /// corners (no seam), replacing any normal stream.
 fn smooth_normals(m: &mut Mesh) {

@@ -380,7 +380,12 @@ impl<'o> Run<'o> {
             metric,
             terms: collapse_terms(&metric),
             lock_borders: options.guards.lock_borders,
-            attributes_move_vertices: options.attributes.attributes_move_vertices,
+            // Hoppe's joint placement is for attributes that steer: with
+            // none (geometry-only, every weight 0), the solve over the
+            // zero appearance quadric is only the regularized one, and its
+            // allowance would move vertices off the planes' point for
+            // nothing.
+            attributes_move_vertices: options.attributes.attributes_move_vertices && steering,
             area_floor: metric.area_floor.max(0.0) * area / faces.max(1) as f64,
             attribute_slack: options.attributes.geometry_tolerance.powi(2) - 1.0,
             invisible_distance2: options.attributes.invisible_distance.powi(2),
