@@ -64,44 +64,18 @@ fn simplify_with(input: &Path, out: &Path, r: f64, extra: &[&str]) {
     );
 }
 
-/// UV islands of `m` as `wildlod info` counts them (faces sharing a
-/// position with the same UV), one id per face (`usize::MAX`: no UV), and
-/// their count.
+/// UV islands of `m` as `wildlod info` counts them, one id per face
+/// (`usize::MAX`: no UV), and their count.
 fn island_ids(m: &Mesh) -> (Vec<usize>, usize) {
-    let Some(uv) = m.attribute(&Semantic::TexCoord(0)) else {
-        return (vec![usize::MAX; m.faces.len()], 0);
-    };
-    let mut parent: Vec<usize> = (0..m.faces.len()).collect();
-    fn find(p: &mut [usize], mut x: usize) -> usize {
-        while p[x] != x {
-            p[x] = p[p[x]];
-            x = p[x];
-        }
-        x
+    match wildlod_mesh::stats::uv_island_ids(m) {
+        Some((ids, n)) => (
+            ids.into_iter()
+                .map(|i| if i == ABSENT { usize::MAX } else { i as usize })
+                .collect(),
+            n,
+        ),
+        None => (vec![usize::MAX; m.faces.len()], 0),
     }
-    let mut first: HashMap<([u32; 3], [u32; 2]), usize> = HashMap::new();
-    let mut has = vec![false; m.faces.len()];
-    for (f, h) in has.iter_mut().enumerate() {
-        for c in m.faces.corner_range(f) {
-            let Some(k) = corner_key(m, uv, c) else {
-                continue;
-            };
-            *h = true;
-            let g = *first.entry(k).or_insert(f);
-            let (a, b) = (find(&mut parent, g), find(&mut parent, f));
-            parent[b] = a;
-        }
-    }
-    let mut ids = vec![usize::MAX; m.faces.len()];
-    let mut roots: HashMap<usize, usize> = HashMap::new();
-    for f in 0..m.faces.len() {
-        if has[f] {
-            let r = find(&mut parent, f);
-            let n = roots.len();
-            ids[f] = *roots.entry(r).or_insert(n);
-        }
-    }
-    (ids, roots.len())
 }
 
 /// A corner's position and UV, bit for bit.

@@ -98,7 +98,21 @@ pub fn topology(mesh: &Mesh) -> TopologyStats {
     }
 }
 
+/// UV islands of set 0 as [`TopologyStats::uv_islands`] counts them:
+/// faces sharing a corner with the same welded position and UV are one
+/// island. For every face, its island's id (`0..count`, in order of the
+/// islands' first faces; [`ABSENT`] for a face without UVs), and the
+/// count; `None` without a UV set.
+pub fn uv_island_ids(mesh: &Mesh) -> Option<(Vec<u32>, usize)> {
+    let (weld, _) = weld_positions(&mesh.positions);
+    uv_island_labels(mesh, &weld)
+}
+
 fn uv_islands(mesh: &Mesh, weld: &[u32]) -> Option<usize> {
+    uv_island_labels(mesh, weld).map(|(_, count)| count)
+}
+
+fn uv_island_labels(mesh: &Mesh, weld: &[u32]) -> Option<(Vec<u32>, usize)> {
     let uv = mesh.attribute(&Semantic::TexCoord(0))?;
     let nf = mesh.faces.len();
     let mut sets = DisjointSets::new(nf);
@@ -119,11 +133,14 @@ fn uv_islands(mesh: &Mesh, weld: &[u32]) -> Option<usize> {
             sets.union(g, f as u32);
         }
     }
-    let mut roots = HashSet::new();
+    let mut ids = vec![ABSENT; nf];
+    let mut label: HashMap<u32, u32> = HashMap::new();
     for (f, _) in has_uv.iter().enumerate().filter(|(_, &h)| h) {
-        roots.insert(sets.find(f as u32));
+        let root = sets.find(f as u32);
+        let next = label.len() as u32;
+        ids[f] = *label.entry(root).or_insert(next);
     }
-    Some(roots.len())
+    Some((ids, label.len()))
 }
 
 #[cfg(test)]
@@ -199,7 +216,12 @@ mod tests {
             format: ComponentFormat::F32,
         });
         assert_eq!(topology(&m).uv_islands, Some(2));
+        assert_eq!(uv_island_ids(&m), Some((vec![0, 1], 2)));
         m.attributes[0].indices = vec![0, 1, 2, 3, 1, 4, 5, 2];
         assert_eq!(topology(&m).uv_islands, Some(1));
+        assert_eq!(uv_island_ids(&m), Some((vec![0, 0], 1)));
+        // A face without UVs belongs to no island.
+        m.attributes[0].indices[4..].fill(ABSENT);
+        assert_eq!(uv_island_ids(&m), Some((vec![0, ABSENT], 1)));
     }
 }
