@@ -972,10 +972,11 @@ mod tests {
         (c, idx, values)
     }
 
-    /// Evaluates collapsing edge 0–1 of [`fan_with_cubic_attribute`]
-    /// with joint placement, the attribute stream steering, under
-    /// `slack` and `invisible` (a distance).
-    fn joint_on_fan(rim: f64, slack: f64, invisible: f64) -> (Evaluation, Evaluation) {
+    /// Collapsing edge 0–1 of [`fan_with_cubic_attribute`] under
+    /// `slack` and `invisible` (a distance), evaluated three ways: by the
+    /// surface alone, with the attribute stream steering but the vertex
+    /// placed by the surface, and with joint placement.
+    fn on_fan(rim: f64, slack: f64, invisible: f64) -> [Evaluation; 3] {
         let (c, idx, values) = fan_with_cubic_attribute(rim);
         let corners: Vec<u32> = (0..idx.len() as u32).collect();
         let input = crate::AttributeInput {
@@ -1023,7 +1024,11 @@ mod tests {
             )
             .unwrap()
         };
-        (eval(false, None), eval(true, Some(&attrs)))
+        [
+            eval(false, None),
+            eval(false, Some(&attrs)),
+            eval(true, Some(&attrs)),
+        ]
     }
 
     #[test]
@@ -1034,12 +1039,12 @@ mod tests {
         // the planes do hold it, `tests/defaults.rs`'s box of flat panels
         // checks that it stays on them: on a single flat fan the joint
         // point never leaves the plane, allowance or not.)
-        let (surface, joint) = joint_on_fan(1.0, 0.0, 0.1);
+        let [surface, _, joint] = on_fan(1.0, 0.0, 0.1);
         assert!(
             joint.position.distance(surface.position) > 1e-6,
             "{joint:?}"
         );
-        let (surface, joint) = joint_on_fan(1.0, 0.0, 0.0);
+        let [surface, _, joint] = on_fan(1.0, 0.0, 0.0);
         assert_eq!(joint.position, surface.position);
     }
 
@@ -1048,57 +1053,9 @@ mod tests {
         // A fan of six triangles around vertex 0 on a bowl (z = r²), with
         // a scalar attribute that is far from linear (x³): the joint
         // minimum trades surface for attribute fit and leaves the
-        // geometric one.
-        let (c, idx, values) = fan_with_cubic_attribute(1.0);
-        let corners: Vec<u32> = (0..idx.len() as u32).collect();
-        let input = crate::AttributeInput {
-            streams: vec![crate::AttributeStream {
-                components: 1,
-                values: &values,
-                indices: &corners,
-                weight: 1.0,
-                seams: false,
-                kind: crate::StreamKind::Generic,
-            }],
-            ..Default::default()
-        };
-        let attrs =
-            AttributeState::new(&input, &idx, &c, &[], crate::SeamPolicy::Penalize, 1.0).unwrap();
-        let metric = Metric {
-            regularization: 0.0,
-            ..Metric::default()
-        };
-        let q = vertex_quadrics(&c, &metric, &[], EdgeImportance::default());
-        let model = |joint| CostModel {
-            attributes_move_vertices: joint,
-            ..model_of(metric)
-        };
-        let border = vec![true; c.pos.len()];
-        let mut s = Scratch::default();
-        let e = (0..c.edges.len() as u32)
-            .find(|&e| {
-                c.edges[e as usize].ends.contains(&0) && c.edges[e as usize].ends.contains(&1)
-            })
-            .unwrap();
-        let eval = |joint, a: Option<&AttributeState>, s: &mut Scratch| {
-            model(joint)
-                .evaluate(
-                    &c,
-                    &stored(&c, &q),
-                    &[],
-                    &border,
-                    &[],
-                    &[],
-                    &FlatStars::default(),
-                    a,
-                    e,
-                    s,
-                )
-                .unwrap()
-        };
-        let surface = eval(false, None, &mut s);
-        let fitted = eval(false, Some(&attrs), &mut s);
-        let joint = eval(true, Some(&attrs), &mut s);
+        // geometric one. No slack bound and no allowance: Hoppe's joint
+        // placement as written.
+        let [surface, fitted, joint] = on_fan(1.0, f64::INFINITY, 0.0);
         // By default the vertex goes where the surface alone puts it, and
         // the attribute error it causes there is added to the cost.
         assert_eq!(fitted.position, surface.position);
