@@ -325,7 +325,8 @@ fn read_ascii(data: &[u8]) -> Result<Mesh, ErrorKind> {
 }
 
 /// Writes a binary STL: every mesh instance moved by its world matrix,
-/// polygons triangulated (a fan up to 32 corners, inner diagonals beyond),
+/// polygons triangulated (`shapes::triangulate`: a fan up to 32 corners
+/// where it covers the polygon, inner diagonals otherwise),
 /// facet normals computed from the triangles.
 pub(crate) fn write(scene: &Scene, path: &Path, files: &mut OutputFiles) -> Result<(), ErrorKind> {
     let instances = scene.instances();

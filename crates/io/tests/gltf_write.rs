@@ -894,3 +894,82 @@ fn tracks_gltf_cannot_hold_are_left_out_with_a_warning() {
         "{warnings:?}"
     );
 }
+
+/// Signed area along +z of every triangle of `m` (whose faces are
+/// triangles), by the triangle's corner positions.
+fn areas_along_z(m: &Mesh) -> Vec<f64> {
+    (0..m.faces.len())
+        .map(|t| {
+            let [a, b, c] =
+                [0, 1, 2].map(|i| m.positions[m.faces.face(t)[i] as usize].map(f64::from));
+            0.5 * ((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]))
+        })
+        .collect()
+}
+
+/// Non-convex polygons (an L-shaped wall face from the corner that cannot
+/// see the far arm, a letter-like star of 24 corners), as architecture and
+/// CAD OBJ exports write them, facing +z. Written as glTF or STL, which
+/// draw triangles, they must cover their outlines exactly: no triangle
+/// turned over (the fan from the first corner folds both, drawing area
+/// outside the outline), and the areas adding up to the outlines'.
+#[test]
+fn non_convex_polygons_are_written_as_triangles_covering_their_outline() {
+    let l_shape = [
+        [2.0, 0.0],
+        [2.0, 1.0],
+        [1.0, 1.0],
+        [1.0, 2.0],
+        [0.0, 2.0],
+        [0.0, 0.0],
+    ];
+    let star: Vec<[f32; 2]> = (0..24)
+        .map(|i| {
+            let a = i as f32 / 24.0 * std::f32::consts::TAU;
+            let r = if i % 2 == 0 { 1.0 } else { 0.3 };
+            [4.0 + r * a.cos(), r * a.sin()]
+        })
+        .collect();
+    let mut positions = Vec::new();
+    let mut faces = Faces::new();
+    for poly in [&l_shape[..], &star[..]] {
+        let base = positions.len() as u32;
+        positions.extend(poly.iter().map(|p| [p[0], p[1], 0.0]));
+        faces.push(&(base..base + poly.len() as u32).collect::<Vec<u32>>());
+    }
+    // L: 3; star: 24 corners, half of them at radius 1 around (4, 0).
+    let outline = 3.0 + 24.0 * 0.5 * 1.0 * 0.3 * (std::f64::consts::TAU / 24.0).sin();
+    let scene = Scene::from_mesh(Mesh::from_polygons(positions, faces));
+    let dir = tempfile::tempdir().expect("temp dir");
+    for ext in ["glb", "stl"] {
+        let (back, _, _) = if ext == "glb" {
+            write_read(
+                &Document::from_scene(scene.clone()),
+                dir.path(),
+                "outline.glb",
+            )
+        } else {
+            let out = dir.path().join("outline.stl");
+            write(
+                &Document::from_scene(scene.clone()),
+                &out,
+                &WriteOptions::default(),
+            )
+            .unwrap_or_else(|e| panic!("{e}"));
+            (
+                read(&out).unwrap_or_else(|e| panic!("{e}")),
+                Vec::new(),
+                Value::Null,
+            )
+        };
+        let m = &back.scene.meshes[0];
+        assert_eq!(m.triangle_count(), 4 + 22, "{ext}");
+        let areas = areas_along_z(m);
+        assert!(areas.iter().all(|&a| a >= 0.0), "{ext}: {areas:?}");
+        let total: f64 = areas.iter().sum();
+        assert!(
+            (total - outline).abs() < 1e-5,
+            "{ext}: {total} against {outline}"
+        );
+    }
+}

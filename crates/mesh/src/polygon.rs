@@ -23,8 +23,9 @@ use crate::faces::Faces;
 use crate::mesh::Mesh;
 
 /// Polygons up to this many corners are fan-triangulated by
-/// [`triangulate`] (as they always were: the corpus's largest
-/// polygon has 16); larger ones are split here into triangles.
+/// [`triangulate`] where the fan covers them (as they always were: the
+/// corpus's largest polygon has 16); larger ones, and those a fan would
+/// fold, are split here into triangles.
 pub const FAN_MAX_CORNERS: usize = 32;
 
 /// Diagonals tried per cut: enough that one stays inside most non-convex
@@ -80,8 +81,10 @@ pub fn split_polygon(points: &[[f32; 3]], max_corners: usize, out: &mut Faces) {
 
 /// Triangulates every polygon: a polygon of up to
 /// [`FAN_MAX_CORNERS`] corners by a fan (face `[a, b, c, d]`
-/// becomes `[a, b, c]` and `[a, c, d]`), a larger one by
-/// [`split_polygon`] (a fan there would give one vertex of valence
+/// becomes `[a, b, c]` and `[a, c, d]`) when the fan covers it, a larger
+/// one, or one whose fan would fold ([`fan_covers`]: a non-convex outline,
+/// an L-shaped wall, a letter's cap, a dart-shaped quad), by
+/// [`split_polygon`] (a fan of a large polygon gives one vertex of valence
 /// k and k overlapping slivers). Attribute and skinning indices follow their
 /// corners; parts are kept. Triangles are returned unchanged.
 pub fn triangulate(mesh: &Mesh) -> Mesh {
@@ -94,7 +97,16 @@ pub fn triangulate(mesh: &Mesh) -> Mesh {
     for f in 0..mesh.faces.len() {
         let r = mesh.faces.corner_range(f);
         let part = mesh.face_parts.get(f).copied().unwrap_or(0);
-        if r.len() <= FAN_MAX_CORNERS {
+        points.clear();
+        if r.len() > 3 {
+            points.extend(r.clone().map(|c| {
+                mesh.positions
+                    .get(mesh.faces.indices[c] as usize)
+                    .copied()
+                    .unwrap_or([0.0; 3])
+            }));
+        }
+        if r.len() <= 3 || (r.len() <= FAN_MAX_CORNERS && fan_covers(&points)) {
             for k in 1..r.len().saturating_sub(1) {
                 let cs = [r.start, r.start + k, r.start + k + 1];
                 faces.push(&cs.map(|c| mesh.faces.indices[c]));
@@ -103,13 +115,6 @@ pub fn triangulate(mesh: &Mesh) -> Mesh {
             }
             continue;
         }
-        points.clear();
-        points.extend(r.clone().map(|c| {
-            mesh.positions
-                .get(mesh.faces.indices[c] as usize)
-                .copied()
-                .unwrap_or([0.0; 3])
-        }));
         pieces.offsets.truncate(1);
         pieces.indices.clear();
         split_polygon(&points, 3, &mut pieces);
@@ -136,6 +141,37 @@ pub fn triangulate(mesh: &Mesh) -> Mesh {
         s.indices = corner_src.iter().map(|&c| s.indices[c]).collect();
     }
     out
+}
+
+/// Whether the fan from the first corner triangulates the polygon: no fan
+/// triangle turns against the polygon's (Newell) normal by more than
+/// rounding. The fan's signed areas always add up to the polygon's, so
+/// with none negative they do not overlap and cover it exactly; a
+/// negative one (the first corner cannot see past a reflex corner) folds
+/// over its neighbours and pokes out of the outline. Convex polygons,
+/// with or without corners on a straight side, keep their fan.
+pub fn fan_covers(points: &[[f32; 3]]) -> bool {
+    let k = points.len();
+    if k <= 3 {
+        return true;
+    }
+    let at = |i: usize| points[i].map(f64::from);
+    let mut n = [0.0f64; 3];
+    for i in 0..k {
+        let (a, b) = (at(i), at((i + 1) % k));
+        n[0] += (a[1] - b[1]) * (a[2] + b[2]);
+        n[1] += (a[2] - b[2]) * (a[0] + b[0]);
+        n[2] += (a[0] - b[0]) * (a[1] + b[1]);
+    }
+    let nn = dot(n, n);
+    if !(nn > 0.0 && nn.is_finite()) {
+        // No area: nothing a triangulation could fold.
+        return true;
+    }
+    let o = at(0);
+    let sub = |a: [f64; 3]| [a[0] - o[0], a[1] - o[1], a[2] - o[2]];
+    // Twice a fan triangle's area along n, against 1e-9 of the polygon's.
+    (1..k - 1).all(|i| dot(cross(sub(at(i)), sub(at(i + 1))), n) >= -1e-9 * nn)
 }
 
 /// The diagonal (local positions `a < b` in `piece`) to cut along: the
@@ -468,6 +504,117 @@ mod tests {
             .count();
         assert_eq!(f.triangulated_count(), pts.len() - 2);
         assert_eq!(outside, 0, "{outside} triangles outside the comb");
+    }
+
+    /// One mesh holding `polygons` (each its own positions, in the plane
+    /// z = 0), triangulated; per polygon its triangles' signed areas.
+    fn triangle_areas(polygons: &[Vec<[f32; 2]>]) -> Vec<Vec<f64>> {
+        let mut positions = Vec::new();
+        let mut faces = Faces::new();
+        for poly in polygons {
+            let base = positions.len() as u32;
+            positions.extend(poly.iter().map(|p| [p[0], p[1], 0.0]));
+            faces.push(&(base..base + poly.len() as u32).collect::<Vec<u32>>());
+        }
+        let tri = triangulate(&Mesh::from_polygons(positions, faces));
+        let mut out = vec![Vec::new(); polygons.len()];
+        let mut first = 0;
+        for (k, poly) in polygons.iter().enumerate() {
+            for t in first..first + poly.len() - 2 {
+                let [a, b, c] = [0, 1, 2].map(|i| tri.positions[tri.faces.face(t)[i] as usize]);
+                let area = 0.5
+                    * ((b[0] - a[0]) as f64 * (c[1] - a[1]) as f64
+                        - (b[1] - a[1]) as f64 * (c[0] - a[0]) as f64);
+                out[k].push(area);
+            }
+            first += poly.len() - 2;
+        }
+        out
+    }
+
+    fn shoelace(poly: &[[f32; 2]]) -> f64 {
+        let k = poly.len();
+        0.5 * (0..k)
+            .map(|i| {
+                let (a, b) = (poly[i], poly[(i + 1) % k]);
+                a[0] as f64 * b[1] as f64 - b[0] as f64 * a[1] as f64
+            })
+            .sum::<f64>()
+    }
+
+    #[test]
+    fn a_polygon_the_fan_would_fold_is_cut_along_inner_diagonals() {
+        // An L-shaped wall face starting at a corner that cannot see the
+        // far arm; a dart-shaped quad whose first corner's diagonal runs
+        // outside; a star of 20 corners. The fan from corner 0 folds each:
+        // a triangle turned over and the rest poking out of the outline.
+        let l_shape = vec![
+            [2.0, 0.0],
+            [2.0, 1.0],
+            [1.0, 1.0],
+            [1.0, 2.0],
+            [0.0, 2.0],
+            [0.0, 0.0],
+        ];
+        let dart = vec![[0.0, 0.0], [1.0, 0.4], [2.0, 0.0], [1.0, 2.0]];
+        let star: Vec<[f32; 2]> = (0..20)
+            .map(|i| {
+                let a = i as f32 / 20.0 * std::f32::consts::TAU + 0.1;
+                let r = if i % 2 == 0 { 1.0 } else { 0.4 };
+                [r * a.cos(), r * a.sin()]
+            })
+            .collect();
+        let polys = [l_shape, dart, star];
+        for poly in &polys {
+            let pts: Vec<[f32; 3]> = poly.iter().map(|p| [p[0], p[1], 0.0]).collect();
+            assert!(!fan_covers(&pts), "the fan should fold {poly:?}");
+        }
+        for (poly, areas) in polys.iter().zip(triangle_areas(&polys)) {
+            let want = shoelace(poly);
+            assert!(want > 0.0);
+            // No triangle turned over, so none overlaps another, and
+            // together they cover exactly the outline's area.
+            assert!(areas.iter().all(|&a| a >= 0.0), "{poly:?}: {areas:?}");
+            let got: f64 = areas.iter().sum();
+            assert!((got - want).abs() <= 1e-6 * want, "{poly:?}: {got} {want}");
+        }
+    }
+
+    #[test]
+    fn convex_polygons_keep_their_fan() {
+        // A hexagon with a corner on a straight side, an L-shape starting
+        // at the corner that sees every other, and a warped quad.
+        let hexagon = vec![
+            [0.0, 0.0],
+            [1.0, 0.0],
+            [2.0, 0.0],
+            [2.0, 1.0],
+            [1.0, 2.0],
+            [0.0, 1.0],
+        ];
+        let l_seen = vec![
+            [0.0, 0.0],
+            [2.0, 0.0],
+            [2.0, 1.0],
+            [1.0, 1.0],
+            [1.0, 2.0],
+            [0.0, 2.0],
+        ];
+        for poly in [hexagon, l_seen] {
+            let pts: Vec<[f32; 3]> = poly.iter().map(|p| [p[0], p[1], 0.0]).collect();
+            assert!(fan_covers(&pts), "{poly:?}");
+        }
+        let warped = [
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.2],
+            [1.0, 1.0, 0.0],
+            [0.0, 1.0, 0.2],
+        ];
+        assert!(fan_covers(&warped));
+        let mut faces = Faces::new();
+        faces.push(&[0, 1, 2, 3]);
+        let tri = triangulate(&Mesh::from_polygons(warped.to_vec(), faces));
+        assert_eq!(tri.faces.indices, vec![0, 1, 2, 0, 2, 3]);
     }
 
     #[test]

@@ -1,5 +1,5 @@
-//! [`Mesh`] → glTF primitives: one per non-empty part, polygons fanned
-//! into triangles, vertices made of the distinct corner combinations, and
+//! [`Mesh`] → glTF primitives: one per non-empty part, polygons cut into
+//! triangles (`shapes::triangulate`), vertices made of the distinct corner combinations, and
 //! every stream encoded back in its source format where glTF allows it.
 
 use std::borrow::Cow;

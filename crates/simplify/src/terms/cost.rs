@@ -38,8 +38,9 @@ const REACH: f64 = 4.0;
 ///
 /// A triangle has one plane, a third of which each corner takes. A warped
 /// polygon has no plane: it is drawn as the fan of triangles from its first
-/// corner (by wildlod's writers, OBJ readers, renderers and the error
-/// metrics), so each corner takes a third of the planes of the fan
+/// corner (by wildlod's writers wherever that fan does not fold, see
+/// `wildlod_mesh::polygon::fan_covers`, by OBJ readers, renderers and the
+/// error metrics), so each corner takes a third of the planes of the fan
 /// triangles it belongs to, scaled so that the polygon weighs `a` in all.
 /// Every corner then lies on every plane it holds, as on a triangle mesh,
 /// where the average (Newell) plane lies on none of them: a curved blade's
