@@ -25,6 +25,7 @@ mod image;
 mod mesh;
 pub mod polygon;
 pub mod pose;
+pub mod quad_pairs;
 mod scene;
 pub mod shapes;
 pub mod stats;

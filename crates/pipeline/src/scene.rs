@@ -209,6 +209,7 @@ pub fn whole_report(r: &SceneReport) -> Report {
         twin_slack: r.groups.iter().any(|g| g.report.twin_slack),
         rejected,
         split_polygons: r.groups.iter().map(|g| g.report.split_polygons).sum(),
+        joined_quads: r.groups.iter().map(|g| g.report.joined_quads).sum(),
         hidden_twins: r.groups.iter().map(|g| g.report.hidden_twins).sum(),
         collapses: r.groups.iter().map(|g| g.report.collapses).sum(),
         evaluations: r.groups.iter().map(|g| g.report.evaluations).sum(),

@@ -221,6 +221,21 @@ pub fn simplify_mesh_with_progress(
             (a, b) => a.or(b),
         };
     }
+    if options.quads_active(mesh.faces.arity_counts().1) && !options.record.history {
+        // Leftover triangle pairs that make a good quad are joined: the
+        // same triangles drawn, more of the quad-dominant topology kept
+        // (normals and tangents below see the final faces). A tool drawing
+        // such a quad by its other diagonal moves the surface by at most
+        // the largest collapse error the run made; pairs folded past a
+        // crease stay two faces. Not where the history is kept: re-baking
+        // walks it from each output face's own input face.
+        let max_warp = report.error * mesh.diagonal();
+        report.joined_quads = wildlod_mesh::quad_pairs::join_triangle_pairs(
+            &mut out,
+            max_warp,
+            options.metric.crease_angle,
+        );
+    }
     for a in &mut out.attributes {
         if a.semantic == Semantic::Normal && a.components == 3 {
             if options.attributes.normals == NormalMode::Recompute {

@@ -153,6 +153,9 @@ pub struct Report {
     /// split into smaller pieces before simplifying (their pieces are
     /// output faces of the same input face).
     pub split_polygons: usize,
+    /// Triangle pairs joined into quads after a quad-dominant run
+    /// ([`wildlod_mesh::quad_pairs`]; [`crate::simplify_mesh`] only).
+    pub joined_quads: usize,
     /// Output normal values that pointed more than 75° away from every face
     /// they shade and were replaced by their faces' normal (see
     /// [`crate::simplify_mesh`]).
