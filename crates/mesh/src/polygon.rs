@@ -81,9 +81,10 @@ pub fn split_polygon(points: &[[f32; 3]], max_corners: usize, out: &mut Faces) {
 
 /// Triangulates every polygon: a polygon of up to
 /// [`FAN_MAX_CORNERS`] corners by a fan (face `[a, b, c, d]`
-/// becomes `[a, b, c]` and `[a, c, d]`) when the fan covers it, a larger
-/// one, or one whose fan would fold ([`fan_covers`]: a non-convex outline,
-/// an L-shaped wall, a letter's cap, a dart-shaped quad), by
+/// becomes `[a, b, c]` and `[a, c, d]`) when the fan covers it or the
+/// polygon is warped (it has no outline: the fan is what draws it), a
+/// larger one, or a flat one whose fan would fold ([`fan_covers`]: a
+/// non-convex outline, an L-shaped wall, a letter's cap, a dart), by
 /// [`split_polygon`] (a fan of a large polygon gives one vertex of valence
 /// k and k overlapping slivers). Attribute and skinning indices follow their
 /// corners; parts are kept. Triangles are returned unchanged.
@@ -106,7 +107,8 @@ pub fn triangulate(mesh: &Mesh) -> Mesh {
                     .unwrap_or([0.0; 3])
             }));
         }
-        if r.len() <= 3 || (r.len() <= FAN_MAX_CORNERS && fan_covers(&points)) {
+        if r.len() <= 3 || (r.len() <= FAN_MAX_CORNERS && (fan_covers(&points) || !planar(&points)))
+        {
             for k in 1..r.len().saturating_sub(1) {
                 let cs = [r.start, r.start + k, r.start + k + 1];
                 faces.push(&cs.map(|c| mesh.faces.indices[c]));
@@ -172,6 +174,45 @@ pub fn fan_covers(points: &[[f32; 3]]) -> bool {
     let sub = |a: [f64; 3]| [a[0] - o[0], a[1] - o[1], a[2] - o[2]];
     // Twice a fan triangle's area along n, against 1e-9 of the polygon's.
     (1..k - 1).all(|i| dot(cross(sub(at(i)), sub(at(i + 1))), n) >= -1e-9 * nn)
+}
+
+/// A polygon's corners deviate from its (Newell) plane through their
+/// centroid by at most this share of its extent: below it, the polygon is
+/// flat to any screen and has an outline a triangulation must cover;
+/// above it (a warped quad of a coarse cage), it has no plane, and the fan
+/// from its first corner is what draws it (`cost::face_share` simplifies
+/// it as that fan, and renderers and readers draw it so).
+const PLANAR: f64 = 1e-3;
+
+/// Whether the corners lie in one plane to [`PLANAR`] of their extent.
+fn planar(points: &[[f32; 3]]) -> bool {
+    let k = points.len();
+    let at = |i: usize| points[i].map(f64::from);
+    let mut n = [0.0f64; 3];
+    let mut c = [0.0f64; 3];
+    let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
+    for i in 0..k {
+        let (a, b) = (at(i), at((i + 1) % k));
+        n[0] += (a[1] - b[1]) * (a[2] + b[2]);
+        n[1] += (a[2] - b[2]) * (a[0] + b[0]);
+        n[2] += (a[0] - b[0]) * (a[1] + b[1]);
+        for x in 0..3 {
+            c[x] += a[x] / k as f64;
+            lo[x] = lo[x].min(a[x]);
+            hi[x] = hi[x].max(a[x]);
+        }
+    }
+    let len = dot(n, n).sqrt();
+    let extent = (0..3).map(|x| hi[x] - lo[x]).fold(0.0, f64::max);
+    if !(len > 0.0 && extent > 0.0) {
+        // No area or no extent: nothing to warp.
+        return true;
+    }
+    (0..k).all(|i| {
+        let p = at(i);
+        let d = dot([p[0] - c[0], p[1] - c[1], p[2] - c[2]], n) / len;
+        d.abs() <= PLANAR * extent
+    })
 }
 
 /// The diagonal (local positions `a < b` in `piece`) to cut along: the
@@ -614,6 +655,26 @@ mod tests {
         let mut faces = Faces::new();
         faces.push(&[0, 1, 2, 3]);
         let tri = triangulate(&Mesh::from_polygons(warped.to_vec(), faces));
+        assert_eq!(tri.faces.indices, vec![0, 1, 2, 0, 2, 3]);
+    }
+
+    #[test]
+    fn a_warped_quad_keeps_its_fan_even_where_it_folds() {
+        // One of spot_control_mesh's quads at 50%, warped by a fifth of
+        // its size: its fan from corner 0 turns a triangle against the
+        // Newell normal, but it has no outline to cover, and the fan is
+        // what the simplifier measured and readers draw.
+        let warped = vec![
+            [-0.088, 0.694, -0.232],
+            [-0.58, 0.69, -0.004],
+            [-0.377, 0.511, -0.26],
+            [-0.268, 0.537, -0.046],
+        ];
+        assert!(!fan_covers(&warped));
+        assert!(!planar(&warped));
+        let mut faces = Faces::new();
+        faces.push(&[0, 1, 2, 3]);
+        let tri = triangulate(&Mesh::from_polygons(warped, faces));
         assert_eq!(tri.faces.indices, vec![0, 1, 2, 0, 2, 3]);
     }
 
