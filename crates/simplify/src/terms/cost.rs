@@ -38,10 +38,10 @@ const REACH: f64 = 4.0;
 ///
 /// A triangle has one plane, a third of which each corner takes. A warped
 /// polygon has no plane: it is drawn as the fan of triangles from its first
-/// corner (by wildlod's writers wherever that fan does not fold, see
-/// `wildlod_mesh::polygon::fan_covers`, by OBJ readers, renderers and the
-/// error metrics), so each corner takes a third of the planes of the fan
-/// triangles it belongs to, scaled so that the polygon weighs `a` in all.
+/// corner (by wildlod's writers, which cut only flat polygons whose fan
+/// folds, by OBJ readers, renderers and the error metrics), so each corner
+/// takes a third of the planes of the fan triangles it belongs to, scaled
+/// so that the polygon weighs `a` in all.
 /// Every corner then lies on every plane it holds, as on a triangle mesh,
 /// where the average (Newell) plane lies on none of them: a curved blade's
 /// quads lost their curvature to it, and their vertices their place. For a
