@@ -14,11 +14,10 @@
 //! A quad is joined only where it is convex in its plane (both diagonals
 //! inside: no fold whichever one a renderer picks), where the two
 //! triangles turn by at most a crease angle (a box's corner stays two
-//! faces), and where the other diagonal would move the surface by at most
-//! `max_warp` (the distance between the two diagonals), so a tool that
-//! re-triangulates it the other way stays within the error the
-//! simplification already made. Pairs are joined flattest first, each
-//! triangle once.
+//! faces), and where it is no more warped than allowed ([`JoinLimits`]):
+//! readers and renderers pick their own diagonal, and the distance between
+//! the two diagonals is how far that moves the surface. Pairs are joined
+//! flattest first, each triangle once.
 
 use std::collections::HashMap;
 
@@ -29,14 +28,44 @@ use crate::polygon::fan_covers;
 /// The uses of one edge: (face, corner `k` of its directed edge `k → k + 1`).
 type Uses = Vec<(u32, u8)>;
 
+/// How far a joined quad may depart from a flat one.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct JoinLimits {
+    /// The distance between the quad's two diagonals may always reach this
+    /// (what no screen shows, in the mesh's units).
+    pub max_warp: f64,
+    /// ... and this share of the quad's longer diagonal ([`relative_warp`]):
+    /// a quad as warped as the input's own quads is drawn as theirs are.
+    pub max_relative_warp: f64,
+    /// The most the two triangles' normals may turn (a crease: a box's
+    /// corner stays two faces), in degrees.
+    pub max_fold_degrees: f64,
+}
+
+/// The distance between a quad's two diagonals over the longer one: 0
+/// for a flat quad, how far a reader that draws it by the other diagonal
+/// moves its surface, relative to its size.
+pub fn relative_warp(quad: &[[f32; 3]; 4]) -> f64 {
+    let len = |a: [f32; 3], b: [f32; 3]| {
+        (0..3)
+            .map(|k| (f64::from(a[k]) - f64::from(b[k])).powi(2))
+            .sum::<f64>()
+            .sqrt()
+    };
+    let longer = len(quad[0], quad[2]).max(len(quad[1], quad[3]));
+    if longer > 0.0 {
+        segment_distance(quad[0], quad[2], quad[1], quad[3]) / longer
+    } else {
+        0.0
+    }
+}
+
 /// Joins triangle pairs of `mesh` into quads (see the module
-/// documentation) whose other diagonal lies within `max_warp` of the
-/// shared edge and whose triangles' normals turn by at most
-/// `max_fold_degrees`; returns how many quads were made. Positions, attribute
-/// values and the triangles drawn are unchanged; faces, their parts and
-/// their corners' indices are rebuilt.
-pub fn join_triangle_pairs(mesh: &mut Mesh, max_warp: f64, max_fold_degrees: f64) -> usize {
-    let min_cos = max_fold_degrees.to_radians().cos();
+/// documentation) within `limits`; returns how many quads were made.
+/// Positions, attribute values and the triangles drawn are unchanged;
+/// faces, their parts and their corners' indices are rebuilt.
+pub fn join_triangle_pairs(mesh: &mut Mesh, limits: JoinLimits) -> usize {
+    let min_cos = limits.max_fold_degrees.to_radians().cos();
     let nf = mesh.faces.len();
     // Every undirected edge's uses: (face, corner k of the directed edge
     // k → k + 1).
@@ -61,7 +90,7 @@ pub fn join_triangle_pairs(mesh: &mut Mesh, max_warp: f64, max_fold_degrees: f64
         let &[a, b] = front.as_slice() else {
             continue;
         };
-        let Some((warp, p)) = pair(mesh, a, b, max_warp, min_cos) else {
+        let Some((warp, p)) = pair(mesh, a, b, &limits, min_cos) else {
             continue;
         };
         let twins = match back.as_slice() {
@@ -80,7 +109,11 @@ pub fn join_triangle_pairs(mesh: &mut Mesh, max_warp: f64, max_fold_degrees: f64
                 } else {
                     (d, c)
                 };
-                let Some((_, q)) = pair(mesh, c, d, f64::INFINITY, min_cos) else {
+                let any = JoinLimits {
+                    max_warp: f64::INFINITY,
+                    ..limits
+                };
+                let Some((_, q)) = pair(mesh, c, d, &any, min_cos) else {
                     continue;
                 };
                 Some(q)
@@ -197,7 +230,7 @@ fn pair(
     mesh: &Mesh,
     (f1, k1): (u32, u8),
     (f2, k2): (u32, u8),
-    max_warp: f64,
+    limits: &JoinLimits,
     min_cos: f64,
 ) -> Option<(f64, Pair)> {
     let (r1, r2) = (
@@ -258,7 +291,8 @@ fn pair(
         return None;
     }
     let warp = segment_distance(quad[0], quad[2], quad[1], quad[3]);
-    (warp <= max_warp).then_some((
+    let relative = relative_warp(&quad);
+    (warp <= limits.max_warp || relative <= limits.max_relative_warp).then_some((
         warp,
         Pair {
             first: f1,
@@ -318,6 +352,15 @@ mod tests {
     use crate::attribute::{Attribute, ComponentFormat, Semantic};
     use crate::polygon::triangulate;
 
+    /// Limits of `max_warp` alone (no relative allowance, folds to 90°).
+    fn limits(max_warp: f64) -> JoinLimits {
+        JoinLimits {
+            max_warp,
+            max_relative_warp: 0.0,
+            max_fold_degrees: 90.0,
+        }
+    }
+
     /// A 2 × 1 strip of unit squares, each split into two triangles along
     /// its diagonal, z from `lift` per vertex, UVs per corner.
     fn strip(lift: [f32; 6]) -> Mesh {
@@ -341,7 +384,7 @@ mod tests {
     fn two_flat_squares_of_triangles_become_two_quads_drawing_the_same_triangles() {
         let mut m = strip([0.0; 6]);
         let before = triangulate(&m);
-        assert_eq!(join_triangle_pairs(&mut m, 0.0, 90.0), 2);
+        assert_eq!(join_triangle_pairs(&mut m, limits(0.0)), 2);
         assert_eq!(m.faces.len(), 2);
         assert!((0..2).all(|f| m.faces.arity(f) == 4));
         m.validate().expect("valid");
@@ -387,7 +430,7 @@ mod tests {
         m.face_parts = vec![0; 2 * n];
         m.attributes[0].indices = uv;
         m.validate().expect("valid");
-        assert_eq!(join_triangle_pairs(&mut m, 0.0, 90.0), 4);
+        assert_eq!(join_triangle_pairs(&mut m, limits(0.0)), 4);
         let sets: Vec<Vec<u32>> = (0..4)
             .map(|f| {
                 let mut q = m.faces.face(f).to_vec();
@@ -417,7 +460,7 @@ mod tests {
         let uv = &mut m.attributes[0];
         uv.values.extend_from_slice(&[0.9, 0.9]);
         uv.indices[4] = 6;
-        assert_eq!(join_triangle_pairs(&mut m, 0.0, 90.0), 1);
+        assert_eq!(join_triangle_pairs(&mut m, limits(0.0)), 1);
         let kept: Vec<u32> = {
             let f =
                 (0..m.faces.len()).find(|&f| m.faces.arity(f) == 3 && m.faces.face(f).contains(&3));
@@ -433,13 +476,13 @@ mod tests {
         let mut m = strip([0.0; 6]);
         m.parts.push(m.parts[0].clone());
         m.face_parts[1] = 1;
-        assert_eq!(join_triangle_pairs(&mut m, 0.0, 90.0), 1);
+        assert_eq!(join_triangle_pairs(&mut m, limits(0.0)), 1);
         assert!((0..m.faces.len()).any(|f| m.face_parts[f] == 1 && m.faces.arity(f) == 3));
         // A dart: the second square's corner 2 pulled in past its diagonal
         // 1–5, so the quad 5, 4, 1, 2 is not convex; the first square joins.
         let mut m = strip([0.0; 6]);
         m.positions[2] = [1.2, 0.9, 0.0];
-        assert_eq!(join_triangle_pairs(&mut m, 0.0, 90.0), 1);
+        assert_eq!(join_triangle_pairs(&mut m, limits(0.0)), 1);
         assert_eq!(m.faces.arity(0), 4);
         assert_eq!(m.faces.face(0).iter().filter(|&&v| v == 2).count(), 0);
     }
@@ -462,10 +505,21 @@ mod tests {
             m0.positions[3],
         );
         assert!((warp - 1.0 / 6f64.sqrt()).abs() < 1e-9, "{warp}");
+        // Relative to its longer diagonal (1–3, √3): 1/√18.
+        let quad = [0, 1, 2, 3].map(|k| m0.positions[k]);
+        assert!((relative_warp(&quad) - 1.0 / 18f64.sqrt()).abs() < 1e-9);
+        for (rel, joined) in [(0.23, 0), (0.24, 1)] {
+            let mut m = m0.clone();
+            let l = JoinLimits {
+                max_relative_warp: rel,
+                ..limits(0.0)
+            };
+            assert_eq!(join_triangle_pairs(&mut m, l), joined, "{rel}");
+        }
         let mut m = m0.clone();
-        assert_eq!(join_triangle_pairs(&mut m, 0.4, 90.0), 0);
+        assert_eq!(join_triangle_pairs(&mut m, limits(0.4)), 0);
         let mut m = m0;
-        assert_eq!(join_triangle_pairs(&mut m, 0.41, 90.0), 1);
+        assert_eq!(join_triangle_pairs(&mut m, limits(0.41)), 1);
         // Drawn from its first corner, the quad's fan is the shared
         // diagonal: the two input triangles.
         let q = m.faces.face(0).to_vec();

@@ -224,17 +224,19 @@ pub fn simplify_mesh_with_progress(
     if options.quads_active(mesh.faces.arity_counts().1) && !options.record.history {
         // Leftover triangle pairs that make a good quad are joined: the
         // same triangles drawn, more of the quad-dominant topology kept
-        // (normals and tangents below see the final faces). A tool drawing
-        // such a quad by its other diagonal moves the surface by at most
-        // the largest collapse error the run made; pairs folded past a
+        // (normals and tangents below see the final faces). Readers and
+        // renderers pick their own diagonal, so a joined quad is at most
+        // as warped as the input's own quads (their median) or flat to
+        // what no screen shows: Blender drew a coarse cage's joined quads
+        // warped by the run's error visibly otherwise. Pairs folded past a
         // crease stay two faces. Not where the history is kept: re-baking
         // walks it from each output face's own input face.
-        let max_warp = report.error * mesh.diagonal();
-        report.joined_quads = wildlod_mesh::quad_pairs::join_triangle_pairs(
-            &mut out,
-            max_warp,
-            options.metric.crease_angle,
-        );
+        let limits = wildlod_mesh::quad_pairs::JoinLimits {
+            max_warp: options.attributes.invisible_distance * mesh.diagonal(),
+            max_relative_warp: median_quad_warp(mesh),
+            max_fold_degrees: options.metric.crease_angle,
+        };
+        report.joined_quads = wildlod_mesh::quad_pairs::join_triangle_pairs(&mut out, limits);
     }
     for a in &mut out.attributes {
         if a.semantic == Semantic::Normal && a.components == 3 {
@@ -276,6 +278,31 @@ pub fn simplify_mesh_with_progress(
 }
 
 /// A per-corner stream of `a`'s values.
+/// The median [`wildlod_mesh::quad_pairs::relative_warp`] of the input's
+/// quads (0 without any): how warped the artist's own quads are.
+fn median_quad_warp(mesh: &Mesh) -> f64 {
+    let mut warps: Vec<f64> = mesh
+        .faces
+        .iter()
+        .filter(|f| f.len() == 4)
+        .filter_map(|f| {
+            let p = |k: usize| mesh.positions.get(f[k] as usize).copied();
+            Some(wildlod_mesh::quad_pairs::relative_warp(&[
+                p(0)?,
+                p(1)?,
+                p(2)?,
+                p(3)?,
+            ]))
+        })
+        .filter(|w| w.is_finite())
+        .collect();
+    if warps.is_empty() {
+        return 0.0;
+    }
+    let mid = warps.len() / 2;
+    *warps.select_nth_unstable_by(mid, f64::total_cmp).1
+}
+
 fn stream<'a>(
     a: &'a Attribute,
     indices: &'a [u32],
