@@ -25,7 +25,6 @@ mod image;
 mod mesh;
 pub mod polygon;
 pub mod pose;
-pub mod quad_pairs;
 mod scene;
 pub mod shapes;
 pub mod stats;

@@ -158,13 +158,7 @@ pub fn fan_covers(points: &[[f32; 3]]) -> bool {
         return true;
     }
     let at = |i: usize| points[i].map(f64::from);
-    let mut n = [0.0f64; 3];
-    for i in 0..k {
-        let (a, b) = (at(i), at((i + 1) % k));
-        n[0] += (a[1] - b[1]) * (a[2] + b[2]);
-        n[1] += (a[2] - b[2]) * (a[0] + b[0]);
-        n[2] += (a[0] - b[0]) * (a[1] + b[1]);
-    }
+    let n = newell(points);
     let nn = dot(n, n);
     if !(nn > 0.0 && nn.is_finite()) {
         // No area: nothing a triangulation could fold.
@@ -188,14 +182,11 @@ const PLANAR: f64 = 1e-3;
 fn planar(points: &[[f32; 3]]) -> bool {
     let k = points.len();
     let at = |i: usize| points[i].map(f64::from);
-    let mut n = [0.0f64; 3];
+    let n = newell(points);
     let mut c = [0.0f64; 3];
     let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
     for i in 0..k {
-        let (a, b) = (at(i), at((i + 1) % k));
-        n[0] += (a[1] - b[1]) * (a[2] + b[2]);
-        n[1] += (a[2] - b[2]) * (a[0] + b[0]);
-        n[2] += (a[0] - b[0]) * (a[1] + b[1]);
+        let a = at(i);
         for x in 0..3 {
             c[x] += a[x] / k as f64;
             lo[x] = lo[x].min(a[x]);
@@ -401,15 +392,7 @@ struct Plane {
 
 impl Plane {
     fn fit(points: &[[f32; 3]]) -> Plane {
-        let k = points.len();
-        let mut n = [0.0f64; 3];
-        for i in 0..k {
-            let a = points[i].map(f64::from);
-            let b = points[(i + 1) % k].map(f64::from);
-            n[0] += (a[1] - b[1]) * (a[2] + b[2]);
-            n[1] += (a[2] - b[2]) * (a[0] + b[0]);
-            n[2] += (a[0] - b[0]) * (a[1] + b[1]);
-        }
+        let n = newell(points);
         let len = dot(n, n).sqrt();
         let n = if len > 0.0 && len.is_finite() {
             n.map(|c| c / len)
@@ -438,6 +421,21 @@ impl Plane {
         let p = p.map(f64::from);
         [dot(p, self.u), dot(p, self.v)]
     }
+}
+
+/// The polygon's Newell normal (twice its area along the normal), in
+/// double precision.
+fn newell(points: &[[f32; 3]]) -> [f64; 3] {
+    let k = points.len();
+    let mut n = [0.0f64; 3];
+    for i in 0..k {
+        let a = points[i].map(f64::from);
+        let b = points[(i + 1) % k].map(f64::from);
+        n[0] += (a[1] - b[1]) * (a[2] + b[2]);
+        n[1] += (a[2] - b[2]) * (a[0] + b[0]);
+        n[2] += (a[0] - b[0]) * (a[1] + b[1]);
+    }
+    n
 }
 
 fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {

@@ -51,6 +51,9 @@ mod report;
 // 7. the quad ordering held to the measured output, around whole runs
 mod quad_hold;
 
+// 8. quad mode's leftover triangle pairs joined into quads (`simplify_mesh`)
+mod quad_pairs;
+
 // The entry points, from plain arrays up to whole scenes.
 mod mesh;
 mod scene;

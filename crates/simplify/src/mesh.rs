@@ -231,12 +231,12 @@ pub fn simplify_mesh_with_progress(
         // warped by the run's error visibly otherwise. Pairs folded past a
         // crease stay two faces. Not where the history is kept: re-baking
         // walks it from each output face's own input face.
-        let limits = wildlod_mesh::quad_pairs::JoinLimits {
+        let limits = crate::quad_pairs::JoinLimits {
             max_warp: options.attributes.invisible_distance * mesh.diagonal(),
             max_relative_warp: median_quad_warp(mesh),
             max_fold_degrees: options.metric.crease_angle,
         };
-        report.joined_quads = wildlod_mesh::quad_pairs::join_triangle_pairs(&mut out, limits);
+        report.joined_quads = crate::quad_pairs::join_triangle_pairs(&mut out, limits);
     }
     for a in &mut out.attributes {
         if a.semantic == Semantic::Normal && a.components == 3 {
@@ -277,8 +277,7 @@ pub fn simplify_mesh_with_progress(
     Ok((out, report))
 }
 
-/// A per-corner stream of `a`'s values.
-/// The median [`wildlod_mesh::quad_pairs::relative_warp`] of the input's
+/// The median [`crate::quad_pairs::relative_warp`] of the input's
 /// quads (0 without any): how warped the artist's own quads are.
 fn median_quad_warp(mesh: &Mesh) -> f64 {
     let mut warps: Vec<f64> = mesh
@@ -287,7 +286,7 @@ fn median_quad_warp(mesh: &Mesh) -> f64 {
         .filter(|f| f.len() == 4)
         .filter_map(|f| {
             let p = |k: usize| mesh.positions.get(f[k] as usize).copied();
-            Some(wildlod_mesh::quad_pairs::relative_warp(&[
+            Some(crate::quad_pairs::relative_warp(&[
                 p(0)?,
                 p(1)?,
                 p(2)?,
@@ -303,6 +302,7 @@ fn median_quad_warp(mesh: &Mesh) -> f64 {
     *warps.select_nth_unstable_by(mid, f64::total_cmp).1
 }
 
+/// A per-corner stream of `a`'s values.
 fn stream<'a>(
     a: &'a Attribute,
     indices: &'a [u32],

@@ -154,7 +154,7 @@ pub struct Report {
     /// output faces of the same input face).
     pub split_polygons: usize,
     /// Triangle pairs joined into quads after a quad-dominant run
-    /// ([`wildlod_mesh::quad_pairs`]; [`crate::simplify_mesh`] only).
+    /// (`quad_pairs.rs`; [`crate::simplify_mesh`] only).
     pub joined_quads: usize,
     /// Output normal values that pointed more than 75° away from every face
     /// they shade and were replaced by their faces' normal (see

@@ -6,7 +6,7 @@
 //! same attribute values on both sides of that edge. Joined, with the
 //! shared edge as the diagonal the quad is drawn with (writers and
 //! renderers draw a polygon as the fan from its first corner, and
-//! [`crate::polygon::triangulate`] does wherever that fan covers it), the
+//! [`wildlod_mesh::polygon::triangulate`] does wherever that fan covers it), the
 //! surface, its attributes and its triangle count are exactly those of the
 //! pair: only the face count changes. Blender's "Tris to Quads" and
 //! MeshLab's quad-dominant conversion offer the same step as a tool.
@@ -21,31 +21,32 @@
 
 use std::collections::HashMap;
 
-use crate::faces::Faces;
-use crate::mesh::Mesh;
-use crate::polygon::fan_covers;
+use glam::DVec3;
+use wildlod_geometry::segment_segment_closest;
+use wildlod_mesh::polygon::fan_covers;
+use wildlod_mesh::{Faces, Mesh};
 
 /// The uses of one edge: (face, corner `k` of its directed edge `k → k + 1`).
 type Uses = Vec<(u32, u8)>;
 
 /// How far a joined quad may depart from a flat one.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct JoinLimits {
+pub(crate) struct JoinLimits {
     /// The distance between the quad's two diagonals may always reach this
     /// (what no screen shows, in the mesh's units).
-    pub max_warp: f64,
+    pub(crate) max_warp: f64,
     /// ... and this share of the quad's longer diagonal ([`relative_warp`]):
     /// a quad as warped as the input's own quads is drawn as theirs are.
-    pub max_relative_warp: f64,
+    pub(crate) max_relative_warp: f64,
     /// The most the two triangles' normals may turn (a crease: a box's
     /// corner stays two faces), in degrees.
-    pub max_fold_degrees: f64,
+    pub(crate) max_fold_degrees: f64,
 }
 
 /// The distance between a quad's two diagonals over the longer one: 0
 /// for a flat quad, how far a reader that draws it by the other diagonal
 /// moves its surface, relative to its size.
-pub fn relative_warp(quad: &[[f32; 3]; 4]) -> f64 {
+pub(crate) fn relative_warp(quad: &[[f32; 3]; 4]) -> f64 {
     let len = |a: [f32; 3], b: [f32; 3]| {
         (0..3)
             .map(|k| (f64::from(a[k]) - f64::from(b[k])).powi(2))
@@ -64,7 +65,7 @@ pub fn relative_warp(quad: &[[f32; 3]; 4]) -> f64 {
 /// documentation) within `limits`; returns how many quads were made.
 /// Positions, attribute values and the triangles drawn are unchanged;
 /// faces, their parts and their corners' indices are rebuilt.
-pub fn join_triangle_pairs(mesh: &mut Mesh, limits: JoinLimits) -> usize {
+pub(crate) fn join_triangle_pairs(mesh: &mut Mesh, limits: JoinLimits) -> usize {
     let min_cos = limits.max_fold_degrees.to_radians().cos();
     let nf = mesh.faces.len();
     // Every undirected edge's uses: (face, corner k of the directed edge
@@ -302,55 +303,18 @@ fn pair(
     ))
 }
 
-/// Distance between segments `ab` and `cd` (in double precision).
+/// Distance between segments `ab` and `cd`, in double precision.
 fn segment_distance(a: [f32; 3], b: [f32; 3], c: [f32; 3], d: [f32; 3]) -> f64 {
-    let f = |p: [f32; 3]| p.map(f64::from);
-    let (a, b, c, d) = (f(a), f(b), f(c), f(d));
-    let sub = |p: [f64; 3], q: [f64; 3]| [p[0] - q[0], p[1] - q[1], p[2] - q[2]];
-    let dot = |p: [f64; 3], q: [f64; 3]| p[0] * q[0] + p[1] * q[1] + p[2] * q[2];
-    let (d1, d2, r) = (sub(b, a), sub(d, c), sub(a, c));
-    let (aa, ee, ff) = (dot(d1, d1), dot(d2, d2), dot(d2, r));
-    let (mut s, mut t);
-    if aa <= f64::EPSILON && ee <= f64::EPSILON {
-        s = 0.0;
-        t = 0.0;
-    } else if aa <= f64::EPSILON {
-        s = 0.0;
-        t = (ff / ee).clamp(0.0, 1.0);
-    } else {
-        let cc = dot(d1, r);
-        if ee <= f64::EPSILON {
-            t = 0.0;
-            s = (-cc / aa).clamp(0.0, 1.0);
-        } else {
-            let bb = dot(d1, d2);
-            let den = aa * ee - bb * bb;
-            s = if den > 0.0 {
-                ((bb * ff - cc * ee) / den).clamp(0.0, 1.0)
-            } else {
-                0.0
-            };
-            t = (bb * s + ff) / ee;
-            if t < 0.0 {
-                t = 0.0;
-                s = (-cc / aa).clamp(0.0, 1.0);
-            } else if t > 1.0 {
-                t = 1.0;
-                s = ((bb - cc) / aa).clamp(0.0, 1.0);
-            }
-        }
-    }
-    let p = [a[0] + d1[0] * s, a[1] + d1[1] * s, a[2] + d1[2] * s];
-    let q = [c[0] + d2[0] * t, c[1] + d2[1] * t, c[2] + d2[2] * t];
-    let g = sub(p, q);
-    dot(g, g).sqrt()
+    let v = |p: [f32; 3]| DVec3::from(p.map(f64::from));
+    let (p, q) = segment_segment_closest(v(a), v(b), v(c), v(d));
+    p.distance(q)
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::attribute::{Attribute, ComponentFormat, Semantic};
-    use crate::polygon::triangulate;
+    use wildlod_mesh::polygon::triangulate;
+    use wildlod_mesh::{Attribute, ComponentFormat, Semantic};
 
     /// Limits of `max_warp` alone (no relative allowance, folds to 90°).
     fn limits(max_warp: f64) -> JoinLimits {
