@@ -732,6 +732,8 @@ const SIMPLIFY_STEPS: &[&[&str]] = &[
     &["assemble"],
     // The quad ordering held to the measured output, around whole runs.
     &["quad_hold"],
+    // Leftover triangle pairs joined into quads, after `simplify_mesh`.
+    &["quad_pairs"],
     &["simplify", "mesh", "scene"],
 ];
 
