@@ -304,6 +304,11 @@ fn jpeg_inputs_give_jpeg_outputs_at_the_requested_quality() {
 /// (the product's choice uses the default seed: this measurement is
 /// independent of it).
 fn texture_excess(reference: &Document, candidate: &Document) -> Option<f64> {
+    texture_error(reference, candidate).map(|(excess, _)| excess)
+}
+
+/// [`texture_excess`] and the floor it is over.
+fn texture_error(reference: &Document, candidate: &Document) -> Option<(f64, f64)> {
     let images = |d: &Document| -> Vec<Option<wildlod_mesh::Image>> {
         d.scene
             .textures
@@ -324,7 +329,8 @@ fn texture_excess(reference: &Document, candidate: &Document) -> Option<f64> {
             ..CompareOptions::default()
         },
     );
-    Some(m.texture_chamfer? - m.texture_chamfer_floor?)
+    let floor = m.texture_chamfer_floor?;
+    Some((m.texture_chamfer? - floor, floor))
 }
 
 /// What the default (`--textures auto`) promises on real files, and the
@@ -337,8 +343,10 @@ fn texture_excess(reference: &Document, candidate: &Document) -> Option<f64> {
 ///   [`wildlod_pipeline::VISIBLE_TEXTURE_EXCESS`]), the re-bake measures
 ///   lower.
 /// - The default's output is never visibly worse than the better of the
-///   two: its excess is within that same visible difference of the lower
-///   one's.
+///   two: its excess is within [`wildlod_pipeline::visible_excess`] of the
+///   input's floor of the lower one's (a quarter of the floor on plain
+///   textures: Avocado at 10% kept its UVs at 0.0068 over the floor,
+///   where the re-bake is at 0.0007 and a quarter of the floor 0.0043).
 ///
 /// Measured with a seed of its own, so a choice that only won on the
 /// product's own sampling would fail here.
@@ -392,9 +400,10 @@ fn the_default_shows_textures_as_well_as_the_better_of_keep_uv_and_rebake() {
                     String::from_utf8_lossy(&o.stderr)
                 );
                 let lod = wildlod_io::read(&out).unwrap();
-                scores.push(texture_excess(&input, &lod).unwrap_or(f64::INFINITY));
+                scores.push(texture_error(&input, &lod).unwrap_or((f64::INFINITY, 0.0)));
             }
-            let [keep, bake, auto] = [scores[0], scores[1], scores[2]];
+            let [keep, bake, auto] = [scores[0].0, scores[1].0, scores[2].0];
+            let shown = wildlod_pipeline::visible_excess(scores[0].1);
             eprintln!(
                 "{name} at {ratio}: over the floor, keep-UV {keep:.4}, re-baked {bake:.4}, default {auto:.4}"
             );
@@ -406,9 +415,9 @@ fn the_default_shows_textures_as_well_as_the_better_of_keep_uv_and_rebake() {
                     ));
                 }
             }
-            if auto > keep.min(bake) + visible {
+            if auto > keep.min(bake) + shown {
                 failures.push(format!(
-                    "{name} at {ratio}: the default {auto:.4} is visibly worse than the better of keep-UV {keep:.4} and re-baked {bake:.4}"
+                    "{name} at {ratio}: the default {auto:.4} is visibly worse (by more than {shown:.4}) than the better of keep-UV {keep:.4} and re-baked {bake:.4}"
                 ));
             }
         }
@@ -455,8 +464,11 @@ fn auto_rebakes_where_keeping_uvs_tears_and_keeps_them_where_it_does_not() {
         t["keep_uv_excess"].as_f64().unwrap(),
         t["rebaked_excess"].as_f64().unwrap(),
     );
+    // Past the threshold the run itself used (a quarter of the input's
+    // floor, at most 0.01), and the re-bake lower.
+    let visible = t["visible_excess"].as_f64().unwrap();
     assert!(
-        keep > wildlod_pipeline::VISIBLE_TEXTURE_EXCESS && bake < keep,
+        visible <= wildlod_pipeline::VISIBLE_TEXTURE_EXCESS && keep > visible && bake < keep,
         "{t}"
     );
     // The written file is the re-baked one: a new atlas of the asked size.
@@ -473,7 +485,7 @@ fn auto_rebakes_where_keeping_uvs_tears_and_keeps_them_where_it_does_not() {
     assert_eq!(t["chosen"], "keep", "{j}");
     assert!(t["rebaked_excess"].is_null(), "{j}");
     assert!(
-        t["keep_uv_excess"].as_f64().unwrap() <= wildlod_pipeline::VISIBLE_TEXTURE_EXCESS,
+        t["keep_uv_excess"].as_f64().unwrap() <= t["visible_excess"].as_f64().unwrap(),
         "{t}"
     );
     // The input's own image, not a 128² atlas.
@@ -577,8 +589,11 @@ fn lod_shares_the_texture_until_auto_rebakes_then_rebakes_the_coarser_levels() {
         t["keep_uv_excess"].as_f64().unwrap(),
         t["rebaked_excess"].as_f64().unwrap(),
     );
+    // Past the threshold the run itself used (a quarter of the input's
+    // floor, at most 0.01), and the re-bake lower.
+    let visible = t["visible_excess"].as_f64().unwrap();
     assert!(
-        keep > wildlod_pipeline::VISIBLE_TEXTURE_EXCESS && bake < keep,
+        visible <= wildlod_pipeline::VISIBLE_TEXTURE_EXCESS && keep > visible && bake < keep,
         "{t}"
     );
     // Every level reaches its target whatever its textures, and a

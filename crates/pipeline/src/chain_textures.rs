@@ -19,7 +19,8 @@ use wildlod_simplify::Options;
 use crate::rebake::Held;
 use crate::targets::drawn_targets;
 use crate::textures::{
-    choose, has_base_color_texture, texture_excess, unmeasured_reason, worth_rebaking,
+    choose, has_base_color_texture, texture_error, texture_excess, unmeasured_reason,
+    visible_excess, worth_rebaking,
 };
 use crate::{
     load_images, rebake_scene, Error, Level, LevelMaterials, TextureChoice, TextureMode,
@@ -59,6 +60,7 @@ pub fn rebake_levels(
             mode,
             chosen: TextureMode::Keep,
             keep_uv_excess: None,
+            visible_excess: None,
             rebaked_excess: None,
             rebake_failed: None,
             unmeasured: None,
@@ -72,11 +74,13 @@ pub fn rebake_levels(
             let kept = level.scene(&doc.scene);
             let (input_images, image_warnings) =
                 measured.get_or_insert_with(|| load_images(doc, input));
-            choice.keep_uv_excess = texture_excess(&doc.scene, input_images, &kept, input_images);
-            if choice.keep_uv_excess.is_none() {
+            let measured = texture_error(&doc.scene, input_images, &kept, input_images);
+            choice.keep_uv_excess = measured.map(|m| m.excess);
+            choice.visible_excess = measured.map(|m| visible_excess(m.floor));
+            if measured.is_none() {
                 choice.unmeasured = Some(unmeasured_reason(image_warnings));
             }
-            if !worth_rebaking(choice.keep_uv_excess) {
+            if !worth_rebaking(measured) {
                 level.textures = Some(choice);
                 continue;
             }

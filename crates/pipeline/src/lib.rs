@@ -71,7 +71,8 @@ pub use targets::{
     drawn_targets, scene_diagonal, share_budget, targets_for, world_diagonal, MIN_TRIANGLES,
 };
 pub use textures::{
-    choose as choose_textures, has_base_color_texture, texture_excess, treat_textures,
-    worth_rebaking, TextureChoice, TextureMode, TextureSettings, VISIBLE_TEXTURE_EXCESS,
+    choose as choose_textures, has_base_color_texture, texture_error, texture_excess,
+    treat_textures, visible_excess, worth_rebaking, TextureChoice, TextureError, TextureMode,
+    TextureSettings, VISIBLE_SHARE_OF_FLOOR, VISIBLE_TEXTURE_EXCESS,
 };
 pub use tuning::{NormalSetting, SeamSetting, Tuning};

@@ -338,7 +338,7 @@ fn texture_line(c: &TextureChoice) -> String {
                 _ => format!(
                     "textures: UVs kept (texture error over the input's own {}, below the visible {})",
                     excess(c.keep_uv_excess),
-                    wildlod_pipeline::VISIBLE_TEXTURE_EXCESS
+                    excess(c.visible_excess)
                 ),
             },
         },
