@@ -330,6 +330,21 @@ fn fidelity(input: (&[[f32; 3]], &Faces), output: (&[[f32; 3]], &Faces)) -> Fide
 mod tests {
     use super::*;
 
+    /// An `n × n` grid of the unit square, two triangles a cell, lifted to
+    /// `z = height(x, y)`.
+    pub(super) fn height_field(
+        n: usize,
+        height: impl Fn(f32, f32) -> f32,
+    ) -> (Vec<[f32; 3]>, Faces) {
+        let grid = wildlod_mesh::shapes::triangulate(&wildlod_mesh::shapes::quad_grid(n, n));
+        let p = grid
+            .positions
+            .iter()
+            .map(|&[x, y, _]| [x, y, height(x, y)])
+            .collect();
+        (p, grid.faces)
+    }
+
     fn square(z: f32) -> (Vec<[f32; 3]>, Faces) {
         (
             vec![[0.0, 0.0, z], [1.0, 0.0, z], [1.0, 1.0, z], [0.0, 1.0, z]],
@@ -436,24 +451,7 @@ mod tests {
     fn chamfer_from_a_regular_subset_is_the_chamfer_of_all_samples() {
         // A 60 × 60 grid over a smooth bump, against the flat square:
         // 10,800 triangles' and 3,721 vertices' samples on the input side.
-        let n = 60;
-        let bump = |x: f32, y: f32| 0.2 * (3.0 * x).sin() * (2.0 * y).cos();
-        let mut p = Vec::new();
-        for j in 0..=n {
-            for i in 0..=n {
-                let (x, y) = (i as f32 / n as f32, j as f32 / n as f32);
-                p.push([x, y, bump(x, y)]);
-            }
-        }
-        let at = |i: usize, j: usize| (j * (n + 1) + i) as u32;
-        let mut idx = Vec::new();
-        for j in 0..n {
-            for i in 0..n {
-                idx.extend([at(i, j), at(i + 1, j), at(i + 1, j + 1)]);
-                idx.extend([at(i, j), at(i + 1, j + 1), at(i, j + 1)]);
-            }
-        }
-        let faces = Faces::from_triangles(&idx);
+        let (p, faces) = height_field(60, |x, y| 0.2 * (3.0 * x).sin() * (2.0 * y).cos());
         let (q, g) = square(0.0);
         let reference = Reference::new((&p, &faces));
         let all = reference.fidelity((&q, &g));
@@ -470,6 +468,7 @@ mod tests {
 
 #[cfg(test)]
 mod dense {
+    use super::tests::height_field;
     use super::*;
     use crate::{simplify_polygons, Options, Target};
 
@@ -510,24 +509,9 @@ mod dense {
         // is within 3% of one read on a grid of 24 steps a triangle (325
         // points, its edges included) in both directions; sampled at grid
         // centres and vertices alone it read 8% short.
-        let n = 60;
-        let height = |x: f32, y: f32| 0.12 * (7.0 * x).sin().abs() * (1.0 + 0.5 * (5.0 * y).cos());
-        let mut p = Vec::new();
-        for j in 0..=n {
-            for i in 0..=n {
-                let (x, y) = (i as f32 / n as f32, j as f32 / n as f32);
-                p.push([x, y, height(x, y)]);
-            }
-        }
-        let at = |i: usize, j: usize| (j * (n + 1) + i) as u32;
-        let mut idx = Vec::new();
-        for j in 0..n {
-            for i in 0..n {
-                idx.extend([at(i, j), at(i + 1, j), at(i + 1, j + 1)]);
-                idx.extend([at(i, j), at(i + 1, j + 1), at(i, j + 1)]);
-            }
-        }
-        let faces = Faces::from_triangles(&idx);
+        let (p, faces) = height_field(60, |x, y| {
+            0.12 * (7.0 * x).sin().abs() * (1.0 + 0.5 * (5.0 * y).cos())
+        });
         let options = Options {
             target: Target {
                 ratio: Some(0.03),
