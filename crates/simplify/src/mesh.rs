@@ -226,14 +226,19 @@ pub fn simplify_mesh_with_progress(
         // same triangles drawn, more of the quad-dominant topology kept
         // (normals and tangents below see the final faces). Readers and
         // renderers pick their own diagonal, so a joined quad is at most
-        // as warped as the input's own quads (their median) or flat to
-        // what no screen shows: Blender drew a coarse cage's joined quads
-        // warped by the run's error visibly otherwise. Pairs folded past a
+        // as warped as the input's own quads would be at the output's
+        // resolution (`warp_at_resolution`) or flat to what no screen
+        // shows: Blender drew a coarse cage's joined quads warped by the
+        // run's error visibly otherwise. Pairs folded past a
         // crease stay two faces. Not where the history is kept: re-baking
         // walks it from each output face's own input face.
         let limits = crate::quad_pairs::JoinLimits {
             max_warp: options.attributes.invisible_distance * mesh.diagonal(),
-            max_relative_warp: median_quad_warp(mesh),
+            max_relative_warp: warp_at_resolution(
+                median_quad_warp(mesh),
+                mesh.triangle_count(),
+                out.triangle_count(),
+            ),
             max_fold_degrees: options.metric.crease_angle,
         };
         report.joined_quads = crate::quad_pairs::join_triangle_pairs(&mut out, limits);
@@ -300,6 +305,16 @@ fn median_quad_warp(mesh: &Mesh) -> f64 {
     }
     let mid = warps.len() / 2;
     *warps.select_nth_unstable_by(mid, f64::total_cmp).1
+}
+
+/// How warped the input's quads, `median` of them ([`median_quad_warp`]),
+/// would be at the resolution of an output of `output_triangles` made
+/// from `input_triangles`: a quad's warp over its diagonal grows with its
+/// size on a surface of a given curvature (the warp is about the
+/// curvature times the diagonal squared), and an output's faces are
+/// √(input ÷ output) times the input's across.
+fn warp_at_resolution(median: f64, input_triangles: usize, output_triangles: usize) -> f64 {
+    median * (input_triangles as f64 / output_triangles.max(1) as f64).sqrt()
 }
 
 /// A per-corner stream of `a`'s values.
@@ -692,6 +707,32 @@ mod tests {
         assert_eq!(&a.values[3..6], &tilt(74.0));
         assert_eq!(&a.values[6..9], &[0.0, 0.0, 1.0]);
         assert_eq!(&a.values[9..12], &[0.0, 0.0, 1.0]);
+    }
+
+    #[test]
+    fn the_input_warp_at_a_coarser_resolution_grows_with_the_quads_size() {
+        // On z = x·y the quad (±a, ±a) has its diagonals 2a² apart (one at
+        // z = a², one at −a²) over a diagonal of 2√2·a: relative warp
+        // a/√2, twice as much for a quad twice as wide. Such a quad covers
+        // four of the smaller ones: a quarter of the triangles.
+        let quad = |a: f32| {
+            [
+                [-a, -a, a * a],
+                [a, -a, -a * a],
+                [a, a, a * a],
+                [-a, a, -a * a],
+            ]
+        };
+        let (small, large) = (
+            crate::quad_pairs::relative_warp(&quad(0.05)),
+            crate::quad_pairs::relative_warp(&quad(0.1)),
+        );
+        assert!((small - 0.05 / 2f64.sqrt()).abs() < 1e-6, "{small}");
+        assert!((large / small - 2.0).abs() < 1e-4, "{small} {large}");
+        assert_eq!(warp_at_resolution(small, 400, 100), 2.0 * small);
+        assert_eq!(warp_at_resolution(small, 100, 100), small);
+        // No output triangles: as if one.
+        assert_eq!(warp_at_resolution(0.01, 100, 0), 0.1);
     }
 
     #[test]
