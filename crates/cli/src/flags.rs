@@ -247,8 +247,8 @@ pub struct TextureArgs {
     ///
     /// `auto` keeps the input's UVs and textures while the result shows the
     /// texture as the input does (texture Chamfer distance over the input's
-    /// own, at most 0.01), else also re-bakes and keeps whichever measures
-    /// better. Down a chain (lod), levels share the input's textures until
+    /// own by at most a quarter of it, and at most 0.01), else also re-bakes
+    /// and keeps whichever measures better. Down a chain (lod), levels share the input's textures until
     /// the first level that auto re-bakes; that level and every coarser one
     /// are made from the input with a re-baked atlas of their own. `keep`
     /// always keeps the input's textures; `bake` always re-bakes.
