@@ -121,6 +121,20 @@ impl TriangleSet {
             .map(|(_, d2)| d2)
     }
 
+    /// [`TriangleSet::distance2`] if it is at most `max_dist2`, else
+    /// `None`: the search never opens a node farther than that, so telling
+    /// that a point is within a known distance costs less than measuring
+    /// how far it is.
+    #[inline]
+    pub fn distance2_within(&self, p: DVec3, max_dist2: f64) -> Option<f64> {
+        self.bvh
+            .nearest_by_slot(p, max_dist2, |k| {
+                let c = &self.slot_corners[k];
+                point_triangle_distance2(p, c[0], c[1], c[2])
+            })
+            .map(|(_, d2)| d2)
+    }
+
     /// The closest point of the set to `p` if its squared distance is at
     /// most `max_dist2`. Among triangles at the same distance (a point on a
     /// shared edge) the lowest index wins.
@@ -179,6 +193,18 @@ mod tests {
         assert!(s.closest(DVec3::NAN).is_none());
         assert!(s.closest_within(DVec3::new(0.5, 0.5, 3.0), 3.9).is_none());
         assert!(s.closest_within(DVec3::new(0.5, 0.5, 3.0), 4.0).is_some());
+    }
+
+    #[test]
+    fn distance_within_a_bound_is_the_distance_or_none_beyond_it() {
+        // (0.25, 0.5, 3) is 2 above the cube's top face: squared 4.
+        let (pos, tris) = set_of(&shapes::cube());
+        let s = TriangleSet::new(&pos, &tris);
+        let p = DVec3::new(0.25, 0.5, 3.0);
+        assert_eq!(s.distance2_within(p, 4.0), s.distance2(p));
+        assert!((s.distance2_within(p, 100.0).unwrap() - 4.0).abs() < 1e-12);
+        assert_eq!(s.distance2_within(p, 3.9), None);
+        assert_eq!(s.distance2_within(p, 0.0), None);
     }
 
     #[test]
