@@ -50,8 +50,8 @@ pub(crate) struct Fidelity {
 /// result's largest distance to its input is often at the middle of an
 /// edge (a chord across a curved or creased region, farthest from the
 /// input where both of its faces leave it), which no grid cell's centre
-/// reaches (on a 10% LOD of a textured scan the centres read a fifth
-/// less than the edges did).
+/// reaches (on `bob` at 10% the centres read a fifth less than the edges
+/// did).
 struct Surface {
     set: TriangleSet,
     /// Face samples first (`..face_samples`), then vertex samples
