@@ -226,7 +226,8 @@ fn one_far_vertex_does_not_make_the_rest_of_the_error_vanish() {
 /// vertex on the input's border, to 1e-9 of the diagonal (the output may
 /// not cover area the input does not), no face folded over, and without
 /// quads every output vertex an input one (every point of the plane costs
-/// the same, so a vertex stays at an endpoint).
+/// the same, so a vertex stays at an endpoint). The same with the
+/// collapse history recorded, as re-baking records it.
 #[test]
 fn a_flat_tiling_stays_in_its_plane_and_inside_its_border() {
     use wildlod_simplify::QuadMode;
@@ -244,12 +245,24 @@ fn a_flat_tiling_stays_in_its_plane_and_inside_its_border() {
         (0..3).map(|k| (hi[k] - lo[k]).powi(2)).sum::<f64>().sqrt()
     };
     let mut failures = Vec::new();
-    for quad_mode in [QuadMode::default(), QuadMode::Never] {
+    for (quad_mode, history) in [
+        (QuadMode::default(), false),
+        (QuadMode::Never, false),
+        (QuadMode::default(), true),
+        (QuadMode::Never, true),
+    ] {
         for ratio in [0.1, 0.01] {
             let mut o = at_ratio(ratio);
             o.quad.mode = quad_mode;
-            let (out, _) = simplify_scene(&scene, &o).unwrap();
-            let mesh = &out.meshes[0];
+            // Re-baking records the history (mesh by mesh) and maps
+            // texels through it.
+            o.record.history = history;
+            let out = if history {
+                wildlod_simplify::simplify_mesh(input, &o).unwrap().0
+            } else {
+                simplify_scene(&scene, &o).unwrap().0.meshes.remove(0)
+            };
+            let mesh = &out;
             let off_plane = mesh
                 .positions
                 .iter()
@@ -280,7 +293,7 @@ fn a_flat_tiling_stays_in_its_plane_and_inside_its_border() {
                 .count();
             if folded > 0 {
                 failures.push(format!(
-                    "{quad_mode:?} at {ratio}: {folded} faces folded over"
+                    "{quad_mode:?}, history {history}, at {ratio}: {folded} faces folded over"
                 ));
             }
             let input_at: std::collections::HashSet<[u32; 3]> = input
@@ -293,18 +306,18 @@ fn a_flat_tiling_stays_in_its_plane_and_inside_its_border() {
                 .iter()
                 .filter(|p| !input_at.contains(&p.map(f32::to_bits)))
                 .count();
-            eprintln!("{quad_mode:?} at {ratio}: off the plane {off_plane:e}, off the border {off_border:e}, {moved} of {} vertices not the input's", mesh.positions.len());
+            eprintln!("{quad_mode:?}, history {history}, at {ratio}: off the plane {off_plane:e}, off the border {off_border:e}, {moved} of {} vertices not the input's", mesh.positions.len());
             // Every point of the plane costs the same, so without quads
             // (whose regularization places vertices) a vertex stays at an
             // endpoint: the output's vertices are the input's.
             if quad_mode == QuadMode::Never && moved > 0 {
                 failures.push(format!(
-                    "{quad_mode:?} at {ratio}: {moved} vertices not the input's"
+                    "{quad_mode:?}, history {history}, at {ratio}: {moved} vertices not the input's"
                 ));
             }
             if off_plane > 1e-9 * diagonal || off_border > 1e-9 * diagonal {
                 failures.push(format!(
-                    "{quad_mode:?} at {ratio}: off the plane {off_plane:e}, off the border {off_border:e} (diagonal {diagonal})"
+                    "{quad_mode:?}, history {history}, at {ratio}: off the plane {off_plane:e}, off the border {off_border:e} (diagonal {diagonal})"
                 ));
             }
         }

@@ -389,7 +389,10 @@ impl<'o> Run<'o> {
             area_floor: metric.area_floor.max(0.0) * area / faces.max(1) as f64,
             attribute_slack: options.attributes.geometry_tolerance.powi(2) - 1.0,
             invisible_distance2: options.attributes.invisible_distance.powi(2),
-            exact_flat_borders: !options.record.history,
+            // Decision 3 holds under re-baking too (`tests/defaults.rs`:
+            // the flat tiling with the history recorded; the bake crate's
+            // flat plane maps every texel to its input point with it).
+            exact_flat_borders: true,
             appearance_budget: p.appearance_budget,
             regularization_looks: steering
                 && options.attributes.regularized_choice

@@ -572,10 +572,9 @@ pub(crate) struct CostModel {
     /// move a vertex by it where its planes do not hold it already.
     pub invisible_distance2: f64,
     /// Whether a border vertex of a planar region moves only onto a border
-    /// vertex (see `evaluate`). Off where the collapse history is recorded
-    /// for re-baking: the successive mapping of a flat plane then maps
-    /// texels to the wrong input points (the bake crate's flat-plane test
-    /// fails by 16/255), a cause not yet found.
+    /// vertex (see `evaluate`). On in every run, re-baking's included
+    /// (issue 31, decision 3); unit tests turn it off to compare with the
+    /// free placement.
     pub exact_flat_borders: bool,
     /// The file's geometric error budget, in cost units (area times
     /// squared distance): appearance may lift a collapse's rank up to it,
