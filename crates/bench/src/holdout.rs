@@ -7,8 +7,12 @@
 //! cards, an unwelded soup, quad meshes, UV-mapped surfaces with normals
 //! (smooth, and hard at a prop's edges), and voxel shapes (every face
 //! axis-aligned, every outline a staircase, as voxel editors and grid
-//! remeshers export them). They are written as OBJ under one folder per
-//! category (`manifold`, `wild`, `quad`, `textured`, `voxel`), the layout
+//! remeshers export them), and kinds the corpus does not have: CAD parts
+//! as exporters tessellate them (a perforated plate, embossed lettering),
+//! an architectural interior of touching boxes, and a noisy scan with
+//! holes and floating specks. They are written as OBJ under one folder per
+//! category (`manifold`, `wild`, `quad`, `textured`, `voxel`, `cad`,
+//! `architecture`, `scan`), the layout
 //! `../shared/peers` reads, so the peers and
 //! wildlod are scored on them exactly as on the corpus
 //! (`docs/evaluation.md`, "Meshes made in code").
@@ -27,7 +31,8 @@ use wildlod_testkit::SplitMix64;
 /// UV per corner.
 #[derive(Clone, Debug, Default)]
 pub struct Generated {
-    /// Category folder (`manifold`, `wild`, `quad`, `textured`, `voxel`).
+    /// Category folder (`manifold`, `wild`, `quad`, `textured`, `voxel`,
+    /// `cad`, `architecture`, `scan`).
     pub category: &'static str,
     /// File stem.
     pub name: &'static str,
@@ -113,6 +118,10 @@ pub fn all() -> Vec<Generated> {
         voxel_terrain(),
         voxel_blob(),
         grid_cut_plate(),
+        perforated_plate(),
+        stair_interior(),
+        embossed_text(),
+        noisy_scan(),
     ]
 }
 
@@ -201,6 +210,17 @@ type CubeSphere = (Vec<DVec3>, Vec<Vec<u32>>, Vec<Vec<u32>>);
 /// A sphere of six `n × n` quad grids (a cube's faces pushed out), welded
 /// along the cube's edges; with the grid ids of each chart for UVs.
 fn cube_sphere(n: usize) -> CubeSphere {
+    let (pos, faces, charts) = cube_grid(n);
+    (
+        pos.into_iter().map(DVec3::normalize).collect(),
+        faces,
+        charts,
+    )
+}
+
+/// The cube `[-1, 1]³` as six `n × n` quad grids facing out, welded along
+/// its edges, with the grid ids of each chart.
+fn cube_grid(n: usize) -> CubeSphere {
     let mut ids: HashMap<[i64; 3], u32> = HashMap::new();
     let mut pos = Vec::new();
     let mut faces = Vec::new();
@@ -220,7 +240,7 @@ fn cube_sphere(n: usize) -> CubeSphere {
                     p[(axis + 2) % 3] = v;
                     let key = p.to_array().map(|x| (x * 1e6).round() as i64);
                     let id = *ids.entry(key).or_insert_with(|| {
-                        pos.push(p.normalize());
+                        pos.push(p);
                         pos.len() as u32 - 1
                     });
                     chart.push(id);
@@ -938,6 +958,285 @@ pub fn grid_cut_plate() -> Generated {
     }
 }
 
+/// A box of `half` extents around `center`, each side an `n × n` grid of
+/// quads split in two.
+fn cuboid(center: DVec3, half: DVec3, n: usize) -> (Vec<DVec3>, Vec<Vec<u32>>) {
+    let (pos, faces, _) = cube_grid(n);
+    (
+        pos.into_iter().map(|p| center + p * half).collect(),
+        triangulate(faces),
+    )
+}
+
+/// A closed cylinder along +y of `sections` sides standing on `base`:
+/// `4 · sections` triangles (sides as quads split in two, fanned caps).
+fn cylinder(base: DVec3, radius: f64, height: f64, sections: usize) -> (Vec<DVec3>, Vec<Vec<u32>>) {
+    let mut pos = Vec::with_capacity(2 * sections + 2);
+    for y in [0.0, height] {
+        for k in 0..sections {
+            let a = TAU * k as f64 / sections as f64;
+            pos.push(base + DVec3::new(radius * a.cos(), y, -radius * a.sin()));
+        }
+    }
+    pos.push(base);
+    pos.push(base + DVec3::new(0.0, height, 0.0));
+    let (bottom, top) = (2 * sections as u32, 2 * sections as u32 + 1);
+    let n = sections as u32;
+    let mut faces = Vec::with_capacity(4 * sections);
+    for k in 0..n {
+        let k2 = (k + 1) % n;
+        faces.push(vec![k, k2, n + k2]);
+        faces.push(vec![k, n + k2, n + k]);
+        faces.push(vec![bottom, k2, k]);
+        faces.push(vec![top, n + k, n + k2]);
+    }
+    (pos, faces)
+}
+
+/// Vertex ids by position (to 1e-6), for parts built side by side.
+#[derive(Default)]
+struct Welder {
+    ids: HashMap<[i64; 3], u32>,
+    positions: Vec<DVec3>,
+}
+
+impl Welder {
+    /// The id of the vertex at `p`, made on first use.
+    fn id(&mut self, p: DVec3) -> u32 {
+        let key = p.to_array().map(|x| (x * 1e6).round() as i64);
+        let positions = &mut self.positions;
+        *self.ids.entry(key).or_insert_with(|| {
+            positions.push(p);
+            positions.len() as u32 - 1
+        })
+    }
+}
+
+/// `cad/perforated_plate`: a 108 × 72 × 4 plate with a 9 × 6 grid of
+/// round holes of radius 3, tessellated as CAD exporters do (each cell a
+/// ring of 32 quads from its square outline to its hole, long thin
+/// triangles; the holes' walls one band), closed, 11,340 triangles.
+pub fn perforated_plate() -> Generated {
+    let (nx, ny, cell, radius, thick, n) = (9, 6, 12.0, 3.0, 4.0, 32usize);
+    let mut weld = Welder::default();
+    let step = TAU / n as f64;
+    let angle = |k: usize| PI / n as f64 + step * k as f64;
+    // The ray from a cell's center at angle `a` meets its square here.
+    let square = |a: f64| {
+        let (c, s) = (a.cos(), a.sin());
+        let t = 0.5 * cell / c.abs().max(s.abs());
+        (c * t, s * t)
+    };
+    let mut faces: Vec<Vec<u32>> = Vec::new();
+    for i in 0..nx {
+        for j in 0..ny {
+            let cx = (i as f64 - 0.5 * (nx - 1) as f64) * cell;
+            let cy = (j as f64 - 0.5 * (ny - 1) as f64) * cell;
+            let mut rims = Vec::new();
+            for (z, up) in [(thick, true), (0.0, false)] {
+                let outer: Vec<u32> = (0..n)
+                    .map(|k| {
+                        let (x, y) = square(angle(k));
+                        weld.id(DVec3::new(cx + x, cy + y, z))
+                    })
+                    .collect();
+                let rim: Vec<u32> = (0..n)
+                    .map(|k| {
+                        let a = angle(k);
+                        weld.id(DVec3::new(cx + radius * a.cos(), cy + radius * a.sin(), z))
+                    })
+                    .collect();
+                let mut put = |mut f: Vec<u32>| {
+                    if !up {
+                        f.reverse();
+                    }
+                    faces.push(f);
+                };
+                for k in 0..n {
+                    let k2 = (k + 1) % n;
+                    put(vec![outer[k], outer[k2], rim[k2]]);
+                    put(vec![outer[k], rim[k2], rim[k]]);
+                }
+                // The square's corners lie between two rays.
+                for (sx, sy) in [(1.0, 1.0), (-1.0, 1.0), (-1.0, -1.0), (1.0, -1.0)] {
+                    let a = f64::atan2(sy, sx);
+                    let k = ((a - PI / n as f64).rem_euclid(TAU) / step).floor() as usize % n;
+                    let corner = weld.id(DVec3::new(cx + sx * 0.5 * cell, cy + sy * 0.5 * cell, z));
+                    put(vec![outer[k], corner, outer[(k + 1) % n]]);
+                }
+                rims.push(rim);
+            }
+            let (top, bottom) = (&rims[0], &rims[1]);
+            for k in 0..n {
+                let k2 = (k + 1) % n;
+                faces.push(vec![top[k], bottom[k2], bottom[k]]);
+                faces.push(vec![top[k], top[k2], bottom[k2]]);
+            }
+        }
+    }
+    // The plate's outer wall: below every top edge that only one face uses.
+    let mut count: HashMap<(u32, u32), usize> = HashMap::new();
+    for f in &faces {
+        for k in 0..3 {
+            let (a, b) = (f[k], f[(k + 1) % 3]);
+            *count.entry((a.min(b), a.max(b))).or_default() += 1;
+        }
+    }
+    let mut walls = Vec::new();
+    for f in &faces {
+        for k in 0..3 {
+            let (a, b) = (f[k], f[(k + 1) % 3]);
+            let on_top =
+                weld.positions[a as usize].z == thick && weld.positions[b as usize].z == thick;
+            if on_top && count[&(a.min(b), a.max(b))] == 1 {
+                walls.push((a, b));
+            }
+        }
+    }
+    for (a, b) in walls {
+        let below = |v: u32| weld.positions[v as usize] * DVec3::new(1.0, 1.0, 0.0);
+        let (pa, pb) = (below(a), below(b));
+        let (ia, ib) = (weld.id(pa), weld.id(pb));
+        faces.push(vec![b, a, ia]);
+        faces.push(vec![b, ia, ib]);
+    }
+    Generated {
+        category: "cad",
+        name: "perforated_plate",
+        positions: weld.positions,
+        faces,
+        ..Default::default()
+    }
+}
+
+/// `architecture/stair_interior`: a room corner as an architectural
+/// export writes it, every element a separate closed box resting on or
+/// against the others (coincident faces, no shared vertices): a 10 × 6
+/// floor slab, two walls 0.2 thick, a door frame of three trims, a flight
+/// of 12 steps each resting on the one below, and 24 balusters (8-sided
+/// cylinders 3 cm across) along it; 29 parts, 984 triangles.
+pub fn stair_interior() -> Generated {
+    let mut g = Generated {
+        category: "architecture",
+        name: "stair_interior",
+        ..Default::default()
+    };
+    let block = |g: &mut Generated, center: [f64; 3], size: [f64; 3]| {
+        let (p, f) = cuboid(DVec3::from(center), 0.5 * DVec3::from(size), 1);
+        append(g, p, f);
+    };
+    block(&mut g, [0.0, -0.15, 0.0], [10.0, 0.3, 6.0]);
+    for i in 0..12 {
+        let i = f64::from(i);
+        block(
+            &mut g,
+            [3.0, 0.09 + 0.18 * i, -2.0 + 0.28 * i],
+            [1.2, 0.18, 0.28],
+        );
+    }
+    block(&mut g, [-5.0, 1.5, 0.0], [0.2, 3.0, 6.0]);
+    block(&mut g, [0.0, 1.5, -3.0], [10.0, 3.0, 0.2]);
+    for x in [-0.45, 0.45] {
+        block(&mut g, [x, 1.05, -2.875], [0.08, 2.1, 0.05]);
+    }
+    block(&mut g, [0.0, 2.14, -2.875], [0.98, 0.08, 0.05]);
+    for i in 0..24 {
+        // Two balusters a step, standing on its outer end.
+        let step = f64::from(i / 2);
+        let z = -2.0 + 0.28 * step + if i % 2 == 0 { -0.07 } else { 0.07 };
+        let base = DVec3::new(3.55, 0.18 * (step + 1.0), z);
+        let (p, f) = cylinder(base, 0.015, 0.9, 8);
+        append(&mut g, p, f);
+    }
+    g
+}
+
+/// `cad/embossed_text`: a 40 × 10 × 1 plate with 60 raised bars 0.3 high,
+/// as the strokes of engraved lettering, each a separate box whose sides
+/// are 2 × 2 grids (as a boolean union tessellates them); 2,892 triangles.
+pub fn embossed_text() -> Generated {
+    let mut r = Rng(SplitMix64(11));
+    let mut g = Generated {
+        category: "cad",
+        name: "embossed_text",
+        ..Default::default()
+    };
+    let (p, f) = cuboid(DVec3::ZERO, DVec3::new(20.0, 5.0, 0.5), 1);
+    append(&mut g, p, f);
+    for i in 0..60 {
+        let (w, h) = (r.uniform(0.2, 0.5), r.uniform(1.0, 2.5));
+        let center = DVec3::new(
+            -18.0 + f64::from(i % 20) * 1.8,
+            -3.0 + f64::from(i / 20) * 3.0,
+            0.65,
+        );
+        let (p, f) = cuboid(center, 0.5 * DVec3::new(w, h, 0.3), 2);
+        append(&mut g, p, f);
+    }
+    g
+}
+
+/// `scan/noisy_scan`: a scanned lump as photogrammetry leaves it: a
+/// bumpy sphere of 76,800 triangles with 2e-3 of noise on every vertex,
+/// five holes where the scanner saw nothing, and 30 floating specks (small
+/// closed blobs, some inside) around it; 77,716 triangles.
+pub fn noisy_scan() -> Generated {
+    let mut r = Rng(SplitMix64(17));
+    let (pos, faces, _) = cube_sphere(80);
+    let positions: Vec<DVec3> = pos
+        .into_iter()
+        .map(|p| {
+            let bump = 1.0 + 0.05 * (5.0 * p.x).sin() * (4.0 * p.y).cos();
+            p * bump + DVec3::new(r.normal(), r.normal(), r.normal()) * 0.002
+        })
+        .collect();
+    let holes: Vec<DVec3> = (0..5).map(|_| r.unit()).collect();
+    let faces: Vec<Vec<u32>> = triangulate(faces)
+        .into_iter()
+        .filter(|f| {
+            let c = f.iter().map(|&v| positions[v as usize]).sum::<DVec3>() / 3.0;
+            holes.iter().all(|h| c.distance(*h) > 0.08)
+        })
+        .collect();
+    let mut g = Generated {
+        category: "scan",
+        name: "noisy_scan",
+        ..Default::default()
+    };
+    append(&mut g, positions, faces);
+    // Vertices no face uses any more (inside the holes) are left out.
+    let mut used = vec![false; g.positions.len()];
+    for f in &g.faces {
+        for &v in f {
+            used[v as usize] = true;
+        }
+    }
+    let mut remap = vec![0u32; used.len()];
+    let mut kept = Vec::new();
+    for (v, &u) in used.iter().enumerate() {
+        if u {
+            remap[v] = kept.len() as u32;
+            kept.push(g.positions[v]);
+        }
+    }
+    g.positions = kept;
+    for f in &mut g.faces {
+        for v in f.iter_mut() {
+            *v = remap[*v as usize];
+        }
+    }
+    for _ in 0..30 {
+        let center = DVec3::new(r.normal(), r.normal(), r.normal()) * 0.6;
+        let (p, f, _) = cube_sphere(2);
+        append(
+            &mut g,
+            p.into_iter().map(|q| center + q * 0.01).collect(),
+            triangulate(f),
+        );
+    }
+    g
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -978,6 +1277,8 @@ mod tests {
             ("voxel_terrain", 27_320, true),
             ("voxel_blob", 16_084, true),
             ("grid_cut_plate", 86_720, true),
+            ("perforated_plate", 11_340, true),
+            ("embossed_text", 2_892, true),
         ];
         let all = all();
         for &(name, tris, closed) in expect {
@@ -999,6 +1300,13 @@ mod tests {
         assert_eq!(border_and_nonmanifold(find("cloth_two_sided")).0, 0);
         // 500 cards of two triangles each, plus the open-ended trunk.
         assert_eq!(find("tree").triangles(), 2 * 39 * 12 + 1000);
+        // The interior's boxes share no vertex (a reader that welds by
+        // position finds 13 edges of four faces where boxes meet).
+        assert_eq!(find("stair_interior").triangles(), 984);
+        assert_eq!(border_and_nonmanifold(find("stair_interior")), (0, 0));
+        // The scan's five holes are its only border.
+        assert_eq!(find("noisy_scan").triangles(), 77_716);
+        assert_eq!(border_and_nonmanifold(find("noisy_scan")), (162, 0));
         // The soup shares no vertex.
         let soup = find("blob_soup");
         assert_eq!(soup.positions.len(), 3 * soup.triangles());
