@@ -177,6 +177,18 @@ pub struct TuningArgs {
     /// sheets and blended (see-through) materials keep both sides.
     #[arg(long)]
     pub keep_hidden_twins: bool,
+    /// Keep parts that are wholly inside another, closed part
+    ///
+    /// A part inside another part that is closed, faces outward and is
+    /// drawn opaque and one-sided (the shaft in a sealed CAD housing, the
+    /// engine under a closed body), touching it nowhere, cannot be seen: by
+    /// default it is dropped before simplifying and its share of the budget
+    /// buys visible detail. Parts that show through an opening, poke out or
+    /// rest on the inner wall stay, and so does every part of a file with
+    /// animations, skins, morph targets, or a double-sided, alpha-tested or
+    /// blended material.
+    #[arg(long)]
+    pub keep_enclosed_parts: bool,
     /// Let decals sink into the simplified surface under them
     ///
     /// An open sheet lying a little in front of another part and facing the

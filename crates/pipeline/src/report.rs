@@ -44,6 +44,9 @@ pub struct MeshJson {
     /// almost closed surface), dropped before simplifying
     /// (`--keep-hidden-twins` keeps them).
     pub hidden_twins: usize,
+    /// Parts wholly inside a closed, opaque part, dropped before
+    /// simplifying (`--keep-enclosed-parts` keeps them).
+    pub enclosed_parts: usize,
     /// Went below the target by more than one triangle because the last
     /// collapse took faces with their twins, which go together.
     pub twin_slack: bool,
@@ -100,6 +103,7 @@ impl MeshJson {
             rejected: RejectedJson::new(&r.report.rejected),
             split_polygons: r.report.split_polygons,
             hidden_twins: r.report.hidden_twins,
+            enclosed_parts: r.report.enclosed_parts,
             twin_slack: r.report.twin_slack,
             uv_damage: r.report.uv_damage,
             outliers: r.report.outliers.len(),

@@ -92,6 +92,11 @@ pub fn simplify_scene<P: MeshProgress>(
         .clone()
         .unwrap_or_else(|| wildlod_simplify::material_uv_sets(scene));
     let instances = scene.instance_counts();
+    let guards = wildlod_simplify::Guards {
+        drop_enclosed_parts: options.guards.drop_enclosed_parts
+            && wildlod_simplify::enclosures_hide(scene),
+        ..options.guards
+    };
     for (m, target) in targets.iter().enumerate() {
         let Some(mesh) = scene.meshes.get(m) else {
             continue;
@@ -114,6 +119,7 @@ pub fn simplify_scene<P: MeshProgress>(
                 },
                 ..options.data.clone()
             },
+            guards,
             ..options.clone()
         };
         let bar = progress(&name);
@@ -211,6 +217,7 @@ pub fn whole_report(r: &SceneReport) -> Report {
         split_polygons: r.groups.iter().map(|g| g.report.split_polygons).sum(),
         joined_quads: r.groups.iter().map(|g| g.report.joined_quads).sum(),
         hidden_twins: r.groups.iter().map(|g| g.report.hidden_twins).sum(),
+        enclosed_parts: r.groups.iter().map(|g| g.report.enclosed_parts).sum(),
         collapses: r.groups.iter().map(|g| g.report.collapses).sum(),
         evaluations: r.groups.iter().map(|g| g.report.evaluations).sum(),
         faces_tested: r.groups.iter().map(|g| g.report.faces_tested).sum(),

@@ -114,6 +114,9 @@ pub struct Tuning {
     /// Keep the reversed copies of faces that cannot be seen
     /// (`Guards::drop_hidden_twins` off).
     pub keep_hidden_twins: bool,
+    /// Keep the parts wholly inside a closed, opaque part
+    /// (`Guards::drop_enclosed_parts` off).
+    pub keep_enclosed_parts: bool,
     /// Let layers (decals and other sheets lying on a part) sink with the
     /// surface under them (`Metric::keep_layers` off); `classic` turns
     /// the layer pass off too.
@@ -155,6 +158,7 @@ impl Default for Tuning {
             normals: NormalSetting::Fit,
             refit_sweeps: options.metric.refit_sweeps,
             keep_hidden_twins: !options.guards.drop_hidden_twins,
+            keep_enclosed_parts: !options.guards.drop_enclosed_parts,
             no_layers: !options.metric.keep_layers,
         }
     }
@@ -256,6 +260,7 @@ impl Tuning {
         };
         options.metric.refit_sweeps = if self.classic { 0 } else { self.refit_sweeps };
         options.guards.drop_hidden_twins = !self.keep_hidden_twins;
+        options.guards.drop_enclosed_parts = !self.keep_enclosed_parts;
         options.metric.keep_layers = !self.classic && !self.no_layers;
         options.attributes = AttributeOptions {
             tex_coord_weight: self.uv_weight,
@@ -389,6 +394,24 @@ mod tests {
         .options()
         .expect("valid");
         assert!(!o.guards.drop_hidden_twins);
+    }
+
+    #[test]
+    fn keep_enclosed_parts_turns_the_drop_off() {
+        assert!(
+            Tuning::default()
+                .options()
+                .expect("valid")
+                .guards
+                .drop_enclosed_parts
+        );
+        let o = Tuning {
+            keep_enclosed_parts: true,
+            ..Tuning::default()
+        }
+        .options()
+        .expect("valid");
+        assert!(!o.guards.drop_enclosed_parts);
     }
 
     #[test]

@@ -8,7 +8,7 @@ use wildlod_pipeline::{NormalSetting, SeamSetting, Tuning};
 
 /// The names `**options` accepts: the fields of [`Tuning`], and
 /// `normal_mode` for `normals` (in `simplify`, `normals` is the stream).
-pub const OPTION_NAMES: [&str; 31] = [
+pub const OPTION_NAMES: [&str; 32] = [
     "virtual_radius",
     "keep_topology",
     "lock_borders",
@@ -30,6 +30,7 @@ pub const OPTION_NAMES: [&str; 31] = [
     "current_faces",
     "refit_sweeps",
     "keep_hidden_twins",
+    "keep_enclosed_parts",
     "no_layers",
     "classic",
     "uv_weight",
@@ -115,6 +116,7 @@ pub fn tuning(py: Python<'_>, options: Option<&Bound<'_, PyDict>>) -> PyResult<T
             "current_faces" => t.current_faces = value.extract()?,
             "refit_sweeps" => t.refit_sweeps = value.extract()?,
             "keep_hidden_twins" => t.keep_hidden_twins = value.extract()?,
+            "keep_enclosed_parts" => t.keep_enclosed_parts = value.extract()?,
             "no_layers" => t.no_layers = value.extract()?,
             "classic" => t.classic = value.extract()?,
             "uv_weight" => t.uv_weight = value.extract()?,

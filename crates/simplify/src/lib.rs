@@ -76,8 +76,8 @@ pub use options::{
 pub use prepare::large_polygons::MAX_POLYGON_CORNERS;
 pub use report::{QuadTies, Rejections, Report, SteeringOutcome, StopReason};
 pub use scene::{
-    material_uv_sets, see_through_materials, simplify_scene, simplify_scene_with_progress,
-    skin_poses, GroupReport, GroupSpace, MeshOutcome, SceneReport,
+    enclosures_hide, material_uv_sets, see_through_materials, simplify_scene,
+    simplify_scene_with_progress, skin_poses, GroupReport, GroupSpace, MeshOutcome, SceneReport,
 };
 pub use simplify::{
     simplify_polygons, simplify_polygons_with_progress, simplify_triangles,

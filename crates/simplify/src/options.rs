@@ -372,6 +372,20 @@ pub struct Guards {
     /// dropped twins, so their share of the budget buys visible detail
     /// (Blender drops such copies when it imports a file). Default true.
     pub drop_hidden_twins: bool,
+    /// Drop the parts no one can see before simplifying: a part (faces
+    /// joined by shared vertices) wholly inside another part that is closed
+    /// (every side shared by two of its faces), faces outward and is drawn
+    /// opaque and one-sided (no face seen through, no twin), touching it
+    /// nowhere. The shaft inside a closed CAD housing, the engine under a
+    /// sealed body: behind an opaque enclosure they never show, and the
+    /// budget they would take buys visible detail (the ratio of [`Target`]
+    /// still counts them). A part showing through an opening, poking out
+    /// or resting on the inner wall stays; skinned and morphed meshes keep
+    /// every part, since a pose may open the enclosure. An enclosure that
+    /// is seen through in ways a mesh cannot tell (a double-sided or
+    /// alpha-tested material, an animated node) is the caller's to rule
+    /// out: the file pipeline turns this off for such files. Default true.
+    pub drop_enclosed_parts: bool,
     /// *Expert.* Reject a collapse that turns any surviving face's normal by more than
     /// this angle (degrees). Default 90: a face that turns past 90° has
     /// flipped over its neighbours. `None` disables the test.
@@ -400,6 +414,7 @@ impl Default for Guards {
         Guards {
             virtual_edge_radius: 0.0025,
             drop_hidden_twins: true,
+            drop_enclosed_parts: true,
             max_normal_turn_degrees: Some(90.0),
             keep_topology: false,
             lock_borders: false,

@@ -97,6 +97,10 @@ pub struct Report {
     /// almost closed surface), dropped before simplifying (see
     /// [`crate::Guards::drop_hidden_twins`]).
     pub hidden_twins: usize,
+    /// Parts wholly inside another part that is closed, faces outward and
+    /// is drawn opaque, dropped before simplifying (see
+    /// [`crate::Guards::drop_enclosed_parts`]).
+    pub enclosed_parts: usize,
     /// Collapses made.
     pub collapses: usize,
     /// Of those, the ones the parallel first phase made (see

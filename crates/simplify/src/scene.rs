@@ -45,7 +45,7 @@ use wildlod_mesh::{Attribute, ComponentFormat, Mesh, Scene, Semantic, Skinning, 
 
 use crate::error::Error;
 use crate::mesh::simplify_mesh_with_progress;
-use crate::options::{InputData, Options, Partition, Record, Target};
+use crate::options::{Guards, InputData, Options, Partition, Record, Target};
 use crate::report::{Report, StopReason};
 
 /// Why a group was not merged with the world-space meshes.
@@ -200,6 +200,10 @@ pub fn simplify_scene_with_progress(
                     .unwrap_or_else(|| material_uv_sets(scene)),
             ),
             ..options.data.clone()
+        },
+        guards: Guards {
+            drop_enclosed_parts: options.guards.drop_enclosed_parts && enclosures_hide(scene),
+            ..options.guards
         },
         ..options.clone()
     };
@@ -908,6 +912,28 @@ fn common_shares(curves: &[Curve], budget: usize) -> Vec<usize> {
         slack -= add;
     }
     shares
+}
+
+/// Whether a part of `scene` inside a closed part of it is surely hidden
+/// there, as [`crate::Guards::drop_enclosed_parts`] asks the caller to
+/// rule out otherwise: no animation moves a node, no skin or morph target
+/// poses a mesh (either could open an enclosure or move a part out), and
+/// every material is opaque and one-sided (an enclosure drawn two-sided,
+/// alpha-tested or blended shows what it holds).
+pub fn enclosures_hide(scene: &Scene) -> bool {
+    let posed = |m: &Mesh| {
+        m.skinning.is_some()
+            || m.attributes
+                .iter()
+                .any(|a| matches!(a.semantic, Semantic::Morph { .. }))
+    };
+    scene.animations.is_empty()
+        && scene.skins.is_empty()
+        && !scene.meshes.iter().any(posed)
+        && scene
+            .materials
+            .iter()
+            .all(|m| !m.double_sided && m.alpha_mode == wildlod_mesh::AlphaMode::Opaque)
 }
 
 /// Bounding-box diagonal of everything the scene shows, in world space.

@@ -213,6 +213,7 @@ pub(crate) fn tuning(t: &TuningArgs) -> Tuning {
         current_faces: t.current_faces,
         refit_sweeps: t.refit_sweeps,
         keep_hidden_twins: t.keep_hidden_twins,
+        keep_enclosed_parts: t.keep_enclosed_parts,
         no_layers: t.no_layers,
         classic: t.classic,
         uv_weight: t.uv_weight,
@@ -460,6 +461,13 @@ pub fn summary(name: &str, r: &Report, seconds: f64) -> String {
             "; {} hidden twin face{} dropped (reversed copies that cannot be seen; --keep-hidden-twins keeps them)",
             r.hidden_twins,
             if r.hidden_twins == 1 { "" } else { "s" },
+        ));
+    }
+    if r.enclosed_parts > 0 {
+        s.push_str(&format!(
+            "; {} part{} inside a closed, opaque part dropped (they cannot be seen; --keep-enclosed-parts keeps them)",
+            r.enclosed_parts,
+            if r.enclosed_parts == 1 { "" } else { "s" },
         ));
     }
     if r.layer_vertices > 0 {

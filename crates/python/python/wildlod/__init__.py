@@ -149,7 +149,7 @@ def simplify(
     ``symmetry``, ``area_floor``,
     ``pinch_cost``, ``pinch_distance``, ``area_exponent``, ``face_weight_floor``,
     ``crease_weight``, ``crease_angle``, ``crease_area_weight``, ``current_faces``,
-    ``refit_sweeps``, ``keep_hidden_twins``, ``no_layers``, ``classic``, ``uv_weight``, ``normal_weight``,
+    ``refit_sweeps``, ``keep_hidden_twins``, ``keep_enclosed_parts``, ``no_layers``, ``classic``, ``uv_weight``, ``normal_weight``,
     ``color_weight``, ``skin_weight``, ``seams`` = 'penalize' | 'keep' |
     'ignore', ``seam_weight``, ``normals`` is the stream here, so the
     normal mode is ``normal_mode`` = 'fit' | 'recompute'); see

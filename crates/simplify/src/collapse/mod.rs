@@ -403,6 +403,7 @@ impl<'o> Run<'o> {
             target_triangles: target,
             cleaned_faces: p.cleaned,
             hidden_twins: p.hidden_twins,
+            enclosed_parts: p.enclosed_parts,
             virtual_edges: virtual_pairs.len(),
             virtual_radius_reduced,
             outliers: p.outlier_inputs.clone(),

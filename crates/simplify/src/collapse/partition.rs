@@ -321,6 +321,7 @@ fn build_chunk<'a>(
         outlier_inputs: Vec::new(),
         cleaned: 0,
         hidden_twins: 0,
+        enclosed_parts: 0,
         ratio_base: triangles,
         weld: Vec::new(),
         center: run.p.center,

@@ -11,6 +11,7 @@
 //! `assemble` (the output and its maps back to the input).
 
 pub(crate) mod complex;
+pub(crate) mod enclosed_parts;
 pub(crate) mod flat_stars;
 pub(crate) mod geometry;
 pub(crate) mod large_polygons;
@@ -153,6 +154,8 @@ pub(crate) struct Prepared {
     pub cleaned: usize,
     /// Twins dropped as hidden (see `twins.rs`).
     pub hidden_twins: usize,
+    /// Parts dropped as enclosed by others (see `enclosed_parts.rs`).
+    pub enclosed_parts: usize,
     /// Triangles a ratio is of: the cleaned surface with every twin.
     pub ratio_base: usize,
     /// Input vertex → welded vertex.
@@ -278,6 +281,16 @@ pub(crate) fn prepare(
     // The ratio is of the surface before hidden twins go: they cost
     // nothing to drop, and the budget then buys visible detail.
     let ratio_base = complex.triangles;
+    // So is it of the parts no one sees. Poses could open an enclosure or
+    // move a part out of it: skinned and morphed meshes keep theirs.
+    let posed = !options.data.vertex_joints.is_empty()
+        || !options.data.skin_poses.is_empty()
+        || !options.data.morph_targets.is_empty();
+    let enclosed_parts = if options.guards.drop_enclosed_parts && !posed {
+        crate::prepare::enclosed_parts::drop_enclosed_parts(&mut complex, see_through)
+    } else {
+        0
+    };
     let hidden_twins = if options.guards.drop_hidden_twins {
         crate::prepare::twins::drop_hidden_twins(&mut complex, see_through)
     } else {
@@ -307,6 +320,7 @@ pub(crate) fn prepare(
         complex,
         cleaned: cleaned.degenerate + cleaned.duplicate,
         hidden_twins,
+        enclosed_parts,
         ratio_base,
         weld,
         center,
