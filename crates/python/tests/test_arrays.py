@@ -11,7 +11,8 @@ import wildlod
 from conftest import grid, torus
 
 REPORT_KEYS = {"name", "mesh", "input_triangles", "target_triangles", "output_triangles",
-               "error", "stop", "collapses", "split_polygons", "hidden_twins", "twin_slack", "seconds",
+               "error", "stop", "collapses", "split_polygons", "hidden_twins", "enclosed_parts", "twin_slack",
+               "seconds",
                "outliers", "steering", "uv_damage", "evaluations", "faces_tested", "rejected",
                "virtual_radius_reduced", "layer_vertices", "held_by_constraints", "quad_ties"}
 
@@ -256,6 +257,23 @@ def test_hidden_twins_of_a_closed_surface_are_dropped_unless_kept():
     kept = wildlod.simplify(pos, doubled, ratio=0.5, keep_hidden_twins=True)
     assert kept["report"]["hidden_twins"] == 0
     assert "keep_hidden_twins" in wildlod.option_names()
+
+
+def test_a_part_inside_a_closed_part_is_dropped_unless_kept():
+    pos, tris, _, _ = torus()
+    # A small torus inside the big one's tube, touching it nowhere.
+    small, small_tris, _, _ = torus(n=24, m=12, big=0.15, small=0.05)
+    both = np.concatenate([pos, small + [1.0, 0.0, 0.0]])
+    faces = np.concatenate([tris, small_tris + len(pos)])
+    out = wildlod.simplify(both, faces, ratio=0.5)
+    assert out["report"]["enclosed_parts"] == 1
+    # Every output vertex is on the big torus: none on the small one.
+    p = out["positions"].astype(np.float64)
+    tube = np.hypot(np.hypot(p[:, 0], p[:, 1]) - 1.0, p[:, 2])
+    assert tube.min() > 0.3, tube.min()
+    kept = wildlod.simplify(both, faces, ratio=0.5, keep_enclosed_parts=True)
+    assert kept["report"]["enclosed_parts"] == 0
+    assert "keep_enclosed_parts" in wildlod.option_names()
 
 
 def test_quad_tie_factor_reaches_the_simplifier():
