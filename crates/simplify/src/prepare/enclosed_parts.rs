@@ -105,17 +105,16 @@ pub(crate) fn drop_enclosed_parts(c: &mut Complex, see_through: &dyn Fn(u32) -> 
             )
         })
         .collect();
-    let parts = Bvh::build(&boxes);
+    // Parts with faces only: a welded vertex no face uses is a part with
+    // an empty box, which has no place in a tree.
+    let with_faces: Vec<usize> = (0..count).filter(|&p| !faces(p).is_empty()).collect();
+    let parts = Bvh::build(&with_faces.iter().map(|&p| boxes[p]).collect::<Vec<_>>());
     let mut dropped = vec![false; count];
     for q in (0..count).filter(|&q| encloser[q]) {
         let mut inner = Vec::new();
-        parts.query_within(&boxes[q], 0.0, |p| {
-            let p = p as usize;
-            if p != q
-                && !faces(p).is_empty()
-                && !dropped[p]
-                && strictly_inside(&boxes[p], &boxes[q])
-            {
+        parts.query_within(&boxes[q], 0.0, |k| {
+            let p = with_faces[k as usize];
+            if p != q && !dropped[p] && strictly_inside(&boxes[p], &boxes[q]) {
                 inner.push(p);
             }
         });
