@@ -19,15 +19,15 @@
 //!   of a face of the enclosure. The part being connected, one point of it
 //!   inside then puts all of it inside.
 //!
-//! Every test is exact up to [`CONTACT`], and where rounding could fool one
-//! (a ray through an edge) the rays disagree and the part stays; so a part
-//! that shows through an opening, pokes out or rests on the enclosure's
-//! inner wall stays. A part costs three rays and a contact query in the
-//! enclosure's tree, whatever the enclosure's size. What no mesh can tell, an animation that
-//! opens or moves the enclosure, the caller rules out
-//! ([`crate::Guards::drop_enclosed_parts`]). Not in either paper: the
-//! reverse copies of faces that cannot be seen go for the same reason
-//! (`twins.rs`).
+//! The contact test is exact up to [`CONTACT`], and a ray that rounding
+//! fools (one through an edge) miscounts alone: the three must agree, so
+//! it keeps the part. A part that shows through an opening, pokes out or
+//! rests on the enclosure's inner wall stays. A part costs three rays and
+//! a contact query in the enclosure's tree, whatever the enclosure's size.
+//! What no mesh can tell, an animation that opens or moves the enclosure,
+//! the caller rules out ([`crate::Guards::drop_enclosed_parts`]). Not in
+//! either paper: the reverse copies of faces that cannot be seen go for the
+//! same reason (`twins.rs`).
 
 use std::collections::HashSet;
 
