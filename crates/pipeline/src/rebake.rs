@@ -95,7 +95,7 @@ pub struct RebakedRun {
 /// nothing to bake keeps its materials (without textures). `hold`, when
 /// not empty, gives per mesh the target of the run without constraints a
 /// constrained re-bake is held to (`Guards::hold_target`; see
-/// [`Held::hold_targets`]). Returns every simplified mesh's run and the
+/// `Held::hold_targets`). Returns every simplified mesh's run and the
 /// warnings (a texture that cannot be decoded bakes from its material's
 /// factor, and says so).
 pub fn rebake_scene(
