@@ -671,6 +671,49 @@ fn hidden_twins_are_dropped_unless_kept_and_the_json_counts_them() {
 }
 
 #[test]
+fn enclosed_parts_are_dropped_unless_kept_and_the_json_counts_them() {
+    // A box inside a closed box, touching it nowhere: 24 triangles, the
+    // outer box 12 of them.
+    let dir = tempfile::tempdir().unwrap();
+    let mut m = shapes::merge(&[
+        shapes::cuboid([0.0; 3], [10.0; 3]),
+        shapes::cuboid([4.0; 3], [6.0; 3]),
+    ]);
+    m.name = "boxes".into();
+    let input = dir.path().join("boxes.obj");
+    wildlod_io::write(
+        &Document::from_scene(Scene::from_mesh(m)),
+        &input,
+        &WriteOptions::default(),
+    )
+    .unwrap();
+    let run = |extra: &[&str]| {
+        let out = dir.path().join("out.obj");
+        let mut args = vec!["simplify", s(&input), "-o", s(&out), "--ratio", "0.5"];
+        args.extend_from_slice(extra);
+        let o = wildlod(&args);
+        assert!(o.status.success(), "{}", stderr(&o));
+        (stdout(&o), std::fs::read_to_string(&out).unwrap())
+    };
+    let vertices = |obj: &str| obj.lines().filter(|l| l.starts_with("v ")).count();
+    // The inner box goes; the outer one is left as it was.
+    let (line, out) = run(&[]);
+    assert!(
+        line.contains("1 part inside a closed, opaque part dropped"),
+        "{line}"
+    );
+    assert_eq!(vertices(&out), 8, "{out}");
+    let (line, _) = run(&["--keep-enclosed-parts"]);
+    assert!(!line.contains("opaque part dropped"), "{line}");
+    let (json, _) = run(&["--json"]);
+    let v: serde_json::Value = serde_json::from_str(&json).unwrap();
+    assert_eq!(v["meshes"][0]["enclosed_parts"], 1, "{json}");
+    let (json, _) = run(&["--json", "--keep-enclosed-parts"]);
+    let v: serde_json::Value = serde_json::from_str(&json).unwrap();
+    assert_eq!(v["meshes"][0]["enclosed_parts"], 0, "{json}");
+}
+
+#[test]
 fn simplify_json_reports_the_loops_work_and_its_refusals() {
     let dir = tempfile::tempdir().unwrap();
     let input = torus_obj(dir.path());

@@ -249,18 +249,16 @@ mod tests {
 
     /// The unit cube's six faces as twelve triangles, facing out.
     fn cube() -> Vec<[DVec3; 3]> {
-        let v = |i: usize| DVec3::new((i & 1) as f64, ((i >> 1) & 1) as f64, ((i >> 2) & 1) as f64);
-        let quads = [
-            [0, 2, 3, 1],
-            [4, 5, 7, 6],
-            [0, 1, 5, 4],
-            [2, 6, 7, 3],
-            [0, 4, 6, 2],
-            [1, 3, 7, 5],
-        ];
-        quads
+        let m = wildlod_mesh::shapes::cube();
+        let at = |v: u32| DVec3::from(m.positions[v as usize].map(f64::from));
+        m.faces
             .iter()
-            .flat_map(|q| [[v(q[0]), v(q[1]), v(q[2])], [v(q[0]), v(q[2]), v(q[3])]])
+            .flat_map(|q| {
+                [
+                    [at(q[0]), at(q[1]), at(q[2])],
+                    [at(q[0]), at(q[2]), at(q[3])],
+                ]
+            })
             .collect()
     }
 
