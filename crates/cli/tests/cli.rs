@@ -11,6 +11,16 @@ use support::{s, simplify_json, stderr, stdout, wildlod};
 use wildlod_io::{Document, WriteOptions};
 use wildlod_mesh::{shapes, Scene};
 
+/// Writes `m` alone to `path` (the format follows the extension).
+fn write_mesh(path: &Path, m: wildlod_mesh::Mesh) {
+    wildlod_io::write(
+        &Document::from_scene(Scene::from_mesh(m)),
+        path,
+        &WriteOptions::default(),
+    )
+    .unwrap();
+}
+
 /// A bumpy torus of quads (1152 faces = 2304 triangles) written as OBJ.
 fn torus_obj(dir: &Path) -> PathBuf {
     let mut m = shapes::torus(48, 24, 1.0, 0.35);
@@ -19,12 +29,7 @@ fn torus_obj(dir: &Path) -> PathBuf {
     }
     m.name = "torus".into();
     let path = dir.join("torus.obj");
-    wildlod_io::write(
-        &Document::from_scene(Scene::from_mesh(m)),
-        &path,
-        &WriteOptions::default(),
-    )
-    .unwrap();
+    write_mesh(&path, m);
     path
 }
 
@@ -151,12 +156,7 @@ fn quad_ties_at_the_meshs_own_scale_keep_a_fine_quad_sphere_closer() {
     let dir = tempfile::tempdir().unwrap();
     let m = shapes::bumpy_quad_sphere(32);
     let input = dir.path().join("sphere.obj");
-    wildlod_io::write(
-        &Document::from_scene(Scene::from_mesh(m)),
-        &input,
-        &WriteOptions::default(),
-    )
-    .unwrap();
+    write_mesh(&input, m);
     let chamfer = |factor: &str| {
         let out = dir.path().join(format!("lod_{factor}.obj"));
         let o = wildlod(&[
@@ -538,12 +538,7 @@ fn crease_flags_reach_the_simplifier() {
     }
     m.name = "fold".into();
     let input = dir.path().join("fold.obj");
-    wildlod_io::write(
-        &Document::from_scene(Scene::from_mesh(m)),
-        &input,
-        &WriteOptions::default(),
-    )
-    .unwrap();
+    write_mesh(&input, m);
     let run = |name: &str, extra: &[&str]| {
         let out = dir.path().join(name);
         let mut args = vec!["simplify", s(&input), "-o", s(&out), "--ratio", "0.1"];
@@ -681,12 +676,7 @@ fn enclosed_parts_are_dropped_unless_kept_and_the_json_counts_them() {
     ]);
     m.name = "boxes".into();
     let input = dir.path().join("boxes.obj");
-    wildlod_io::write(
-        &Document::from_scene(Scene::from_mesh(m)),
-        &input,
-        &WriteOptions::default(),
-    )
-    .unwrap();
+    write_mesh(&input, m);
     let run = |extra: &[&str]| {
         let out = dir.path().join("out.obj");
         let mut args = vec!["simplify", s(&input), "-o", s(&out), "--ratio", "0.5"];
