@@ -458,7 +458,7 @@ pub(crate) fn input_tangents(mesh: &Mesh, set: u32) -> Option<Vec<[f32; 4]>> {
 /// The linear scale of a level's texel density against the input's (see
 /// [`BakeOptions::density_follows_level`]): √(triangles kept), but no
 /// smaller than the most detailed base colour image the mesh uses allows
-/// ([`content_scale`]); 1 with the option off. Per mesh: the shared
+/// ([`crate::texture_detail::ImageAnalysis::content_scale`]); 1 with the option off. Per mesh: the shared
 /// atlas weighs each mesh's charts by its own (`shared_layout.rs`).
 fn level_scale(
     input: &BakeInput,

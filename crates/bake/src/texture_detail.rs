@@ -18,10 +18,7 @@ use wildlod_mesh::Rgba8Image;
 /// whether a keep-UV texture needs a re-bake.
 pub const VISIBLE_BLUR: f64 = 0.01;
 
-/// Mean colour distance between every texel of `img` that `used` marks
-/// (all when empty) and the mean of its `k × k` block (blocks clipped at
-/// the border), for `k` = 2, 4, 8, … up to `max_k`: entry `j` is for
-/// `k = 2^(j+1)`.
+/// [`ImageAnalysis::blur`] of `img`.
 #[cfg(test)]
 pub(crate) fn block_blur(img: &Rgba8Image, used: &[bool], max_k: u32) -> Vec<f64> {
     ImageAnalysis::new(img).blur(used, max_k)
@@ -89,7 +86,10 @@ impl<'a> ImageAnalysis<'a> {
         })
     }
 
-    /// [`block_blur`] of the image over `used` (all texels when empty).
+    /// Mean colour distance between every texel of the image that `used`
+    /// marks (all when empty) and the mean of its `k × k` block (blocks
+    /// clipped at the border), for `k` = 2, 4, 8, … up to `max_k`: entry
+    /// `j` is for `k = 2^(j+1)`.
     pub(crate) fn blur(&self, used: &[bool], max_k: u32) -> Vec<f64> {
         let (w, h) = (self.img.width as usize, self.img.height as usize);
         if w == 0 || h == 0 {
@@ -125,7 +125,9 @@ impl<'a> ImageAnalysis<'a> {
         out
     }
 
-    /// [`content_scale`] of the image.
+    /// The smallest linear scale, `1` or `1/k` for a power of two `k`, at
+    /// least `min_scale`, at which the image keeps its content within
+    /// [`VISIBLE_BLUR`] over the texels `used` marks (see [`Self::blur`]).
     pub(crate) fn content_scale(&self, used: &[bool], min_scale: f64) -> f64 {
         content_scale_of(|max_k| self.blur(used, max_k), min_scale)
     }
@@ -165,7 +167,7 @@ impl<'a> ImageAnalyses<'a> {
         }
     }
 
-    /// [`content_scale`] of image `t` of `images` over the texels the UV
+    /// [`ImageAnalysis::content_scale`] of image `t` of `images` over the texels the UV
     /// triangles `tris` cover ([`uv_coverage`]), found once per distinct
     /// triangles.
     pub(crate) fn content_scale(
@@ -217,15 +219,13 @@ impl<'a> ImageAnalyses<'a> {
     }
 }
 
-/// The smallest linear scale, `1` or `1/k` for a power of two `k`, at least
-/// `min_scale`, at which `img` keeps its content within [`VISIBLE_BLUR`]
-/// over the texels `used` marks (see [`block_blur`]).
+/// [`ImageAnalysis::content_scale`] of `img`.
 #[cfg(test)]
 pub(crate) fn content_scale(img: &Rgba8Image, used: &[bool], min_scale: f64) -> f64 {
     ImageAnalysis::new(img).content_scale(used, min_scale)
 }
 
-/// [`content_scale`] from the image's blur up to a block size.
+/// [`ImageAnalysis::content_scale`] from the image's blur up to a block size.
 fn content_scale_of(blur: impl FnOnce(u32) -> Vec<f64>, min_scale: f64) -> f64 {
     if !(min_scale > 0.0 && min_scale < 1.0) {
         return 1.0;
@@ -248,7 +248,7 @@ fn content_scale_of(blur: impl FnOnce(u32) -> Vec<f64>, min_scale: f64) -> f64 {
 /// (three UV pairs each, wrapped into [0, 1) as a repeating sampler reads
 /// them) cover, with every texel a triangle touches counted: what a
 /// surface shows of the image, so that unused atlas space and gutters do
-/// not water down [`block_blur`].
+/// not water down [`ImageAnalysis::blur`].
 pub(crate) fn uv_coverage(width: u32, height: u32, uvs: &[[[f32; 2]; 3]]) -> Vec<bool> {
     let (w, h) = (width as usize, height as usize);
     let mut used = vec![false; w * h];

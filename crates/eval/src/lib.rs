@@ -9,7 +9,7 @@
 //!   §4 measures skinned meshes.
 //!
 //! Build an [`EvalMesh`] for each side ([`EvalMesh::from_scene`] flattens a
-//! file's instances to world space), then call [`compare`]:
+//! file's instances to world space), then call [`compare()`]:
 //!
 //! ```
 //! use wildlod_eval::{compare, CompareOptions, EvalMesh};

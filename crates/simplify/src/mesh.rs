@@ -1,5 +1,5 @@
 //! Simplifying a [`Mesh`]: its faces and every per-corner stream through
-//! [`simplify_with_attributes`], each stream weighted by its meaning
+//! [`crate::simplify_with_attributes`], each stream weighted by its meaning
 //! ([`crate::AttributeOptions`]), and the result put back into a mesh.
 
 use glam::DVec3;

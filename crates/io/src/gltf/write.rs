@@ -29,7 +29,7 @@ pub(crate) fn write(
     write_with_lods(doc, None, path, format, files)
 }
 
-/// [`write`], with lower levels of detail added as `MSFT_lod` nodes when
+/// [`write()`], with lower levels of detail added as `MSFT_lod` nodes when
 /// `lods` is given (see [`super::lod`]).
 pub(crate) fn write_with_lods(
     doc: &Document,

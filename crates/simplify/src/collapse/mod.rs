@@ -308,7 +308,8 @@ impl<'o> Run<'o> {
     /// Virtual edges, vertex quadrics, initial costs (in parallel; the
     /// results do not depend on the thread count).
     ///
-    /// Without star lists (see [`Complex::faces_only`]) the virtual edges are
+    /// Without star lists (see
+    /// [`crate::prepare::complex::Complex::faces_only`]) the virtual edges are
     /// found but added only once the complex gets its adjacency, in
     /// [`Run::start`].
     pub fn new(mut p: Prepared, options: &'o Options, attrs: Option<AttributeState<'o>>) -> Self {

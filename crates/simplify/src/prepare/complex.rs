@@ -250,12 +250,7 @@ pub(crate) struct Cleaned {
 }
 
 impl Complex {
-    /// Builds the complex from welded positions and polygon faces
-    /// (`offsets`/`indices` over welded vertex ids; slot `c` of the input is
-    /// corner `c`). Removes degenerate faces (fewer than three distinct
-    /// vertices after dropping repeats) and exact duplicates (the same
-    /// vertex cycle with the same orientation; opposite copies are kept:
-    /// they are how wild meshes make a sheet double-sided).
+    /// [`Complex::faces_only`] with its adjacency built.
     #[cfg(test)]
     pub fn new(pos: Vec<DVec3>, offsets: &[u32], indices: &[u32]) -> (Complex, Cleaned) {
         let (mut c, cleaned) = Complex::faces_only(pos, offsets, indices);
@@ -263,9 +258,15 @@ impl Complex {
         (c, cleaned)
     }
 
-    /// [`Complex::new`] without the star lists and edges (empty) but with
-    /// the triangle count: what the partitioned path needs, which builds
-    /// them once at the end with [`Complex::build_adjacency`].
+    /// Builds the complex from welded positions and polygon faces
+    /// (`offsets`/`indices` over welded vertex ids; slot `c` of the input is
+    /// corner `c`). Removes degenerate faces (fewer than three distinct
+    /// vertices after dropping repeats) and exact duplicates (the same
+    /// vertex cycle with the same orientation; opposite copies are kept:
+    /// they are how wild meshes make a sheet double-sided). Without the
+    /// star lists and edges (empty) but with the triangle count: the
+    /// partitioned path builds them once at the end, every other path at
+    /// once, with [`Complex::build_adjacency`].
     pub fn faces_only(pos: Vec<DVec3>, offsets: &[u32], indices: &[u32]) -> (Complex, Cleaned) {
         let nf = offsets.len().saturating_sub(1);
         let mut c = Complex {

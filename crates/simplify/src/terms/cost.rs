@@ -118,11 +118,8 @@ pub(crate) fn median_collapse_deviation(c: &Complex, q: &[StoredQuadric]) -> f64
     *deviations.select_nth_unstable_by(mid, f64::total_cmp).1
 }
 
-/// The initial quadric of every vertex: Σ over its faces of its share of
-/// their planes (the barycentric share of W Eq. 9, polygons as the fans
-/// they are drawn with, see [`face_share`]),
-/// plus the regularization term, times the vertex's weight. Summed per
-/// vertex in face order, so the result does not depend on thread count.
+/// The quadrics of [`vertex_quadric_parts`] as plain quadrics, for any
+/// budget.
 #[cfg(test)]
 pub(crate) fn vertex_quadrics(
     c: &Complex,
@@ -134,9 +131,14 @@ pub(crate) fn vertex_quadrics(
     vertex_quadric_terms(c, metric, weights, importance, usize::MAX, &[], |_, q| q).0
 }
 
-/// [`vertex_quadrics`] as a run stores them (each about its vertex, see
-/// [`StoredQuadric`]), and the regularization part of each (already in
-/// the first), which the placement takes back out to solve exactly (see
+/// The initial quadric of every vertex: Σ over its faces of its share of
+/// their planes (the barycentric share of W Eq. 9, polygons as the fans
+/// they are drawn with, see [`face_share`]), plus the regularization
+/// term, times the vertex's weight; summed per vertex in face order, so
+/// the result does not depend on thread count. As a run stores them
+/// (each about its vertex, see [`StoredQuadric`]), and the regularization
+/// part of each (already in the first), which the placement takes back
+/// out to solve exactly (see
 /// [`crate::terms::quadric::place_exact`]). `budget` is the run's target in
 /// triangles (see [`Metric::face_weight_floor`]).
 pub(crate) fn vertex_quadric_parts(
