@@ -113,6 +113,9 @@ pub struct TuningArgs {
     /// quadrics) gives the lowest mean distance; 0 weighs every face alike, as
     /// Blender's Decimate does, which keeps finely tessellated details and
     /// lowers the worst-case (Hausdorff) distance at some cost in the mean.
+    /// 0.5 suits machined parts whose features are cut in faces much
+    /// smaller than the faces beside them: a generated gear at 10% keeps
+    /// its teeth, at half the worst-case distance.
     #[arg(long, value_name = "A", default_value_t = wildlod_simplify::Metric::default().area_exponent)]
     pub area_exponent: f64,
     /// Small faces weigh at least K mean faces (0: off)
