@@ -635,6 +635,13 @@ fn every_flag_the_help_lists_is_in_docs_cli() {
         let flags: Vec<&str> = h
             .lines()
             .map(str::trim_start)
+            // `-o, --output <OUTPUT>`: the long name is the one documented.
+            .map(|l| match l.split_once(", --") {
+                Some((short, rest)) if short.len() == 2 && short.starts_with('-') => {
+                    &l[short.len() + 2..][..rest.len() + 2]
+                }
+                _ => l,
+            })
             .filter(|l| l.starts_with("--"))
             .filter_map(|l| l.split([' ', '=', '<', ',']).next())
             .filter(|f| !matches!(*f, "--help" | "--version"))
